@@ -1,0 +1,40 @@
+# make render | test | bench | clean. System libraries come from tools/ensure_system_deps.sh,
+# Python packages go into .venv (reinstalled when pyproject.toml changes).
+PYTHON ?= python3
+VENV := .venv
+SCENE := scenes/cornell_box.json
+PYTEST_ARGS ?=
+LP_NUM_THREADS ?= $(shell nproc)
+PIP_INSTALL := $(VENV)/bin/python -m pip install -q --disable-pip-version-check
+
+.PHONY: render test bench clean system-deps test-system-deps
+
+render: system-deps $(VENV)/.installed
+	$(VENV)/bin/vct render $(SCENE) --out out/cornell_box.png
+
+test: test-system-deps $(VENV)/.installed-test
+	$(VENV)/bin/python -m pytest -q $(PYTEST_ARGS)
+
+bench: system-deps $(VENV)/.installed
+	LP_NUM_THREADS=$(LP_NUM_THREADS) $(VENV)/bin/vct bench $(SCENE)
+
+clean:
+	rm -rf out $(VENV)
+
+system-deps:
+	@bash tools/ensure_system_deps.sh
+
+test-system-deps:
+	@bash tools/ensure_system_deps.sh --xvfb
+
+$(VENV)/bin/python:
+	$(PYTHON) -m venv $(VENV)
+
+# Stamps: the venv is created once (order-only), packages are reinstalled when pyproject.toml changes.
+$(VENV)/.installed: pyproject.toml | $(VENV)/bin/python
+	$(PIP_INSTALL) -e .
+	@touch $@
+
+$(VENV)/.installed-test: pyproject.toml | $(VENV)/bin/python
+	$(PIP_INSTALL) -e '.[test]'
+	@touch $@ $(VENV)/.installed

@@ -1,0 +1,169 @@
+"""`vct`: render, view and benchmark scenes. A thin layer over engine.Renderer."""
+import argparse
+import os
+import sys
+from pathlib import Path
+
+from .errors import VctError
+from .settings import MODES, TONEMAPS, RenderSettings
+
+
+def _positive_int(text):
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a whole number, got {text!r}") from None
+    if value <= 0:
+        raise argparse.ArgumentTypeError(f"must be positive, got {value}")
+    return value
+
+
+def _nonnegative_int(text):
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a whole number, got {text!r}") from None
+    if value < 0:
+        raise argparse.ArgumentTypeError(f"must not be negative, got {value}")
+    return value
+
+
+def _add_settings_arguments(parser, default_mode="gi"):
+    d = RenderSettings()
+    parser.add_argument("--width", type=_positive_int, help="image width (default: the scene camera's)")
+    parser.add_argument("--height", type=_positive_int, help="image height (default: the scene camera's)")
+    parser.add_argument("--mode", choices=MODES, default=default_mode,
+                        help=f"what to show (default {default_mode}): gi = direct + diffuse and specular indirect + emission; "
+                             "direct; indirect (diffuse); specular; ao; albedo/normal/depth (G-buffer); "
+                             "voxels/voxel-normals/voxel-albedo (the voxel grid at --mip)")
+    parser.add_argument("--grid", type=int, default=d.grid, help=f"voxels per side: 16, 32, 64, 128 or 256 (default {d.grid})")
+    parser.add_argument("--bounces", type=_nonnegative_int, default=d.bounces,
+                        help="diffuse bounces: 1 = direct + one indirect bounce, K = K bounces, "
+                             "0 = iterate until converged (default 0)")
+    parser.add_argument("--mip", type=_nonnegative_int, default=d.voxel_mip, help="mip level for the voxel views (default 0)")
+    parser.add_argument("--cone-step", type=float, default=d.cone_step,
+                        help=f"cone march step as a fraction of the cone diameter (default {d.cone_step})")
+    parser.add_argument("--cone-offset", type=float, default=d.cone_offset,
+                        help=f"cone start offset along the normal, in voxels (default {d.cone_offset})")
+    parser.add_argument("--ao-distance", type=float, default=d.ao_distance,
+                        help=f"AO cones stop after this distance in scene units (default {d.ao_distance})")
+    parser.add_argument("--no-direct", action="store_true", help="gi: leave out direct light and emission")
+    parser.add_argument("--no-diffuse", action="store_true", help="gi: leave out diffuse indirect light")
+    parser.add_argument("--no-specular", action="store_true", help="gi: leave out specular indirect light")
+    parser.add_argument("--exposure", type=float, default=d.exposure, help=f"exposure multiplier before tone mapping (default {d.exposure})")
+    parser.add_argument("--shaders", help="GLSL directory to use instead of the project's glsl/ (for shader work)")
+    parser.add_argument("--tonemap", choices=TONEMAPS, default=d.tonemap, help=f"tone curve for the PNG (default {d.tonemap})")
+
+
+def settings_from_args(args):
+    return RenderSettings(mode=args.mode, grid=args.grid, bounces=args.bounces, voxel_mip=args.mip,
+                          cone_step=args.cone_step, cone_offset=args.cone_offset, ao_distance=args.ao_distance,
+                          direct=not args.no_direct, indirect_diffuse=not args.no_diffuse,
+                          indirect_specular=not args.no_specular, exposure=args.exposure,
+                          tonemap=args.tonemap).validate()
+
+
+def build_parser():
+    parser = argparse.ArgumentParser(prog="vct", description="Voxel cone tracing renderer (OpenGL 4.5 via moderngl).")
+    commands = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
+
+    render = commands.add_parser("render", help="render a scene headless to PNG (and linear HDR .npy)",
+                                 description="Render a scene headless (EGL) to a tone-mapped PNG and optionally "
+                                             "linear float32 radiance (H, W, 3), row 0 at the top.")
+    render.add_argument("scene", help="scene JSON file")
+    render.add_argument("--out", required=True, help="output PNG path")
+    render.add_argument("--hdr", help="also write linear radiance before tone mapping as .npy")
+    _add_settings_arguments(render)
+
+    view = commands.add_parser("view", help="open the interactive viewer",
+                               description="Interactive viewer: fly camera, overlay, scene graph and inspector, "
+                                           "GLSL hot reload. Keys: WASD/QE move, drag to look, scroll for speed, "
+                                           "R reset camera, V vsync, F12/PrtScrn screenshot, Esc quit.")
+    view.add_argument("scene", help="scene JSON file")
+    view.add_argument("--frames", type=_positive_int, help="render this many frames, then exit")
+    view.add_argument("--screenshot", help="with --frames: save the last frame (without panels) to this PNG")
+    view.add_argument("--no-panels", action="store_true", help="start with the panels hidden")
+    _add_settings_arguments(view)
+
+    bench = commands.add_parser("bench", help="time each pass",
+                                description="Time each render pass (median over frames after warm-up, "
+                                            "ctx.finish() + wall clock) for each grid size.")
+    bench.add_argument("scene", help="scene JSON file")
+    bench.add_argument("--frames", type=_positive_int, default=10, help="timed frames per configuration (default 10)")
+    bench.add_argument("--warmup", type=_nonnegative_int, default=2, help="untimed frames first (default 2)")
+    bench.add_argument("--grids", default="16,32,64,128,256", help="comma-separated grid sizes (default 16,32,64,128,256)")
+    bench.add_argument("--json", help="also write the results as JSON to this file")
+    bench.add_argument("--reference", help="a reference radiance .npy to report the error of each grid against")
+    _add_settings_arguments(bench)
+    return parser
+
+
+def main(argv=None):
+    args = build_parser().parse_args(argv)
+    try:
+        if args.command == "render":
+            return render_command(args)
+        if args.command == "view":
+            from .viewer.app import view_command
+
+            return view_command(args)
+        if args.command == "bench":
+            from .bench import bench_command
+
+            return bench_command(args)
+    except VctError as exc:
+        print(f"vct: error: {exc}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        return 130
+    return 0
+
+
+def shader_root(args):
+    from .shaders import GLSL_ROOT
+
+    if not args.shaders:
+        return GLSL_ROOT
+    root = Path(args.shaders)
+    if not root.is_dir():
+        raise VctError("not a directory", source=root, field="--shaders")
+    return root
+
+
+def check_writable(path, flag):
+    """Refuse an output path that cannot be written, before rendering anything."""
+    path = Path(path)
+    parent = path.parent if str(path.parent) else Path(".")
+    if path.is_dir():
+        raise VctError("is a directory", source=path, field=flag)
+    if not parent.is_dir():
+        raise VctError("directory does not exist", source=path, field=flag)
+    if not os.access(parent, os.W_OK) or (path.exists() and not os.access(path, os.W_OK)):
+        raise VctError("not writable", source=path, field=flag)
+
+
+def render_command(args):
+    from .renderer import Renderer, save_npy
+    from .scene_file import load_scene
+
+    check_writable(args.out, "--out")
+    if args.hdr:
+        check_writable(args.hdr, "--hdr")
+    settings = settings_from_args(args)
+    scene = load_scene(args.scene)
+    width = args.width or scene.camera.width
+    height = args.height or scene.camera.height
+    with Renderer(width, height, settings, glsl_root=shader_root(args)) as renderer:
+        radiance = renderer.render(scene)
+        pixels = renderer.tonemapped()
+    from .renderer import save_png
+
+    if args.hdr:
+        save_npy(args.hdr, radiance)
+    save_png(args.out, pixels)
+    print(f"wrote {args.out}" + (f" and {args.hdr}" if args.hdr else "") + f" ({width}x{height}, mode {settings.mode})")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,1 @@
+"""One module per render pass; each owns its GL resources and releases them."""

@@ -1,0 +1,22 @@
+"""G-buffer inspection views: albedo, normals (encoded 0.5 n + 0.5), depth / far plane."""
+from .target import ScreenTarget
+
+VIEWS = {"albedo": 0, "normal": 1, "depth": 2}
+
+
+class GBufferViewPass:
+    def __init__(self, ctx, programs, size):
+        self.program = programs.program(vertex_shader="fullscreen.vert", fragment_shader="gbuffer_view.frag")
+        self.target = ScreenTarget(ctx, size)
+
+    def resize(self, size):
+        self.target.resize(size)
+
+    def render(self, view, camera_position, camera_forward, far_plane):
+        self.program.set(view=VIEWS[view], camera_position=tuple(camera_position),
+                         camera_forward=tuple(camera_forward), far_plane=float(far_plane))
+        self.target.draw(self.program)
+
+    def release(self):
+        self.target.release()
+        self.program.release()

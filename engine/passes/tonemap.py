@@ -1,0 +1,23 @@
+"""Tone mapping: exposure, a tone curve and sRGB encoding into an 8-bit target."""
+from ..constants import TEXTURE_UNIT
+from .target import ScreenTarget
+
+TONEMAPPERS = {"none": 0, "reinhard": 1, "aces": 2}
+
+
+class TonemapPass:
+    def __init__(self, ctx, programs, size):
+        self.program = programs.program(vertex_shader="fullscreen.vert", fragment_shader="tonemap.frag")
+        self.target = ScreenTarget(ctx, size, dtype="f1")
+
+    def resize(self, size):
+        self.target.resize(size)
+
+    def render(self, hdr_texture, exposure, tonemap, encode_srgb=True):
+        hdr_texture.use(TEXTURE_UNIT["HDR_INPUT"])
+        self.program.set(exposure=float(exposure), tonemap=TONEMAPPERS[tonemap], encode_srgb=bool(encode_srgb))
+        self.target.draw(self.program)
+
+    def release(self):
+        self.target.release()
+        self.program.release()

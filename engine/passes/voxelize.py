@@ -1,0 +1,143 @@
+"""Voxelization pass: the scene -> an N^3 grid every frame (geometry-shader dominant-axis
+projection, conservative dilation, image-atomic fixed-point averaging), resolved into RGBA16F
+3D textures of radiance (emission + injected direct light, premultiplied by opacity), normal
+distribution and diffuse albedo, plus the six one-sided face views of the radiance that cones
+read, all with hardware mipmaps."""
+import numpy as np
+
+from ..constants import GL_IMAGE_FORMAT, GRID_SIZES, IMAGE_UNIT, TEXTURE_UNIT, VOXEL_FORMAT, VOXEL_MEMORY_BUDGET
+from ..errors import VctError
+
+SUMS = (  # accumulator image, GL format
+    ("SUM_RADIANCE_R", "r32ui"), ("SUM_RADIANCE_G", "r32ui"), ("SUM_RADIANCE_B", "r32ui"),
+    ("SUM_ALBEDO_R", "r32ui"), ("SUM_ALBEDO_G", "r32ui"), ("SUM_ALBEDO_B", "r32ui"),
+    ("SUM_NORMAL_X", "r32i"), ("SUM_NORMAL_Y", "r32i"), ("SUM_NORMAL_Z", "r32i"),
+    ("SUM_COUNT", "r32ui"),
+)
+RESOLVE_GROUP = 4  # local size of voxel_resolve.comp along each axis
+VOXEL_FACES = 6
+# Mipmapped RGBA16F volumes held per grid: base radiance, normal, albedo, and two sets of six
+# one-sided face views of the radiance (the set cones read and the set a bounce writes).
+MIPMAPPED_VOLUMES = 3 + 2 * VOXEL_FACES
+
+
+def voxel_memory_bytes(n):
+    """GPU memory a grid of n^3 needs: 32-bit sums plus mipmapped RGBA16F volumes (x 8/7)."""
+    return n ** 3 * (4 * len(SUMS) + MIPMAPPED_VOLUMES * 8 * 8 / 7)
+
+
+def check_grid(ctx, n, source=None):
+    """Refuse a grid size before anything is allocated."""
+    if n not in GRID_SIZES:
+        raise VctError(f"grid must be a power of two from {GRID_SIZES[0]} to {GRID_SIZES[-1]}, got {n}", source=source, field="grid")
+    max_size = ctx.info.get("GL_MAX_3D_TEXTURE_SIZE", 2048)
+    if n > max_size:
+        raise VctError(f"grid {n} exceeds GL_MAX_3D_TEXTURE_SIZE {max_size}", source=source, field="grid")
+    need = voxel_memory_bytes(n)
+    if need > VOXEL_MEMORY_BUDGET:
+        raise VctError(f"grid {n} needs {need / 2**30:.1f} GiB of voxel memory, over the budget of "
+                       f"{VOXEL_MEMORY_BUDGET / 2**30:.1f} GiB", source=source, field="grid")
+
+
+def bind_output(volume, unit):
+    volume.bind_to_image(unit, read=False, write=True, format=GL_IMAGE_FORMAT["rgba16f"])
+
+
+def bind_faces(volumes):
+    """Bind six face views to the image units out_directional[0..5]."""
+    for face, volume in enumerate(volumes):
+        bind_output(volume, IMAGE_UNIT["OUT_DIRECTIONAL"] + face)
+
+
+def use_faces(volumes):
+    """Bind six face views to the sampler units voxel_directional[0..5]."""
+    for face, volume in enumerate(volumes):
+        volume.use(TEXTURE_UNIT["VOXEL_DIRECTIONAL"] + face)
+
+
+class VoxelizePass:
+    def __init__(self, ctx, programs, geometry):
+        self.ctx = ctx
+        self.geometry = geometry
+        self.program = programs.program(vertex_shader="voxelize.vert", geometry_shader="voxelize.geom",
+                                        fragment_shader="voxelize.frag")
+        self.resolve = programs.compute("voxel_resolve.comp")
+        self.grid = 0
+        self.sums = []
+        self.radiance = self.normal = self.albedo = None
+        self.face_sets = []  # two lists of 6 face views; the bounce pass writes one from the other
+        self.framebuffer = None
+        self.region = None
+
+    def _allocate(self, n):
+        self._release_grid()
+        self.grid = n
+        for _, fmt in SUMS:
+            dtype = "u4" if fmt == "r32ui" else "i4"
+            self.sums.append(self.ctx.texture3d((n, n, n), 1, data=bytes(4 * n ** 3), dtype=dtype))
+        self.radiance, self.normal, self.albedo = (self.new_volume() for _ in range(3))
+        self.face_sets = [[self.new_volume() for _ in range(VOXEL_FACES)] for _ in range(2)]
+        self.framebuffer = self.ctx.empty_framebuffer((n, n))
+
+    def new_volume(self):
+        """An N^3 RGBA16F volume with a full mip chain, trilinear between levels."""
+        n = self.grid
+        volume = self.ctx.texture3d((n, n, n), 4, dtype=VOXEL_FORMAT)
+        volume.build_mipmaps()
+        volume.filter = (self.ctx.LINEAR_MIPMAP_LINEAR, self.ctx.LINEAR)
+        volume.repeat_x = volume.repeat_y = volume.repeat_z = False
+        return volume
+
+    @property
+    def mip_count(self):
+        return self.grid.bit_length()  # N = 2^k has levels 0..k
+
+    def uniforms(self):
+        center, size = self.region.center, self.region.size
+        return dict(voxel_region_min=tuple(np.asarray(center) - size / 2.0), voxel_region_size=float(size),
+                    voxel_grid=self.grid, voxel_size=float(size) / self.grid)
+
+    def run(self, scene, grid, face_set=0):
+        """Voxelize the scene (with direct light from the bound shadow maps) and resolve into the
+        base volumes and face view set `face_set`."""
+        if grid != self.grid:
+            check_grid(self.ctx, grid, scene.source)
+            self._allocate(grid)
+        self.region = scene.region()
+        self.program.set(**self.uniforms())
+        for (name, fmt), texture in zip(SUMS, self.sums):
+            texture.bind_to_image(IMAGE_UNIT[name], read=True, write=True, format=GL_IMAGE_FORMAT[fmt])
+        self.framebuffer.use()
+        self.ctx.viewport = (0, 0, grid, grid)
+        self.ctx.disable(self.ctx.DEPTH_TEST | self.ctx.CULL_FACE | self.ctx.BLEND)
+
+        def material(node, world):
+            m = node.material
+            self.program.set(albedo=tuple(m.albedo), metalness=m.metalness, emission=tuple(m.emission))
+
+        self.geometry.draw(self.program, scene, material)
+        self.ctx.memory_barrier(self.ctx.SHADER_IMAGE_ACCESS_BARRIER_BIT)
+        for unit, volume in (("OUT_RADIANCE", self.radiance), ("OUT_NORMAL", self.normal), ("OUT_ALBEDO", self.albedo)):
+            bind_output(volume, IMAGE_UNIT[unit])
+        bind_faces(self.face_sets[face_set])
+        groups = grid // RESOLVE_GROUP
+        self.resolve.program.run(groups, groups, groups)
+        self.ctx.memory_barrier(self.ctx.SHADER_IMAGE_ACCESS_BARRIER_BIT | self.ctx.TEXTURE_FETCH_BARRIER_BIT
+                                | self.ctx.TEXTURE_UPDATE_BARRIER_BIT)
+
+    def mipmap_faces(self, face_set):
+        for volume in self.face_sets[face_set]:
+            volume.build_mipmaps()
+
+    def _release_grid(self):
+        for resource in [*self.sums, *sum(self.face_sets, []), self.radiance, self.normal, self.albedo, self.framebuffer]:
+            if resource is not None:
+                resource.release()
+        self.sums, self.face_sets = [], []
+        self.radiance = self.normal = self.albedo = self.framebuffer = None
+        self.grid = 0
+
+    def release(self):
+        self._release_grid()
+        self.program.release()
+        self.resolve.release()

@@ -1,0 +1,235 @@
+"""The renderer: wires the passes together in plain order and returns linear HDR radiance.
+
+    scene = engine.load_scene("scenes/cornell_box.json")
+    with engine.Renderer(256, 256) as r:
+        radiance = r.render(scene, mode="direct")    # float32 (H, W, 3), row 0 at the top
+        r.save_png("out.png")                          # tone-mapped with the settings' curve
+"""
+import time
+from contextlib import contextmanager
+from pathlib import Path
+
+import numpy as np
+
+from .constants import TEXTURE_UNIT
+from .errors import VctError
+from .gl import create_headless_context
+from .passes.bounce import BouncePass, iterations_to_converge
+from .passes.cone_trace import ConeTracePass
+from .passes.gbuffer import GBufferPass
+from .passes.gbuffer_view import GBufferViewPass
+from .passes.lighting import LightingPass
+from .passes.shadow import ShadowPass
+from .passes.tonemap import TonemapPass
+from .passes.voxel_view import VoxelViewPass
+from .passes.voxelize import VoxelizePass
+from .scene_gpu import SceneGeometry
+from .settings import DATA_MODES, VOXEL_MODES, RenderSettings
+from .shaders import GLSL_ROOT, ProgramLibrary
+
+NEAR_PLANE = 0.01
+
+
+class Renderer:
+    def __init__(self, width, height, settings=None, ctx=None, glsl_root=GLSL_ROOT):
+        self.settings = (settings or RenderSettings()).validate()
+        self.size = (int(width), int(height))
+        if self.size[0] <= 0 or self.size[1] <= 0:
+            raise VctError(f"image size must be positive, got {self.size[0]}x{self.size[1]}", field="size")
+        self._owns_context = ctx is None
+        self.ctx = ctx or create_headless_context()
+        self.programs = ProgramLibrary(self.ctx, glsl_root)
+        self.geometry = SceneGeometry(self.ctx)
+        self.measure = False  # when True, each pass is timed with ctx.finish() + wall clock
+        # When True (the viewer), bounces=0 runs one bounce per frame seeded by the previous
+        # frame's voxel radiance instead of iterating to convergence within the frame.
+        self.feedback = False
+        self.timings = {}
+        self._passes = []
+        try:
+            self.shadow = self._add(ShadowPass(self.ctx, self.programs, self.geometry, self.settings.shadow_map_size))
+            self.gbuffer = self._add(GBufferPass(self.ctx, self.programs, self.geometry, self.size))
+            self.lighting = self._add(LightingPass(self.ctx, self.programs, self.size))
+            self.gbuffer_view = self._add(GBufferViewPass(self.ctx, self.programs, self.size))
+            self.voxelize = self._add(VoxelizePass(self.ctx, self.programs, self.geometry))
+            self.bounce = self._add(BouncePass(self.ctx, self.programs))
+            self.cone_trace = self._add(ConeTracePass(self.ctx, self.programs, self.size))
+            self.voxel_view = self._add(VoxelViewPass(self.ctx, self.programs, self.size))
+            self.tonemap = self._add(TonemapPass(self.ctx, self.programs, self.size))
+        except Exception:
+            self.close()
+            raise
+        self.output = None  # the ScreenTarget holding the last frame's HDR result
+        self._history_set = None  # face set holding the last frame's voxel radiance (feedback)
+        self.bounce_iterations = 0
+
+    def _add(self, render_pass):
+        self._passes.append(render_pass)
+        return render_pass
+
+    def resize(self, width, height):
+        """Follow a new output size (all screen-space targets are recreated)."""
+        self.size = (max(1, int(width)), max(1, int(height)))
+        for render_pass in (self.gbuffer, self.lighting, self.gbuffer_view, self.cone_trace, self.voxel_view, self.tonemap):
+            render_pass.resize(self.size)
+
+    # -- frame ---------------------------------------------------------------------------
+
+    @contextmanager
+    def timed(self, name):
+        if not self.measure:
+            yield
+            return
+        self.ctx.finish()
+        start = time.perf_counter()
+        yield
+        self.ctx.finish()
+        self.timings[name] = self.timings.get(name, 0.0) + (time.perf_counter() - start) * 1000.0
+
+    def camera_matrices(self, camera):
+        lo, hi = self._scene_bounds
+        corners = np.array([[x, y, z] for x in (lo[0], hi[0]) for y in (lo[1], hi[1]) for z in (lo[2], hi[2])])
+        far = float(np.max(np.linalg.norm(corners - camera.position, axis=1))) * 1.1 + 1.0
+        view = camera.view_matrix()
+        projection = camera.projection_matrix(self.size[0] / self.size[1], NEAR_PLANE, far)
+        return view, projection, far
+
+    def render_frame(self, scene, settings=None):
+        """Render one frame on the GPU; `self.output` holds the HDR result. Returns it."""
+        s = (settings or self.settings).validate()
+        self.settings = s
+        self.timings = {}
+        self.geometry.draw_calls = 0
+        self._scene_bounds = scene.bounds()
+        camera = scene.camera
+        view, projection, far = self.camera_matrices(camera)
+        with self.timed("shadow"):
+            self.shadow.update(scene)
+        with self.timed("gbuffer"):
+            self.gbuffer.render(scene, projection @ view)
+        self.gbuffer.bind()
+        if s.mode in ("albedo", "normal", "depth"):
+            with self.timed("gbuffer_view"):
+                forward = camera.look_at - camera.position
+                self.gbuffer_view.render(s.mode, camera.position, forward / np.linalg.norm(forward), far)
+            self.output = self.gbuffer_view.target
+            return self.output
+        self.shadow.bind(self.lighting.program, self.voxelize.program)
+        with self.timed("lighting"):
+            self.lighting.render(camera.position)
+        self.output = self.lighting.target
+        if s.mode not in VOXEL_MODES:
+            return self.output
+        face_set = self.build_voxels(scene, s)
+        voxel_uniforms = self.voxelize.uniforms()
+        if s.mode in ("voxels", "voxel-normals", "voxel-albedo"):
+            shown = {"voxels": self.voxelize.radiance, "voxel-normals": self.voxelize.normal,
+                     "voxel-albedo": self.voxelize.albedo}[s.mode]
+            shown.build_mipmaps()
+            with self.timed("voxel_view"):
+                self.voxel_view.render(s.mode, shown, s.voxel_mip, voxel_uniforms, projection @ view, camera.position)
+            self.output = self.voxel_view.target
+            return self.output
+        with self.timed("cone_trace"):
+            self.cone_trace.render(voxel_uniforms, self.cone_uniforms(s), self.voxelize.face_sets[face_set],
+                                   self.lighting.target.texture,
+                                   camera.position, ao=s.mode == "ao",
+                                   direct=s.mode == "gi" and s.direct,
+                                   diffuse=s.mode == "indirect" or (s.mode == "gi" and s.indirect_diffuse),
+                                   specular=s.mode == "specular" or (s.mode == "gi" and s.indirect_specular),
+                                   ao_distance=s.ao_distance)
+        self.output = self.cone_trace.target
+        return self.output
+
+    def cone_uniforms(self, s):
+        return dict(cone_step=float(s.cone_step), cone_offset=float(s.cone_offset),
+                    voxel_max_mip=float(self.voxelize.mip_count - 1))
+
+    def build_voxels(self, scene, s):
+        """Voxelize, mipmap and bounce; returns the face set (index) cones should read."""
+        history = self._history_set if (self.feedback and s.bounces == 0 and s.grid == self.voxelize.grid) else None
+        target = 0 if history is None else 1 - history
+        with self.timed("voxelize"):
+            self.voxelize.run(scene, s.grid, target)
+        with self.timed("mipmap"):
+            self.voxelize.mipmap_faces(target)
+        if s.bounces > 0:
+            iterations = s.bounces - 1
+        elif self.feedback:
+            iterations = 1
+        else:
+            max_albedo = max((float(np.max((1.0 - m.metalness) * m.albedo)) for m in scene.materials.values()), default=0.0)
+            iterations = iterations_to_converge(max_albedo)
+        source = history if history is not None else target
+        with self.timed("bounces"):
+            for _ in range(iterations):
+                source = self.bounce.run(self.voxelize, self.cone_uniforms(s), source)
+        self.bounce_iterations = iterations
+        self._history_set = source
+        return source
+
+    def render(self, scene, mode=None, **changes):
+        """Render and return linear radiance, float32 (H, W, 3), row 0 at the top."""
+        settings = self.settings.replace(**changes) if changes else self.settings
+        if mode is not None:
+            settings = settings.replace(mode=mode)
+        self.render_frame(scene, settings)
+        return self.output.read()[..., :3].copy()
+
+    def display_target(self):
+        """Tone-map the last frame on the GPU; returns the 8-bit ScreenTarget (for a window)."""
+        s = self.settings
+        with self.timed("tonemap"):
+            if s.mode in DATA_MODES:  # encoded data: shown as stored, no curve, no sRGB
+                self.tonemap.render(self.output.texture, 1.0, "none", encode_srgb=False)
+            else:
+                self.tonemap.render(self.output.texture, s.exposure, s.tonemap)
+        return self.tonemap.target
+
+    def tonemapped(self):
+        """The last frame as display pixels, uint8 (H, W, 3), row 0 at the top."""
+        return self.display_target().read()[..., :3].copy()
+
+    def save_png(self, path):
+        """Tone-map the last frame and write it as PNG (written to a temporary name, then moved)."""
+        save_png(path, self.tonemapped())
+
+    # -- lifetime ------------------------------------------------------------------------
+
+    def close(self):
+        for render_pass in reversed(self._passes):
+            render_pass.release()
+        self._passes = []
+        self.geometry.release()
+        if self._owns_context and self.ctx is not None:
+            self.ctx.release()
+        self.ctx = None
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+
+
+def save_png(path, pixels):
+    """Write uint8 pixels (H, W, 3) to a PNG atomically: nothing is left half-written."""
+    from PIL import Image
+
+    write_atomically(path, lambda f: Image.fromarray(pixels, "RGB").save(f, format="PNG"))
+
+
+def save_npy(path, array):
+    write_atomically(path, lambda f: np.save(f, np.asarray(array, dtype="f4")))
+
+
+def write_atomically(path, write):
+    path = Path(path)
+    tmp = path.with_name(f".{path.name}.tmp")
+    try:
+        with open(tmp, "wb") as f:
+            write(f)
+        tmp.replace(path)
+    except OSError as exc:
+        tmp.unlink(missing_ok=True)
+        raise VctError(f"cannot write ({exc.strerror or exc})", source=path) from None

@@ -1,0 +1,57 @@
+"""Render settings shared by the CLI, the viewer and the benchmark."""
+from dataclasses import dataclass, fields
+
+from .constants import GRID_SIZES
+from .errors import VctError
+
+# Modes that show radiance (tone-mapped for display) and modes that show encoded data.
+RADIANCE_MODES = ("gi", "direct", "indirect", "specular", "ao", "voxels")
+DATA_MODES = ("albedo", "normal", "depth", "voxel-normals", "voxel-albedo")
+MODES = RADIANCE_MODES + DATA_MODES
+VOXEL_MODES = ("gi", "indirect", "specular", "ao", "voxels", "voxel-normals", "voxel-albedo")
+TONEMAPS = ("aces", "reinhard", "none")
+
+
+@dataclass
+class RenderSettings:
+    mode: str = "gi"
+    grid: int = 128                 # voxels per side, a power of two in 16..256
+    bounces: int = 0                # diffuse bounces through the voxels; 0 = iterate to convergence
+    voxel_mip: int = 0              # mip level shown by the voxel views
+    cone_step: float = 0.5          # march step as a fraction of the cone diameter
+    cone_offset: float = 1.0        # cone start offset along the normal, in voxels
+    ao_distance: float = 1.0        # AO cones stop after this distance (world units)
+    direct: bool = True             # gi: include direct light and emission
+    indirect_diffuse: bool = True   # gi: include diffuse indirect light
+    indirect_specular: bool = True  # gi: include specular indirect light
+    exposure: float = 1.0
+    tonemap: str = "aces"
+    shadow_map_size: int = 1024
+
+    def validate(self, source="settings"):
+        if self.mode not in MODES:
+            raise VctError(f'unknown mode "{self.mode}" (expected one of {", ".join(MODES)})', field="mode")
+        if self.grid not in GRID_SIZES:
+            raise VctError(f"grid must be a power of two from 16 to 256, got {self.grid}", field="grid")
+        if self.bounces < 0:
+            raise VctError("must be 0 (converge) or a positive count", field="bounces")
+        if not 0 <= self.voxel_mip <= self.grid.bit_length() - 1:
+            raise VctError(f"must be in 0..{self.grid.bit_length() - 1} for grid {self.grid}", field="mip")
+        if not 0.05 <= self.cone_step <= 2.0:
+            raise VctError("must be in 0.05..2", field="cone_step")
+        if self.cone_offset < 0:
+            raise VctError("must not be negative", field="cone_offset")
+        if self.tonemap not in TONEMAPS:
+            raise VctError(f'unknown tone mapper "{self.tonemap}"', field="tonemap")
+        if self.exposure <= 0:
+            raise VctError("must be positive", field="exposure")
+        return self
+
+    def replace(self, **changes):
+        known = {f.name for f in fields(self)}
+        unknown = set(changes) - known
+        if unknown:
+            raise VctError(f"unknown setting {sorted(unknown)[0]}", field="settings")
+        values = {f.name: getattr(self, f.name) for f in fields(self)}
+        values.update(changes)
+        return RenderSettings(**values)

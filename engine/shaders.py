@@ -1,0 +1,221 @@
+"""GLSL sources: a small `#include` preprocessor that keeps error lines mappable.
+
+Every file gets a source-string number; `#line L N` directives are emitted around
+each include, so a driver message such as "3:12(5): error: ..." can be translated
+back to "glsl/lib/lights.glsl:12: error: ...".
+"""
+import re
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from . import constants
+from .errors import ShaderError
+
+GLSL_ROOT = Path(__file__).resolve().parent.parent / "glsl"
+CONSTANTS_INCLUDE = "engine_constants.glsl"
+_INCLUDE = re.compile(r'^\s*#\s*include\s+"([^"]+)"\s*$')
+_VERSION = re.compile(r"^\s*#\s*version\b")
+# Mesa: "3:12(5): error: ..."; NVIDIA: "3(12) : error ..."
+_DRIVER_LINE = re.compile(r"^\s*(?:ERROR:\s*)?(\d+):(\d+)\((\d+)\):\s*(.*)$|^\s*(\d+)\((\d+)\)\s*:\s*(.*)$")
+
+
+@dataclass
+class Source:
+    """A preprocessed stage: its text and the files it was made from (index = source number)."""
+
+    text: str
+    files: list = field(default_factory=list)
+
+    def map_log(self, log):
+        """Rewrite driver messages "N:L(C): msg" into "path:L: msg"."""
+        out = []
+        for line in log.splitlines():
+            m = _DRIVER_LINE.match(line)
+            if m and m.group(1) is not None:
+                out.append(f"{self._name(int(m.group(1)))}:{m.group(2)}: {m.group(4)}")
+            elif m:
+                out.append(f"{self._name(int(m.group(5)))}:{m.group(6)}: {m.group(7)}")
+            elif line.strip():
+                out.append(line.strip())
+        return out
+
+    def _name(self, index):
+        return self.files[index] if 0 <= index < len(self.files) else f"<source {index}>"
+
+
+def _display(path, root):
+    try:
+        return str(Path("glsl") / Path(path).relative_to(root))
+    except ValueError:
+        return str(path)
+
+
+def preprocess(name, defines=None, root=GLSL_ROOT):
+    """Read glsl/<name>, expand includes (relative to glsl/), inject `defines` after #version."""
+    root = Path(root)
+    files = []
+    seen = set()
+
+    def expand(path, text, stack):
+        index = len(files)
+        files.append(_display(path, root) if path != CONSTANTS_INCLUDE else "engine/constants.py")
+        out = [] if index == 0 else [f"#line 1 {index}"]
+        for number, line in enumerate(text.splitlines(), start=1):
+            m = _INCLUDE.match(line)
+            if m:
+                target = m.group(1)
+                if target in stack:
+                    raise ShaderError(f"include cycle through {target}", source=_display(path, root) if path != CONSTANTS_INCLUDE else path, field=f"line {number}")
+                if target in seen:
+                    out.append(f"// {target} already included")
+                    continue
+                seen.add(target)
+                if target == CONSTANTS_INCLUDE:
+                    sub_text = constants.glsl_header()
+                    sub_path = CONSTANTS_INCLUDE
+                else:
+                    sub_path = root / target
+                    if not sub_path.is_file():
+                        raise ShaderError(f'#include "{target}": no such file', source=_display(path, root), field=f"line {number}")
+                    sub_text = sub_path.read_text()
+                out.extend(expand(sub_path, sub_text, stack | {target}))
+                out.append(f"#line {number + 1} {index}")
+            elif index == 0 and _VERSION.match(line):
+                out.append(line)
+                for key, value in (defines or {}).items():
+                    out.append(f"#define {key} {value}")
+                out.append(f"#line {number + 1} 0")
+            else:
+                out.append(line)
+        return out
+
+    path = root / name
+    if not path.is_file():
+        raise ShaderError("no such shader file", source=_display(path, root))
+    lines = expand(path, path.read_text(), frozenset())
+    return Source("\n".join(lines) + "\n", files)
+
+
+def build_program(ctx, stages, defines=None, root=GLSL_ROOT):
+    """Compile and link a program. `stages` maps 'vertex_shader'/'geometry_shader'/
+    'fragment_shader' to file names under glsl/. Errors raise ShaderError with real paths."""
+    sources = {stage: preprocess(name, defines, root) for stage, name in stages.items()}
+    try:
+        return ctx.program(**{stage: src.text for stage, src in sources.items()})
+    except Exception as exc:  # moderngl raises a plain Error with the driver log
+        raise _shader_error(exc, sources) from None
+
+
+def build_compute(ctx, name, defines=None, root=GLSL_ROOT):
+    source = preprocess(name, defines, root)
+    try:
+        return ctx.compute_shader(source.text)
+    except Exception as exc:
+        raise _shader_error(exc, {"compute_shader": source}) from None
+
+
+def _shader_error(exc, sources):
+    text = str(exc)
+    lines = []
+    for source in sources.values():
+        mapped = [line for line in source.map_log(text) if re.match(r"^\S+:\d+: ", line)]
+        if mapped:
+            lines = mapped
+            break
+    if not lines:
+        first = next(iter(sources.values()))
+        lines = [f"{first.files[0]}: " + " ".join(l.strip() for l in text.splitlines() if l.strip() and set(l.strip()) != {"="})]
+    error = ShaderError(lines[0])
+    error.lines = lines
+    return error
+
+
+class ProgramHandle:
+    """A program that can be rebuilt when its files change. `program` always holds the last
+    good build; `error` holds the last failure (None once a rebuild succeeds)."""
+
+    def __init__(self, library, stages, defines):
+        self.library = library
+        self.stages = stages  # {'vertex_shader': 'gbuffer.vert', ...} or {'compute_shader': ...}
+        self.defines = dict(defines or {})
+        self.program = None
+        self.error = None
+        self.files = ()
+        self._mtimes = {}
+        self.build()
+
+    def build(self):
+        """Compile; on success replace the program, on failure keep the old one and raise."""
+        ctx, root = self.library.ctx, self.library.root
+        files = set()
+        for name in self.stages.values():
+            files.update(preprocess(name, self.defines, root).files)
+        paths = [Path(root).parent / f for f in files if f.startswith("glsl")]
+        mtimes = {p: p.stat().st_mtime_ns for p in paths if p.exists()}
+        try:
+            if "compute_shader" in self.stages:
+                program = build_compute(ctx, self.stages["compute_shader"], self.defines, root)
+            else:
+                program = build_program(ctx, self.stages, self.defines, root)
+        except ShaderError as exc:
+            self.error = exc
+            self._mtimes = mtimes
+            raise
+        if self.program is not None:
+            self.program.release()
+        self.program, self.error, self._mtimes, self.files = program, None, mtimes, tuple(sorted(map(str, paths)))
+        return program
+
+    def changed(self):
+        return any(not p.exists() or p.stat().st_mtime_ns != t for p, t in self._mtimes.items())
+
+    def release(self):
+        if self.program is not None:
+            self.program.release()
+            self.program = None
+        self.library.handles.discard(self)
+
+    def __getitem__(self, name):
+        return self.program[name]
+
+    def set(self, **uniforms):
+        """Set the uniforms the program uses; ones the compiler removed are skipped."""
+        for name, value in uniforms.items():
+            if name in self.program:
+                member = self.program[name]
+                if isinstance(value, (bytes, bytearray)):
+                    member.write(value)
+                else:
+                    member.value = value
+
+
+class ProgramLibrary:
+    """Builds every program of a renderer and rebuilds the ones whose files changed."""
+
+    def __init__(self, ctx, root=GLSL_ROOT):
+        self.ctx = ctx
+        self.root = Path(root)
+        self.handles = set()
+
+    def program(self, defines=None, **stages):
+        handle = ProgramHandle(self, stages, defines)
+        self.handles.add(handle)
+        return handle
+
+    def compute(self, name, defines=None):
+        return self.program(defines, compute_shader=name)
+
+    def reload_changed(self):
+        """Rebuild programs whose sources changed. Returns (rebuilt count, [ShaderError])."""
+        rebuilt, errors = 0, []
+        for handle in list(self.handles):
+            if handle.changed():
+                try:
+                    handle.build()
+                    rebuilt += 1
+                except ShaderError as exc:
+                    errors.append(exc)
+        return rebuilt, errors
+
+    def errors(self):
+        return [h.error for h in self.handles if h.error is not None]

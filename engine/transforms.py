@@ -1,0 +1,59 @@
+"""4x4 matrices for column vectors (p' = M @ p), float64 numpy; upload with `gl_bytes`."""
+import math
+
+import numpy as np
+import pyrr
+
+
+def translate(t):
+    m = np.eye(4)
+    m[:3, 3] = t
+    return m
+
+
+def scale(s):
+    return np.diag([s[0], s[1], s[2], 1.0])
+
+
+def rotate_euler_deg(angles):
+    """Rotation by angles [x, y, z] in degrees about the fixed axes, applied x, then y, then z
+    (R = Rz Ry Rx); each a right-handed rotation (counter-clockwise looking down the axis)."""
+    ax, ay, az = (math.radians(a) for a in angles)
+    cx, sx, cy, sy, cz, sz = math.cos(ax), math.sin(ax), math.cos(ay), math.sin(ay), math.cos(az), math.sin(az)
+    rx = np.array([[1, 0, 0], [0, cx, -sx], [0, sx, cx]])
+    ry = np.array([[cy, 0, sy], [0, 1, 0], [-sy, 0, cy]])
+    rz = np.array([[cz, -sz, 0], [sz, cz, 0], [0, 0, 1]])
+    m = np.eye(4)
+    m[:3, :3] = rz @ ry @ rx
+    return m
+
+
+def compose(translation, rotation_deg, scale_xyz):
+    """T * R * S."""
+    return translate(translation) @ rotate_euler_deg(rotation_deg) @ scale(scale_xyz)
+
+
+def perspective(vertical_fov_deg, aspect, near, far):
+    return pyrr.matrix44.create_perspective_projection(vertical_fov_deg, aspect, near, far, dtype=np.float64).T
+
+
+def orthographic(half_width, half_height, near, far):
+    return pyrr.matrix44.create_orthogonal_projection(-half_width, half_width, -half_height, half_height, near, far, dtype=np.float64).T
+
+
+def look_at(eye, target, up):
+    return pyrr.matrix44.create_look_at(np.asarray(eye, float), np.asarray(target, float), np.asarray(up, float), dtype=np.float64).T
+
+
+def transform_points(m, points):
+    p = np.asarray(points, float)
+    return p @ m[:3, :3].T + m[:3, 3]
+
+
+def normal_matrix(m):
+    return np.linalg.inv(m[:3, :3]).T
+
+
+def gl_bytes(m):
+    """Bytes of a matrix in the column-major order GLSL expects."""
+    return np.asarray(m, dtype="f4").T.tobytes()

@@ -1,0 +1,235 @@
+"""The ImGui windows: overlay, Scene Graph, Inspector, Renderer, shader errors.
+
+Widgets only: every scene edit goes through engine.viewer.inspector, every settings change
+returns a new RenderSettings that the viewer validates before using it.
+"""
+from imgui_bundle import imgui
+
+from ..constants import GRID_SIZES
+from ..settings import MODES, TONEMAPS
+from . import inspector
+
+MARGIN = 8
+PANEL_WIDTH = 280
+TREE_WIDTH = 170
+ERROR_RED = imgui.ImVec4(1.0, 0.45, 0.4, 1.0)
+DIM = imgui.ImVec4(0.7, 0.7, 0.7, 1.0)
+VOXEL_VIEW_MODES = ("voxels", "voxel-normals", "voxel-albedo")
+
+
+def _place(x, y, pivot_x=0.0, pivot_y=0.0, width=None, cond=imgui.Cond_.first_use_ever):
+    """Initial position (pivot: which corner sits at x, y); a fixed width, height to fit."""
+    imgui.set_next_window_pos(imgui.ImVec2(x, y), cond, imgui.ImVec2(pivot_x, pivot_y))
+    if width is not None:
+        imgui.set_next_window_size_constraints(imgui.ImVec2(width, 0), imgui.ImVec2(width, imgui.FLT_MAX))
+
+
+# ---- overlay --------------------------------------------------------------------------------
+
+def draw_overlay(frames, process, renderer, vsync):
+    """FPS, ms per frame, CPU %, RAM, draw calls and per-pass ms, in the top-left corner."""
+    _place(MARGIN, MARGIN, cond=imgui.Cond_.always)
+    imgui.set_next_window_bg_alpha(0.6)
+    flags = (imgui.WindowFlags_.no_decoration | imgui.WindowFlags_.always_auto_resize
+             | imgui.WindowFlags_.no_saved_settings | imgui.WindowFlags_.no_focus_on_appearing
+             | imgui.WindowFlags_.no_nav | imgui.WindowFlags_.no_inputs)
+    if imgui.begin("Overlay", None, flags)[0]:
+        s = renderer.settings
+        imgui.text(f"FPS  {frames.fps:7.1f}   SPF {frames.ms_per_frame:8.1f} ms")
+        imgui.text(f"CPU  {process.cpu_percent:7.0f} %  RAM {process.ram_mb:8.0f} MB")
+        imgui.text(f"Draw calls {renderer.geometry.draw_calls:4d}")
+        imgui.text_colored(DIM, f"{renderer.size[0]}x{renderer.size[1]}  {s.mode}  grid {s.grid}  "
+                                f"vsync {'on' if vsync else 'off'}")
+        if renderer.timings:
+            imgui.separator()
+            for name, ms in renderer.timings.items():
+                imgui.text(f"{name:<13}{ms:9.1f} ms")
+            imgui.text_colored(DIM, f"{'passes':<13}{sum(renderer.timings.values()):9.1f} ms")
+    imgui.end()
+
+
+# ---- scene graph ----------------------------------------------------------------------------
+
+def draw_scene_graph(scene, selected, window_size):
+    """The node tree; returns the name of the selected node."""
+    _place(MARGIN, window_size[1] - MARGIN, 0.0, 1.0, width=TREE_WIDTH)
+    if imgui.begin("Scene Graph", None, imgui.WindowFlags_.always_auto_resize)[0]:
+        selected = _tree(scene.root, selected, depth=0)
+    imgui.end()
+    return selected
+
+
+def _tree(node, selected, depth):
+    flags = imgui.TreeNodeFlags_.open_on_arrow | imgui.TreeNodeFlags_.span_avail_width
+    if not node.children:
+        flags |= imgui.TreeNodeFlags_.leaf | imgui.TreeNodeFlags_.no_tree_push_on_open
+    if node.name == selected:
+        flags |= imgui.TreeNodeFlags_.selected
+    if depth == 0:
+        flags |= imgui.TreeNodeFlags_.default_open
+    opened = imgui.tree_node_ex(f"{node.name}##{id(node)}", flags)
+    if imgui.is_item_clicked() and not imgui.is_item_toggled_open():
+        selected = node.name
+    if opened and node.children:
+        for child in node.children:
+            selected = _tree(child, selected, depth + 1)
+        imgui.tree_pop()
+    return selected
+
+
+# ---- inspector ------------------------------------------------------------------------------
+
+def draw_inspector(scene, selected, window_size):
+    _place(window_size[0] - MARGIN, MARGIN, 1.0, 0.0, width=PANEL_WIDTH)
+    if imgui.begin("Inspector", None, imgui.WindowFlags_.always_auto_resize)[0]:
+        node = scene.root.find(selected) if selected else None
+        if node is None:
+            imgui.text_colored(DIM, "Select a node in the Scene Graph.")
+        else:
+            imgui.push_item_width(PANEL_WIDTH - 100)
+            imgui.text(node.name)
+            _transform(scene, node)
+            if node.material is not None:
+                _material(scene, node)
+            if node.light is not None:
+                _light(scene, node)
+            imgui.pop_item_width()
+    imgui.end()
+
+
+def _transform(scene, node):
+    imgui.separator_text("Transform")
+    changed, value = imgui.drag_float3("Translation", list(node.translation), 0.01)
+    if changed:
+        inspector.set_translation(scene, node.name, value)
+    changed, value = imgui.drag_float3("Rotation", list(node.rotation_deg), 0.5, format="%.1f")
+    if changed:
+        inspector.set_rotation(scene, node.name, value)
+    changed, value = imgui.drag_float3("Scale", list(node.scale), 0.01, inspector.MIN_SCALE, 100.0)
+    if changed:
+        inspector.set_scale(scene, node.name, value)
+
+
+def _material(scene, node):
+    material = node.material
+    users = inspector.material_users(scene, material)
+    imgui.separator_text(f"Material: {material.name}")
+    if len(users) > 1:
+        imgui.text_colored(DIM, f"shared by {len(users)} nodes")
+        imgui.same_line()
+        if imgui.small_button("Make unique"):
+            inspector.make_material_unique(scene, node.name)
+    changed, value = imgui.color_edit3("Albedo", list(material.albedo), imgui.ColorEditFlags_.float)
+    if changed:
+        inspector.set_albedo(scene, node.name, value)
+    changed, value = imgui.slider_float("Roughness", float(material.roughness), 0.0, 1.0)
+    if changed:
+        inspector.set_roughness(scene, node.name, value)
+    changed, value = imgui.slider_float("Metalness", float(material.metalness), 0.0, 1.0)
+    if changed:
+        inspector.set_metalness(scene, node.name, value)
+    changed, value = imgui.color_edit3("Emission", list(material.emission),
+                                       imgui.ColorEditFlags_.float | imgui.ColorEditFlags_.hdr)
+    if changed:
+        inspector.set_emission(scene, node.name, value)
+
+
+def _light(scene, node):
+    light = node.light
+    imgui.separator_text(f"Light: {light.type}")
+    changed, value = imgui.color_edit3("Colour", list(inspector.light_colour(light)), imgui.ColorEditFlags_.float)
+    if changed:
+        inspector.set_light_colour(scene, node.name, value)
+    unit = "W/m2" if light.type == "directional" else "W/sr"
+    changed, value = imgui.drag_float("Intensity", inspector.light_power(light), 0.02, 0.0, 1e6, f"%.2f {unit}")
+    if changed:
+        inspector.set_light_power(scene, node.name, value)
+    if light.type in ("point", "spot"):
+        changed, value = imgui.drag_float3("Position", list(light.position), 0.01)
+        if changed:
+            inspector.set_light_position(scene, node.name, value)
+    if light.type in ("spot", "directional"):
+        changed, value = imgui.drag_float3("Direction", list(light.direction), 0.01)
+        if changed and any(value):
+            inspector.set_light_direction(scene, node.name, value)
+    changed, value = imgui.checkbox("Cast shadows", bool(light.cast_shadows))
+    if changed:
+        inspector.set_light_cast_shadows(scene, node.name, value)
+
+
+# ---- renderer -------------------------------------------------------------------------------
+
+def draw_renderer_panel(settings, window_size, message=None):
+    """Render settings; returns the changed RenderSettings (not yet validated) or None."""
+    _place(window_size[0] - MARGIN, window_size[1] - MARGIN, 1.0, 1.0, width=PANEL_WIDTH)
+    changes = {}
+    if imgui.begin("Renderer", None, imgui.WindowFlags_.always_auto_resize)[0]:
+        imgui.push_item_width(PANEL_WIDTH - 100)
+        _combo("Mode", settings.mode, MODES, changes, "mode")
+        if settings.mode in VOXEL_VIEW_MODES:
+            changed, mip = imgui.slider_int("Mip level", settings.voxel_mip, 0, settings.grid.bit_length() - 1)
+            if changed:
+                changes["voxel_mip"] = mip
+        grid = _combo("Grid", settings.grid, GRID_SIZES, changes, "grid")
+        if grid is not None:
+            changes["voxel_mip"] = min(settings.voxel_mip, grid.bit_length() - 1)
+        changed, bounces = imgui.slider_int("Bounces", settings.bounces, 0, 8,
+                                            "converge" if settings.bounces == 0 else "%d")
+        if changed:
+            changes["bounces"] = bounces
+        _slider("Cone step", settings.cone_step, 0.05, 2.0, changes, "cone_step")
+        _slider("Cone offset", settings.cone_offset, 0.0, 4.0, changes, "cone_offset")
+        if settings.mode == "ao":
+            _slider("AO distance", settings.ao_distance, 0.05, 4.0, changes, "ao_distance")
+        _slider("Exposure", settings.exposure, 0.05, 16.0, changes, "exposure", imgui.SliderFlags_.logarithmic)
+        _combo("Tone map", settings.tonemap, TONEMAPS, changes, "tonemap")
+        if settings.mode == "gi":
+            for i, (label, key) in enumerate((("Direct", "direct"), ("Diffuse", "indirect_diffuse"),
+                                              ("Specular", "indirect_specular"))):
+                if i:
+                    imgui.same_line()
+                changed, value = imgui.checkbox(label, getattr(settings, key))
+                if changed:
+                    changes[key] = value
+        imgui.pop_item_width()
+        if message:
+            imgui.push_text_wrap_pos(PANEL_WIDTH)
+            imgui.text_colored(ERROR_RED, message)
+            imgui.pop_text_wrap_pos()
+    imgui.end()
+    return settings.replace(**changes) if changes else None
+
+
+def _combo(label, current, options, changes, key):
+    chosen = None
+    if imgui.begin_combo(label, str(current)):
+        for option in options:
+            clicked, _ = imgui.selectable(str(option), option == current)
+            if clicked and option != current:
+                chosen = changes[key] = option
+        imgui.end_combo()
+    return chosen
+
+
+def _slider(label, value, low, high, changes, key, flags=0):
+    changed, value = imgui.slider_float(label, float(value), low, high, "%.2f", flags)
+    if changed:
+        changes[key] = value
+
+
+# ---- shader errors --------------------------------------------------------------------------
+
+def draw_shader_errors(errors, window_size):
+    """The current GLSL compile errors (file:line: message), until the file is fixed."""
+    if not errors:
+        return
+    width = min(window_size[0] - 2 * MARGIN, 720)
+    _place(window_size[0] / 2, window_size[1] - MARGIN, 0.5, 1.0, width=width, cond=imgui.Cond_.always)
+    imgui.set_next_window_bg_alpha(0.85)
+    flags = imgui.WindowFlags_.no_collapse | imgui.WindowFlags_.always_auto_resize | imgui.WindowFlags_.no_saved_settings
+    if imgui.begin("Shader error (last good program still running)", None, flags)[0]:
+        imgui.push_text_wrap_pos(width - 2 * MARGIN)
+        for message in errors:
+            imgui.text_colored(ERROR_RED, message)
+        imgui.pop_text_wrap_pos()
+    imgui.end()

@@ -1,0 +1,49 @@
+"""Put the renderer's tone-mapped frame on the window: a texel-exact copy to the default
+framebuffer (a fullscreen triangle, so the window's current size is always the one used),
+and a read-back of the whole window, panels included, for window screenshots."""
+import numpy as np
+
+_VERTEX = """
+#version 450
+void main() {
+    vec2 corner = vec2((gl_VertexID << 1) & 2, gl_VertexID & 2);
+    gl_Position = vec4(corner * 2.0 - 1.0, 0.0, 1.0);
+}
+"""
+
+_FRAGMENT = """
+#version 450
+uniform sampler2D frame;
+out vec4 color;
+void main() {
+    color = vec4(texelFetch(frame, ivec2(gl_FragCoord.xy), 0).rgb, 1.0);
+}
+"""
+
+FRAME_UNIT = 0
+
+
+class Presenter:
+    def __init__(self, ctx):
+        self.ctx = ctx
+        self.program = ctx.program(vertex_shader=_VERTEX, fragment_shader=_FRAGMENT)
+        self.program["frame"].value = FRAME_UNIT
+        self.vertex_array = ctx.vertex_array(self.program, [])
+
+    def draw(self, texture, size):
+        """Copy `texture` (the frame, same size as the window) onto the window."""
+        self.ctx.screen.use()
+        self.ctx.viewport = (0, 0, *size)
+        self.ctx.disable(self.ctx.DEPTH_TEST | self.ctx.BLEND)
+        texture.use(FRAME_UNIT)
+        self.vertex_array.render(self.ctx.TRIANGLES, vertices=3)
+
+    def read_window(self, size):
+        """The window's back buffer as uint8 (H, W, 3), row 0 at the top (before the swap)."""
+        self.ctx.screen.use()
+        data = self.ctx.screen.read(viewport=(0, 0, *size), components=3, alignment=1)
+        return np.frombuffer(data, np.uint8).reshape(size[1], size[0], 3)[::-1].copy()
+
+    def release(self):
+        self.vertex_array.release()
+        self.program.release()

@@ -1,0 +1,60 @@
+"""Measured figures for the overlay: frame rate and frame time, process CPU and memory."""
+import time
+from collections import deque
+
+import psutil
+
+PROCESS_SAMPLE_SECONDS = 0.5
+
+
+class FrameStats:
+    """Frames per second and milliseconds per frame, averaged over the last `window` seconds
+    (at least the last frame). Each `tick()` marks the end of a frame, measured wall clock."""
+
+    def __init__(self, window=1.0, clock=time.perf_counter):
+        self.window = window
+        self.clock = clock
+        self._last = None
+        self._durations = deque()  # seconds per frame, newest last
+        self.frames = 0
+
+    def tick(self):
+        now = self.clock()
+        if self._last is not None:
+            self._durations.append(now - self._last)
+            while len(self._durations) > 1 and sum(self._durations) - self._durations[0] >= self.window:
+                self._durations.popleft()
+        self._last = now
+        self.frames += 1
+        return now
+
+    @property
+    def ms_per_frame(self):
+        if not self._durations:
+            return 0.0
+        return 1000.0 * sum(self._durations) / len(self._durations)
+
+    @property
+    def fps(self):
+        ms = self.ms_per_frame
+        return 1000.0 / ms if ms > 0 else 0.0
+
+
+class ProcessStats:
+    """This process's CPU use (percent of one core, so above 100 with threads) and resident
+    memory in MB, sampled at most every PROCESS_SAMPLE_SECONDS (psutil)."""
+
+    def __init__(self, clock=time.perf_counter):
+        self.process = psutil.Process()
+        self.clock = clock
+        self.process.cpu_percent(None)  # starts the interval; the first reading comes later
+        self._sampled = clock()
+        self.cpu_percent = 0.0
+        self.ram_mb = self.process.memory_info().rss / 2 ** 20
+
+    def update(self):
+        now = self.clock()
+        if now - self._sampled >= PROCESS_SAMPLE_SECONDS:
+            self.cpu_percent = self.process.cpu_percent(None)
+            self.ram_mb = self.process.memory_info().rss / 2 ** 20
+            self._sampled = now

@@ -1,0 +1,84 @@
+// Cone marching through the mipmapped voxel radiance (premultiplied rgb, opacity in a).
+#include "lib/voxel.glsl"
+
+layout(binding = TEX_VOXEL_DIRECTIONAL) uniform sampler3D voxel_directional[VOXEL_FACES];
+uniform float cone_step;      // step length as a fraction of the cone diameter
+uniform float cone_offset;    // start offset along the surface normal, in voxels
+uniform float voxel_max_mip;  // log2(N): the 1^3 level
+
+// Orthonormal basis whose third column is n.
+mat3 tangent_frame(vec3 n) {
+    vec3 helper = abs(n.z) < 0.999 ? vec3(0.0, 0.0, 1.0) : vec3(1.0, 0.0, 0.0);
+    vec3 t = normalize(cross(helper, n));
+    return mat3(t, cross(n, t), n);
+}
+
+// Share of a cone's rays travelling along +axis, for an axis component c of its direction and
+// ray spread s = sin(half-angle): max(c, 0) for a thin cone, smoothed over [-s, s] so the
+// rays of a wide cone that diverge towards a wall parallel to its axis still reach it.
+float ray_share(float c, float spread) {
+    if (c >= spread) return c;
+    if (c <= -spread) return 0.0;
+    return (c + spread) * (c + spread) / (4.0 * spread);
+}
+
+// The faces of a cell that a cone along w (ray spread s) sees: premultiplied radiance (rgb) and
+// coverage (a) at a mip level. The face met by rays travelling along +axis k is weighted by
+// their share over max_j |w_j|, so a plane crossed at angle theta from its normal covers
+// min(1, cot theta) of a cell, as it does geometrically.
+vec4 sample_faces(vec3 uvw, float mip, vec3 w, float spread) {
+    float scale = 1.0 / max(max(abs(w.x), abs(w.y)), abs(w.z));
+    vec4 sum = vec4(0.0);
+    for (int axis = 0; axis < 3; ++axis) {
+        float towards_plus = ray_share(w[axis], spread) * scale;   // meets faces looking along -axis
+        float towards_minus = ray_share(-w[axis], spread) * scale; // meets faces looking along +axis
+        if (towards_plus > 0.0) sum += towards_plus * textureLod(voxel_directional[2 * axis + 1], uvw, mip);
+        if (towards_minus > 0.0) sum += towards_minus * textureLod(voxel_directional[2 * axis], uvw, mip);
+    }
+    return sum;
+}
+
+// Radiance (rgb) and opacity (a) gathered along a cone from surface point p with normal n.
+// d = max(voxel, 2 tan(a/2) t); mip = log2(d / voxel). A mip cell 2^mip voxels wide whose
+// voxels have mean coverage a holds a 2^mip voxel layers of surface across the cone, so it
+// covers c = min(1, a 2^mip) of the cone's cross-section (a plane stays opaque at every
+// level). Front-to-back compositing with c corrected to the step: a' = 1 - (1 - c)^(step / d).
+vec4 trace_cone(vec3 p, vec3 n, vec3 direction, float tan_half_angle, float max_distance) {
+    vec3 start = p + n * (cone_offset * voxel_size);
+    vec4 gathered = vec4(0.0);
+    float spread = tan_half_angle / sqrt(1.0 + tan_half_angle * tan_half_angle);  // sin(half-angle)
+    float t = voxel_size;  // start one voxel out along the cone
+    while (gathered.a < 1.0 && t < max_distance) {
+        float diameter = max(voxel_size, 2.0 * tan_half_angle * t);
+        float mip = max(log2(diameter / voxel_size) - 1.0, 0.0);
+        mip = min(mip, voxel_max_mip);  // the 1^3 level already spans the whole region
+        vec3 uvw = voxel_uvw(start + direction * t);
+        // Stop once the cone's footprint has left [0,1]^3 (outside reads as empty).
+        float footprint = 0.5 * diameter / voxel_region_size;
+        if (any(lessThan(uvw, vec3(-footprint))) || any(greaterThan(uvw, vec3(1.0 + footprint)))) break;
+        vec4 s = sample_faces(uvw, mip, direction, spread);
+        float step_length = cone_step * diameter;
+        if (s.a > 0.0) {
+            // Covered fraction of the cross-section added by this step, front to back.
+            float coverage = min(1.0, s.a * exp2(mip)) * step_length / diameter;
+            float alpha = min(coverage, 1.0 - gathered.a);
+            gathered.rgb += alpha * (s.rgb / s.a);
+            gathered.a += alpha;
+        }
+        t += step_length;
+    }
+    return gathered;
+}
+
+// Diffuse gather with the lecture's 6 cones: returns sum_j w_j Lv(p, w_j) (rgb) and the
+// cosine-weighted occlusion sum_j w_j a_j (a).
+vec4 trace_diffuse(vec3 p, vec3 n, float max_distance) {
+    mat3 frame = tangent_frame(n);
+    float tan_half = tan(DIFFUSE_CONE_HALF_ANGLE);
+    vec4 sum = vec4(0.0);
+    for (int j = 0; j < DIFFUSE_CONE_COUNT; ++j) {
+        vec4 cone = trace_cone(p, n, frame * DIFFUSE_CONE_DIRECTIONS[j], tan_half, max_distance);
+        sum += DIFFUSE_CONE_WEIGHTS[j] * cone;
+    }
+    return sum;
+}

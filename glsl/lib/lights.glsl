@@ -1,0 +1,76 @@
+// Punctual lights and their shadow maps, shared by the lighting pass and voxel injection.
+#include "engine_constants.glsl"
+
+struct Light {
+    vec4 position_type;    // xyz: world position, w: LIGHT_POINT | LIGHT_SPOT | LIGHT_DIRECTIONAL
+    vec4 direction_range;  // xyz: direction the light travels, w: range (0 = no cut-off)
+    vec4 intensity_shadow; // rgb: W/sr (point, spot) or W/m^2 (directional), w: first shadow view or -1
+    vec4 spot_cosines;     // x: cos(inner angle), y: cos(outer angle)
+};
+
+struct ShadowView {
+    mat4 view_projection;
+    vec4 atlas_rect;       // xy: tile origin in atlas uv, zw: tile size in atlas uv
+    vec4 texel;            // x: world size of one texel per unit of clip w, y: texel size in tile uv
+};
+
+layout(std430, binding = SSBO_LIGHTS) readonly buffer LightBuffer { Light lights[]; };
+layout(std430, binding = SSBO_SHADOW_MATRICES) readonly buffer ShadowBuffer { ShadowView shadow_views[]; };
+layout(binding = TEX_SHADOW_ATLAS) uniform sampler2DShadow shadow_atlas;
+uniform int light_count;
+uniform float shadow_normal_offset; // in shadow-map texels
+
+// Cube face of a direction, in the order +x, -x, +y, -y, +z, -z.
+int cube_face(vec3 d) {
+    vec3 a = abs(d);
+    if (a.x >= a.y && a.x >= a.z) return d.x >= 0.0 ? 0 : 1;
+    if (a.y >= a.z) return d.y >= 0.0 ? 2 : 3;
+    return d.z >= 0.0 ? 4 : 5;
+}
+
+// Fraction of the light that reaches p (1 lit, 0 shadowed), 2x2 hardware PCF.
+float shadow_visibility(Light light, vec3 p, vec3 n, vec3 to_light) {
+    int view_index = int(light.intensity_shadow.w);
+    if (view_index < 0) return 1.0;
+    if (int(light.position_type.w) == LIGHT_POINT) view_index += cube_face(p - light.position_type.xyz);
+    ShadowView view = shadow_views[view_index];
+    // Normal offset: move the lookup off the surface by a few texels (no acne, no peter-panning).
+    float texel_world = view.texel.x * (view.view_projection * vec4(p, 1.0)).w;
+    vec3 offset_normal = dot(n, to_light) >= 0.0 ? n : -n;
+    vec4 clip = view.view_projection * vec4(p + offset_normal * shadow_normal_offset * texel_world, 1.0);
+    vec3 ndc = clip.xyz / clip.w;
+    vec2 tile_uv = clamp(ndc.xy * 0.5 + 0.5, vec2(view.texel.y), vec2(1.0 - view.texel.y));
+    float depth = ndc.z * 0.5 + 0.5;
+    if (depth >= 1.0) return 1.0;
+    return texture(shadow_atlas, vec3(view.atlas_rect.xy + tile_uv * view.atlas_rect.zw, depth));
+}
+
+// Irradiance at p from light i on a surface with normal n: E = I cos(theta) / d^2 (point, spot),
+// E = E_perp cos(theta) (directional), times shadow and spot/range windows. l: unit direction to the light.
+vec3 light_irradiance(int i, vec3 p, vec3 n, out vec3 l) {
+    Light light = lights[i];
+    int type = int(light.position_type.w);
+    float attenuation;
+    if (type == LIGHT_DIRECTIONAL) {
+        l = -light.direction_range.xyz;
+        attenuation = 1.0;
+    } else {
+        vec3 to_light = light.position_type.xyz - p;
+        float d2 = max(dot(to_light, to_light), 1e-8);
+        float d = sqrt(d2);
+        l = to_light / d;
+        attenuation = 1.0 / d2; // inverse-square law
+        float range = light.direction_range.w;
+        if (range > 0.0) {
+            float x = clamp(1.0 - pow(d / range, 4.0), 0.0, 1.0);
+            attenuation *= x * x; // smooth window reaching 0 at the range
+        }
+        if (type == LIGHT_SPOT) {
+            float c = dot(-l, light.direction_range.xyz);
+            attenuation *= smoothstep(light.spot_cosines.y, light.spot_cosines.x, c);
+        }
+    }
+    float cos_theta = dot(n, l);
+    if (cos_theta <= 0.0 || attenuation <= 0.0) return vec3(0.0);
+    return light.intensity_shadow.rgb * attenuation * cos_theta * shadow_visibility(light, p, n, l);
+}

@@ -1,0 +1,33 @@
+// The voxel grid: a cube of side voxel_region_size at voxel_region_min, split into voxel_grid^3.
+uniform vec3 voxel_region_min;
+uniform float voxel_region_size;
+uniform int voxel_grid;       // N voxels per side
+uniform float voxel_size;     // voxel_region_size / N
+
+// World position -> texture coordinates in [0,1]^3 (voxel i covers [i, i+1) / N).
+vec3 voxel_uvw(vec3 p) {
+    return (p - voxel_region_min) / voxel_region_size;
+}
+
+// Centre of voxel v in world space.
+vec3 voxel_center(ivec3 v) {
+    return voxel_region_min + (vec3(v) + 0.5) * voxel_size;
+}
+
+// Cones read six one-sided views of the radiance, one per face direction (+x, -x, +y, -y,
+// +z, -z): view f holds the surfaces that face along f, i.e. those a cone travelling against
+// f can see. Surfaces are one-sided (they face into the room, or out of a solid).
+#define VOXEL_FACES 6
+
+// Fraction of a voxel's cross-section, seen against face f, that its surfaces cover. A plane
+// with unit normal n inside a voxel covers |n_k| / max_j |n_j| of the face perpendicular to
+// axis k, and only when it faces that way. The mean normal's length is the coherence of the
+// surfaces in the voxel: spread normals (edges, thin two-sided parts) cover every face.
+float face_coverage(vec3 mean_normal, int face) {
+    float coherence = min(length(mean_normal), 1.0);
+    if (coherence <= 0.0) return 1.0;
+    vec3 n = mean_normal / length(mean_normal);
+    float towards = (face & 1) == 0 ? n[face >> 1] : -n[face >> 1];
+    float projected = max(towards, 0.0) / max(max(abs(n.x), abs(n.y)), abs(n.z));
+    return coherence * projected + (1.0 - coherence);
+}

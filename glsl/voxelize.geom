@@ -1,0 +1,70 @@
+#version 450 core
+// Voxelization, geometry stage: project each triangle along its dominant normal axis onto an
+// N x N viewport and dilate it by half a pixel (conservative rasterization, OpenGL Insights
+// ch. 22) so thin and grazing triangles leave no holes; attributes are extrapolated with the
+// barycentric coordinates of the dilated corners.
+#include "lib/voxel.glsl"
+
+layout(triangles) in;
+layout(triangle_strip, max_vertices = 3) out;
+in vec3 vs_position[];
+in vec3 vs_normal[];
+out vec3 gs_position;
+out vec3 gs_normal;
+flat out vec4 gs_pixel_bounds;  // the undilated triangle's bounding box in pixels, grown by half a pixel
+flat out vec3 gs_face_normal;
+
+// Voxel-space coordinates swizzled so the dominant axis becomes depth.
+vec3 project(vec3 uvw, int axis) {
+    if (axis == 0) return uvw.yzx;
+    if (axis == 1) return uvw.zxy;
+    return uvw.xyz;
+}
+
+void main() {
+    vec3 face_normal = cross(vs_position[1] - vs_position[0], vs_position[2] - vs_position[0]);
+    if (dot(face_normal, face_normal) == 0.0) return;  // degenerate triangle
+    vec3 a = abs(face_normal);
+    int axis = (a.x >= a.y && a.x >= a.z) ? 0 : (a.y >= a.z ? 1 : 2);
+
+    vec2 corner[3];
+    float depth[3];
+    for (int i = 0; i < 3; ++i) {
+        vec3 q = project(voxel_uvw(vs_position[i]), axis);
+        corner[i] = q.xy * 2.0 - 1.0;   // NDC
+        depth[i] = q.z * 2.0 - 1.0;
+    }
+    float half_pixel = 1.0 / float(voxel_grid);  // half a pixel in NDC
+
+    // Orient the triangle counter-clockwise in 2D so "outward" is well defined.
+    float area = (corner[1].x - corner[0].x) * (corner[2].y - corner[0].y) - (corner[2].x - corner[0].x) * (corner[1].y - corner[0].y);
+    int order[3] = area >= 0.0 ? int[3](0, 1, 2) : int[3](0, 2, 1);
+
+    vec2 lo = min(corner[0], min(corner[1], corner[2])) - half_pixel;
+    vec2 hi = max(corner[0], max(corner[1], corner[2])) + half_pixel;
+    vec4 bounds = vec4((lo * 0.5 + 0.5) * float(voxel_grid), (hi * 0.5 + 0.5) * float(voxel_grid));
+
+    // Edge lines shifted outward by half a pixel along the worst-case (diagonal) direction.
+    vec3 edge[3];
+    for (int i = 0; i < 3; ++i) {
+        vec2 p0 = corner[order[i]], p1 = corner[order[(i + 1) % 3]];
+        vec3 line = cross(vec3(p0, 1.0), vec3(p1, 1.0));   // line through p0, p1: line.xy . p + line.z = 0
+        line.z += half_pixel * (abs(line.x) + abs(line.y)); // inside is line . p > 0 for ccw order
+        edge[i] = line;
+    }
+    mat3 to_barycentric = inverse(mat3(vec3(corner[0], 1.0), vec3(corner[1], 1.0), vec3(corner[2], 1.0)));
+    for (int k = 0; k < 3; ++k) {
+        // Dilated corner k: intersection of the shifted edges meeting at the original corner.
+        int i = order[k];
+        vec3 x = cross(edge[(k + 2) % 3], edge[k]);
+        vec2 dilated = abs(x.z) > 1e-12 ? x.xy / x.z : corner[i];
+        vec3 w = to_barycentric * vec3(dilated, 1.0);
+        gs_position = w.x * vs_position[0] + w.y * vs_position[1] + w.z * vs_position[2];
+        gs_normal = w.x * vs_normal[0] + w.y * vs_normal[1] + w.z * vs_normal[2];
+        gs_face_normal = normalize(face_normal);
+        gs_pixel_bounds = bounds;
+        gl_Position = vec4(dilated, w.x * depth[0] + w.y * depth[1] + w.z * depth[2], 1.0);
+        EmitVertex();
+    }
+    EndPrimitive();
+}
