@@ -1,11 +1,29 @@
 """`vct`: render, view and benchmark scenes. A thin layer over engine.Renderer."""
 import argparse
+import math
 import os
 import sys
 from pathlib import Path
 
 from .errors import VctError
 from .settings import MODES, TONEMAPS, RenderSettings
+
+
+class _Parser(argparse.ArgumentParser):
+    """Usage errors as one line like every other error (`vct: error: ...`, exit code 2)."""
+
+    def error(self, message):
+        self.exit(2, f"vct: error: {message} (see `{self.prog} --help`)\n")
+
+
+def _finite_float(text):
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a number, got {text!r}") from None
+    if not math.isfinite(value):
+        raise argparse.ArgumentTypeError(f"must be finite, got {text!r}")
+    return value
 
 
 def _positive_int(text):
@@ -41,16 +59,16 @@ def _add_settings_arguments(parser, default_mode="gi"):
                         help="diffuse bounces: 1 = direct + one indirect bounce, K = K bounces, "
                              "0 = iterate until converged (default 0)")
     parser.add_argument("--mip", type=_nonnegative_int, default=d.voxel_mip, help="mip level for the voxel views (default 0)")
-    parser.add_argument("--cone-step", type=float, default=d.cone_step,
+    parser.add_argument("--cone-step", type=_finite_float, default=d.cone_step,
                         help=f"cone march step as a fraction of the cone diameter (default {d.cone_step})")
-    parser.add_argument("--cone-offset", type=float, default=d.cone_offset,
+    parser.add_argument("--cone-offset", type=_finite_float, default=d.cone_offset,
                         help=f"cone start offset along the normal, in voxels (default {d.cone_offset})")
-    parser.add_argument("--ao-distance", type=float, default=d.ao_distance,
+    parser.add_argument("--ao-distance", type=_finite_float, default=d.ao_distance,
                         help=f"AO cones stop after this distance in scene units (default {d.ao_distance})")
     parser.add_argument("--no-direct", action="store_true", help="gi: leave out direct light and emission")
     parser.add_argument("--no-diffuse", action="store_true", help="gi: leave out diffuse indirect light")
     parser.add_argument("--no-specular", action="store_true", help="gi: leave out specular indirect light")
-    parser.add_argument("--exposure", type=float, default=d.exposure, help=f"exposure multiplier before tone mapping (default {d.exposure})")
+    parser.add_argument("--exposure", type=_finite_float, default=d.exposure, help=f"exposure multiplier before tone mapping (default {d.exposure})")
     parser.add_argument("--shaders", help="GLSL directory to use instead of the project's glsl/ (for shader work)")
     parser.add_argument("--tonemap", choices=TONEMAPS, default=d.tonemap, help=f"tone curve for the PNG (default {d.tonemap})")
 
@@ -64,7 +82,7 @@ def settings_from_args(args):
 
 
 def build_parser():
-    parser = argparse.ArgumentParser(prog="vct", description="Voxel cone tracing renderer (OpenGL 4.5 via moderngl).")
+    parser = _Parser(prog="vct", description="Voxel cone tracing renderer (OpenGL 4.5 via moderngl).")
     commands = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
 
     render = commands.add_parser("render", help="render a scene headless to PNG (and linear HDR .npy)",
@@ -149,6 +167,8 @@ def render_command(args):
     check_writable(args.out, "--out")
     if args.hdr:
         check_writable(args.hdr, "--hdr")
+        if Path(args.hdr).resolve() == Path(args.out).resolve():
+            raise VctError("must differ from --out", source=args.hdr, field="--hdr")
     settings = settings_from_args(args)
     scene = load_scene(args.scene)
     width = args.width or scene.camera.width
@@ -158,9 +178,16 @@ def render_command(args):
         pixels = renderer.tonemapped()
     from .renderer import save_png
 
-    if args.hdr:
-        save_npy(args.hdr, radiance)
-    save_png(args.out, pixels)
+    written = []
+    try:  # both outputs or neither
+        if args.hdr:
+            save_npy(args.hdr, radiance)
+            written.append(Path(args.hdr))
+        save_png(args.out, pixels)
+    except VctError:
+        for path in written:
+            path.unlink(missing_ok=True)
+        raise
     print(f"wrote {args.out}" + (f" and {args.hdr}" if args.hdr else "") + f" ({width}x{height}, mode {settings.mode})")
     return 0
 

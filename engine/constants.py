@@ -20,6 +20,7 @@ TEXTURE_UNIT = {
     "HDR_INPUT": 8,
     "DIRECT_LIGHT": 9,
     "VOXEL_DIRECTIONAL": 10,  # 6 consecutive units: radiance seen by cones, by face (+x, -x, +y, -y, +z, -z)
+    "VOXEL_INSPECT": 16,      # the volume a voxel view or a readback reads
 }
 
 # Image units (imageLoad/imageStore/imageAtomic* bindings).
@@ -44,6 +45,7 @@ IMAGE_UNIT = {
 STORAGE_BINDING = {
     "LIGHTS": 0,
     "SHADOW_MATRICES": 1,
+    "READBACK": 2,
 }
 
 MAX_LIGHTS = 16

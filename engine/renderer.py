@@ -5,6 +5,7 @@
         radiance = r.render(scene, mode="direct")    # float32 (H, W, 3), row 0 at the top
         r.save_png("out.png")                          # tone-mapped with the settings' curve
 """
+import functools
 import time
 from contextlib import contextmanager
 from pathlib import Path
@@ -14,7 +15,7 @@ import numpy as np
 from .constants import TEXTURE_UNIT
 from .errors import VctError
 from .gl import create_headless_context
-from .passes.bounce import BouncePass, iterations_to_converge
+from .passes.bounce import BouncePass
 from .passes.cone_trace import ConeTracePass
 from .passes.gbuffer import GBufferPass
 from .passes.gbuffer_view import GBufferViewPass
@@ -30,6 +31,22 @@ from .shaders import GLSL_ROOT, ProgramLibrary
 NEAR_PLANE = 0.01
 
 
+def _current(method):
+    """Make the renderer's context current around a public method: several renderers (and
+    their contexts) may live in one process."""
+    @functools.wraps(method)
+    def wrapper(self, *args, **kwargs):
+        if self._context_entered:  # nested call: already current
+            return method(self, *args, **kwargs)
+        self._context_entered = True
+        try:
+            with self.ctx:
+                return method(self, *args, **kwargs)
+        finally:
+            self._context_entered = False
+    return wrapper
+
+
 class Renderer:
     def __init__(self, width, height, settings=None, ctx=None, glsl_root=GLSL_ROOT):
         self.settings = (settings or RenderSettings()).validate()
@@ -37,6 +54,7 @@ class Renderer:
         if self.size[0] <= 0 or self.size[1] <= 0:
             raise VctError(f"image size must be positive, got {self.size[0]}x{self.size[1]}", field="size")
         self._owns_context = ctx is None
+        self._context_entered = False
         self.ctx = ctx or create_headless_context()
         self.programs = ProgramLibrary(self.ctx, glsl_root)
         self.geometry = SceneGeometry(self.ctx)
@@ -60,6 +78,7 @@ class Renderer:
             self.close()
             raise
         self.output = None  # the ScreenTarget holding the last frame's HDR result
+        self.frame_settings = self.settings  # the settings the last frame used
         self._history_set = None  # face set holding the last frame's voxel radiance (feedback)
         self.bounce_iterations = 0
 
@@ -67,11 +86,28 @@ class Renderer:
         self._passes.append(render_pass)
         return render_pass
 
+    @_current
     def resize(self, width, height):
         """Follow a new output size (all screen-space targets are recreated)."""
         self.size = (max(1, int(width)), max(1, int(height)))
         for render_pass in (self.gbuffer, self.lighting, self.gbuffer_view, self.cone_trace, self.voxel_view, self.tonemap):
             render_pass.resize(self.size)
+
+    @_current
+    def voxels(self, name="radiance", level=0):
+        """A voxel volume of the last frame as float32 (n, n, n, 4), indexed [z, y, x]:
+        "radiance" (emission + direct light, premultiplied, a = opacity), "normal" (mean normal,
+        its length the coherence), "albedo"; levels above 0 come from hardware mipmaps."""
+        volume = {"radiance": self.voxelize.radiance, "normal": self.voxelize.normal, "albedo": self.voxelize.albedo}[name]
+        if level > 0:
+            volume.build_mipmaps()
+        return self.voxelize.read_volume(volume, level)
+
+    @_current
+    def reload_shaders(self):
+        """Rebuild the programs whose GLSL files changed; a failing one keeps its last good
+        build. Returns (rebuilt count, [ShaderError]) for this poll."""
+        return self.programs.reload_changed()
 
     # -- frame ---------------------------------------------------------------------------
 
@@ -94,10 +130,11 @@ class Renderer:
         projection = camera.projection_matrix(self.size[0] / self.size[1], NEAR_PLANE, far)
         return view, projection, far
 
+    @_current
     def render_frame(self, scene, settings=None):
         """Render one frame on the GPU; `self.output` holds the HDR result. Returns it."""
         s = (settings or self.settings).validate()
-        self.settings = s
+        self.frame_settings = s
         self.timings = {}
         self.geometry.draw_calls = 0
         self._scene_bounds = scene.bounds()
@@ -120,9 +157,10 @@ class Renderer:
         self.output = self.lighting.target
         if s.mode not in VOXEL_MODES:
             return self.output
-        face_set = self.build_voxels(scene, s)
-        voxel_uniforms = self.voxelize.uniforms()
         if s.mode in ("voxels", "voxel-normals", "voxel-albedo"):
+            with self.timed("voxelize"):
+                self.voxelize.run(scene, s.grid)
+            voxel_uniforms = self.voxelize.uniforms()
             shown = {"voxels": self.voxelize.radiance, "voxel-normals": self.voxelize.normal,
                      "voxel-albedo": self.voxelize.albedo}[s.mode]
             shown.build_mipmaps()
@@ -130,6 +168,8 @@ class Renderer:
                 self.voxel_view.render(s.mode, shown, s.voxel_mip, voxel_uniforms, projection @ view, camera.position)
             self.output = self.voxel_view.target
             return self.output
+        face_set = self.build_voxels(scene, s)
+        voxel_uniforms = self.voxelize.uniforms()
         with self.timed("cone_trace"):
             self.cone_trace.render(voxel_uniforms, self.cone_uniforms(s), self.voxelize.face_sets[face_set],
                                    self.lighting.target.texture,
@@ -153,32 +193,38 @@ class Renderer:
             self.voxelize.run(scene, s.grid, target)
         with self.timed("mipmap"):
             self.voxelize.mipmap_faces(target)
-        if s.bounces > 0:
-            iterations = s.bounces - 1
-        elif self.feedback:
-            iterations = 1
-        else:
-            max_albedo = max((float(np.max((1.0 - m.metalness) * m.albedo)) for m in scene.materials.values()), default=0.0)
-            iterations = iterations_to_converge(max_albedo)
         source = history if history is not None else target
+        cone_uniforms = self.cone_uniforms(s)
         with self.timed("bounces"):
-            for _ in range(iterations):
-                source = self.bounce.run(self.voxelize, self.cone_uniforms(s), source)
+            if s.bounces == 0 and not self.feedback:
+                source, iterations = self.bounce.converge(self.voxelize, cone_uniforms, source)
+            else:
+                iterations = s.bounces - 1 if s.bounces > 0 else 1
+                for _ in range(iterations):
+                    source = self.bounce.run(self.voxelize, cone_uniforms, source)
         self.bounce_iterations = iterations
         self._history_set = source
         return source
 
+    @_current
     def render(self, scene, mode=None, **changes):
-        """Render and return linear radiance, float32 (H, W, 3), row 0 at the top."""
+        """Render and return linear radiance, float32 (H, W, 3), row 0 at the top. `mode` and
+        other settings given here apply to this frame only."""
         settings = self.settings.replace(**changes) if changes else self.settings
         if mode is not None:
             settings = settings.replace(mode=mode)
         self.render_frame(scene, settings)
+        return self.radiance()
+
+    @_current
+    def radiance(self):
+        """The last frame's linear radiance (or encoded data view), float32 (H, W, 3), row 0 at the top."""
         return self.output.read()[..., :3].copy()
 
+    @_current
     def display_target(self):
         """Tone-map the last frame on the GPU; returns the 8-bit ScreenTarget (for a window)."""
-        s = self.settings
+        s = self.frame_settings
         with self.timed("tonemap"):
             if s.mode in DATA_MODES:  # encoded data: shown as stored, no curve, no sRGB
                 self.tonemap.render(self.output.texture, 1.0, "none", encode_srgb=False)
@@ -186,6 +232,7 @@ class Renderer:
                 self.tonemap.render(self.output.texture, s.exposure, s.tonemap)
         return self.tonemap.target
 
+    @_current
     def tonemapped(self):
         """The last frame as display pixels, uint8 (H, W, 3), row 0 at the top."""
         return self.display_target().read()[..., :3].copy()
@@ -197,11 +244,14 @@ class Renderer:
     # -- lifetime ------------------------------------------------------------------------
 
     def close(self):
-        for render_pass in reversed(self._passes):
-            render_pass.release()
-        self._passes = []
-        self.geometry.release()
-        if self._owns_context and self.ctx is not None:
+        if self.ctx is None:
+            return
+        with self.ctx:
+            for render_pass in reversed(self._passes):
+                render_pass.release()
+            self._passes = []
+            self.geometry.release()
+        if self._owns_context:
             self.ctx.release()
         self.ctx = None
 

@@ -30,13 +30,15 @@ class _Reader:
             self.fail(f"{field}.{key}" if field else key, f"must be {_kind_name(kind)}")
         return value
 
-    def number(self, obj, key, field, default=..., positive=False, minimum=None, maximum=None):
+    def number(self, obj, key, field, default=..., positive=False, minimum=None, maximum=None, whole=False):
         value = self.get(obj, key, field, default)
         where = f"{field}.{key}" if field else key
         if isinstance(value, bool) or not isinstance(value, (int, float)):
             self.fail(where, "must be a number")
-        if not math.isfinite(value):
+        if not _finite(value):
             self.fail(where, "must be finite")
+        if whole and value != int(value):
+            self.fail(where, "must be a whole number")
         if positive and value <= 0:
             self.fail(where, "must be positive")
         if minimum is not None and value < minimum:
@@ -47,16 +49,18 @@ class _Reader:
 
     def vector(self, obj, key, field, default=..., length=3, positive=False, nonnegative=False):
         value = self.get(obj, key, field, default)
-        where = f"{field}.{key}" if field else key
         if value is default and default is not ...:
             return np.array(default, float)
+        return self.vector_value(value, f"{field}.{key}" if field else key, length, positive, nonnegative)
+
+    def vector_value(self, value, where, length=3, positive=False, nonnegative=False):
         if not isinstance(value, list) or len(value) != length:
             self.fail(where, f"must be a list of {length} numbers")
         for i, v in enumerate(value):
             if isinstance(v, bool) or not isinstance(v, (int, float)) or v is None:
                 self.fail(f"{where}[{i}]", "must be a number")
-            if not math.isfinite(v):
-                self.fail(f"{where}[{i}]", "must be finite (got NaN or infinity)")
+            if not _finite(v):
+                self.fail(f"{where}[{i}]", "must be finite (got NaN, infinity or an out-of-range number)")
             if positive and v <= 0:
                 self.fail(f"{where}[{i}]", "must be positive")
             if nonnegative and v < 0:
@@ -69,8 +73,36 @@ def _kind_name(kind):
     return names.get(kind, kind.__name__ if isinstance(kind, type) else "valid")
 
 
-def _float_constant(text):
-    raise ValueError(f"{text} is not valid JSON")
+def _finite(value):
+    try:
+        return math.isfinite(value)
+    except OverflowError:  # an integer too large for a float
+        return False
+
+
+class _Constant:
+    """A NaN/Infinity token (Python's json accepts them; JSON does not): kept in place while
+    parsing so the loader can name the field it stood in."""
+
+    def __init__(self, text):
+        self.text = text
+
+
+def _find_constant(value, where=""):
+    """(field, token) of the first NaN/Infinity token in the parsed document, or None."""
+    if isinstance(value, _Constant):
+        return where, value.text
+    if isinstance(value, dict):
+        items = ((f"{where}.{key}" if where else key, item) for key, item in value.items())
+    elif isinstance(value, list):
+        items = ((f"{where}[{i}]", item) for i, item in enumerate(value))
+    else:
+        return None
+    for field, item in items:
+        found = _find_constant(item, field)
+        if found:
+            return found
+    return None
 
 
 def load_scene(path):
@@ -78,15 +110,22 @@ def load_scene(path):
     path = Path(path)
     reader = _Reader(path)
     try:
-        text = path.read_text()
+        text = path.read_text(encoding="utf-8")
     except OSError as exc:
         raise SceneError(f"cannot read scene file ({exc.strerror or exc})", source=path) from None
+    except UnicodeDecodeError as exc:
+        raise SceneError(f"not UTF-8 text (byte {exc.start})", source=path) from None
     try:
-        data = json.loads(text, parse_constant=_float_constant)
+        data = json.loads(text, parse_constant=_Constant)
     except json.JSONDecodeError as exc:
         raise SceneError(f"malformed JSON: {exc.msg}", source=path, field=f"line {exc.lineno} column {exc.colno}") from None
     except ValueError as exc:
         raise SceneError(f"malformed JSON: {exc}", source=path) from None
+    except RecursionError:
+        raise SceneError("malformed JSON: nested too deeply", source=path) from None
+    constant = _find_constant(data)
+    if constant:
+        reader.fail(constant[0], f"malformed JSON: {constant[1]} is not a JSON number (JSON has no NaN or Infinity)")
     if not isinstance(data, dict):
         reader.fail("", "the scene must be a JSON object")
 
@@ -112,8 +151,8 @@ def load_scene(path):
         look_at=reader.vector(camera_spec, "look_at", "camera"),
         up=reader.vector(camera_spec, "up", "camera", [0.0, 1.0, 0.0]),
         vertical_fov_deg=reader.number(camera_spec, "vertical_fov_deg", "camera", 60.0, positive=True, maximum=179.0),
-        width=int(reader.number(camera_spec, "width", "camera", 256, positive=True)),
-        height=int(reader.number(camera_spec, "height", "camera", 256, positive=True)),
+        width=int(reader.number(camera_spec, "width", "camera", 256, positive=True, whole=True)),
+        height=int(reader.number(camera_spec, "height", "camera", 256, positive=True, whole=True)),
     )
     forward = camera.look_at - camera.position
     if np.linalg.norm(forward) == 0:
@@ -175,7 +214,7 @@ def _mesh(reader, spec, field, kind, node, meshes):
         vertices = reader.get(spec, "vertices", field, kind=list)
         if len(vertices) != 4:
             reader.fail(f"{field}.vertices", "must hold 4 vertices")
-        v = np.array([reader.vector({"v": p}, "v", f"{field}.vertices[{i}]") for i, p in enumerate(vertices)])
+        v = np.array([reader.vector_value(p, f"{field}.vertices[{i}]") for i, p in enumerate(vertices)])
         a = np.cross(v[1] - v[0], v[2] - v[0])
         b = np.cross(v[2] - v[0], v[3] - v[0])
         scale = max(np.ptp(v, axis=0).max(), 1e-30) ** 2
@@ -207,7 +246,7 @@ def _load_mesh_file(reader, spec, field):
     try:
         mesh = trimesh.load(str(path), force="mesh", process=True)
     except Exception as exc:  # trimesh raises many kinds on unreadable files
-        reader.fail(f"{field}.file", f'cannot load mesh "{relative}": {exc}')
+        reader.fail(f"{field}.file", f'cannot load mesh "{relative}": {" ".join(str(exc).split()) or type(exc).__name__}')
     if not isinstance(mesh, trimesh.Trimesh) or len(mesh.faces) == 0:
         reader.fail(f"{field}.file", f'mesh "{relative}" holds no triangles')
     return Mesh(np.asarray(mesh.vertices, float), np.asarray(mesh.vertex_normals, float), np.asarray(mesh.faces, np.int64))

@@ -1,4 +1,5 @@
 """Render settings shared by the CLI, the viewer and the benchmark."""
+import math
 from dataclasses import dataclass, fields
 
 from .constants import GRID_SIZES
@@ -37,6 +38,11 @@ class RenderSettings:
             raise VctError("must be 0 (converge) or a positive count", field="bounces")
         if not 0 <= self.voxel_mip <= self.grid.bit_length() - 1:
             raise VctError(f"must be in 0..{self.grid.bit_length() - 1} for grid {self.grid}", field="mip")
+        for name in ("cone_step", "cone_offset", "ao_distance", "exposure"):
+            if not math.isfinite(getattr(self, name)):
+                raise VctError("must be a finite number", field=name)
+        if self.ao_distance <= 0:
+            raise VctError("must be positive", field="ao_distance")
         if not 0.05 <= self.cone_step <= 2.0:
             raise VctError("must be in 0.05..2", field="cone_step")
         if self.cone_offset < 0:

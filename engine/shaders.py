@@ -32,15 +32,29 @@ class Source:
         for line in log.splitlines():
             m = _DRIVER_LINE.match(line)
             if m and m.group(1) is not None:
-                out.append(f"{self._name(int(m.group(1)))}:{m.group(2)}: {m.group(4)}")
+                out.append(self._format(int(m.group(1)), int(m.group(2)), m.group(4)))
             elif m:
-                out.append(f"{self._name(int(m.group(5)))}:{m.group(6)}: {m.group(7)}")
+                out.append(self._format(int(m.group(5)), int(m.group(6)), m.group(7)))
             elif line.strip():
                 out.append(line.strip())
         return out
 
+    def _format(self, index, line, message):
+        if line > FILE_LINE_STRIDE:  # the file index encoded in the line number wins
+            index, line = divmod(line, FILE_LINE_STRIDE)
+        return f"{self._name(index)}:{line}: {message}"
+
     def _name(self, index):
         return self.files[index] if 0 <= index < len(self.files) else f"<source {index}>"
+
+
+FILE_LINE_STRIDE = 100000  # line numbers of file N start at N * FILE_LINE_STRIDE
+
+
+def _line(index, number):
+    """The `#line` number for line `number` of source file `index`: the index is encoded in
+    the line too, since Mesa reports source string 0 for errors found after parsing."""
+    return index * FILE_LINE_STRIDE + number
 
 
 def _display(path, root):
@@ -59,7 +73,7 @@ def preprocess(name, defines=None, root=GLSL_ROOT):
     def expand(path, text, stack):
         index = len(files)
         files.append(_display(path, root) if path != CONSTANTS_INCLUDE else "engine/constants.py")
-        out = [] if index == 0 else [f"#line 1 {index}"]
+        out = [] if index == 0 else [f"#line {_line(index, 1)} {index}"]
         for number, line in enumerate(text.splitlines(), start=1):
             m = _INCLUDE.match(line)
             if m:
@@ -79,7 +93,7 @@ def preprocess(name, defines=None, root=GLSL_ROOT):
                         raise ShaderError(f'#include "{target}": no such file', source=_display(path, root), field=f"line {number}")
                     sub_text = sub_path.read_text()
                 out.extend(expand(sub_path, sub_text, stack | {target}))
-                out.append(f"#line {number + 1} {index}")
+                out.append(f"#line {_line(index, number + 1)} {index}")
             elif index == 0 and _VERSION.match(line):
                 out.append(line)
                 for key, value in (defines or {}).items():
@@ -115,16 +129,22 @@ def build_compute(ctx, name, defines=None, root=GLSL_ROOT):
 
 
 def _shader_error(exc, sources):
+    """ShaderError from a moderngl failure; the log is split by stage ("fragment_shader\n===")
+    and each stage's lines are mapped through that stage's source files."""
     text = str(exc)
+    blocks = re.split(r"^(vertex_shader|geometry_shader|fragment_shader|compute_shader)\n=+\n", text, flags=re.M)
     lines = []
-    for source in sources.values():
-        mapped = [line for line in source.map_log(text) if re.match(r"^\S+:\d+: ", line)]
-        if mapped:
-            lines = mapped
-            break
+    if len(blocks) > 1:
+        for stage, log in zip(blocks[1::2], blocks[2::2]):
+            source = sources.get(stage)
+            if source is not None:
+                lines += [line for line in source.map_log(log) if re.match(r"^\S+:\d+: ", line)]
+    elif len(sources) == 1:
+        source = next(iter(sources.values()))
+        lines = [line for line in source.map_log(text) if re.match(r"^\S+:\d+: ", line)]
     if not lines:
-        first = next(iter(sources.values()))
-        lines = [f"{first.files[0]}: " + " ".join(l.strip() for l in text.splitlines() if l.strip() and set(l.strip()) != {"="})]
+        names = ", ".join(src.files[0] for src in sources.values())
+        lines = [f"{names}: " + " ".join(l.strip() for l in text.splitlines() if l.strip() and set(l.strip()) != {"="})]
     error = ShaderError(lines[0])
     error.lines = lines
     return error
@@ -150,7 +170,7 @@ class ProgramHandle:
         files = set()
         for name in self.stages.values():
             files.update(preprocess(name, self.defines, root).files)
-        paths = [Path(root).parent / f for f in files if f.startswith("glsl")]
+        paths = [Path(root) / Path(f).relative_to("glsl") for f in files if f.startswith("glsl/")]
         mtimes = {p: p.stat().st_mtime_ns for p in paths if p.exists()}
         try:
             if "compute_shader" in self.stages:

@@ -1,12 +1,14 @@
 #version 450 core
 // Voxel views: a ray from the camera through each pixel, marched through one mip level of a
-// voxel volume and composited front to back (radiance, encoded normals 0.5 n + 0.5, albedo).
+// voxel volume and composited front to back (radiance, encoded normals 0.5 n + 0.5, albedo),
+// then divided by the opacity gathered so that partly covered mip cells show their value.
+#include "engine_constants.glsl"
 #include "lib/voxel.glsl"
 
 #define SHOW_RADIANCE 0
 #define SHOW_NORMAL 1
 #define SHOW_ALBEDO 2
-uniform sampler3D volume;
+layout(binding = TEX_VOXEL_INSPECT) uniform sampler3D volume;
 uniform int show;
 uniform float mip;
 uniform mat4 inverse_view_projection;
@@ -38,5 +40,5 @@ void main() {
         sum.rgb += (1.0 - sum.a) * alpha * value;
         sum.a += (1.0 - sum.a) * alpha;
     }
-    out_value = vec4(sum.rgb, 1.0);
+    out_value = vec4(sum.a > 0.0 ? sum.rgb / sum.a : vec3(0.0), 1.0);
 }

@@ -3,30 +3,23 @@ with the 6 diffuse cones, using its normal distribution and albedo:
     L_out = L_base + k_d sum_j w_j L_in(p, w_j)
 Each run reads one set of face views and writes the other; repeating it adds one bounce each
 time and converges to the infinite-bounce radiance since k_d < 1."""
-import math
+import numpy as np
 
-from ..constants import TEXTURE_UNIT
+from ..constants import GL_IMAGE_FORMAT, IMAGE_UNIT, TEXTURE_UNIT
 from .voxelize import RESOLVE_GROUP, bind_faces, use_faces
 
-# Headless convergence: bounce until the light still missing is below this fraction of the total.
-CONVERGENCE_TOLERANCE = 5e-3
+# Convergence: stop when the light the remaining bounces would add is below this fraction of
+# the total, or close the series once successive increments shrink by a steady ratio.
+CONVERGENCE_TOLERANCE = 2e-3
+RATIO_SETTLED = 0.01
 MAX_ITERATIONS = 64
-
-
-def iterations_to_converge(max_albedo, tolerance=CONVERGENCE_TOLERANCE):
-    """Bounces k after which the missing light sum_{j>k} a^j <= tolerance * (1 - a) * sum_j a^j
-    with a the largest diffuse albedo: a^(k+1) <= tolerance (1 - a)."""
-    if max_albedo <= 0.0:
-        return 0
-    if max_albedo >= 1.0:
-        return MAX_ITERATIONS
-    return min(MAX_ITERATIONS, max(0, math.ceil(math.log(tolerance * (1.0 - max_albedo)) / math.log(max_albedo)) - 1))
 
 
 class BouncePass:
     def __init__(self, ctx, programs):
         self.ctx = ctx
         self.program = programs.compute("voxel_bounce.comp")
+        self.extrapolate = programs.compute("voxel_extrapolate.comp")
 
     def run(self, voxels, cone_uniforms, source_set):
         """One bounce from face set `source_set` into the other; returns the set written."""
@@ -44,5 +37,40 @@ class BouncePass:
         voxels.mipmap_faces(target_set)
         return target_set
 
+    def converge(self, voxels, cone_uniforms, source_set):
+        """Bounce until converged: track the grid's total radiance T_k; once the increments
+        D_k = T_k - T_(k-1) shrink by a settled ratio r, add the rest of the geometric series
+        in one step. Returns (face set, bounce iterations run)."""
+        totals = [voxels.face_total(source_set)]
+        ratios = []
+        for iteration in range(1, MAX_ITERATIONS + 1):
+            source_set = self.run(voxels, cone_uniforms, source_set)
+            totals.append(voxels.face_total(source_set))
+            increment = totals[-1] - totals[-2]
+            if np.all(increment <= CONVERGENCE_TOLERANCE * totals[-1]):
+                return source_set, iteration
+            if len(totals) >= 3:
+                previous = totals[-2] - totals[-3]
+                ratios.append(np.where(previous > 0, increment / np.maximum(previous, 1e-30), 0.0))
+            if len(ratios) >= 2 and np.all(np.abs(ratios[-1] - ratios[-2]) <= RATIO_SETTLED) and np.all(ratios[-1] < 1):
+                r = np.clip(ratios[-1], 0.0, 0.99)
+                return self._close_series(voxels, source_set, r / (1.0 - r)), iteration
+        return source_set, MAX_ITERATIONS
+
+    def _close_series(self, voxels, latest_set, gain):
+        older_set = 1 - latest_set
+        use_faces(voxels.face_sets[latest_set])
+        for face, volume in enumerate(voxels.face_sets[older_set]):
+            volume.bind_to_image(IMAGE_UNIT["OUT_DIRECTIONAL"] + face, read=True, write=True,
+                                 format=GL_IMAGE_FORMAT["rgba16f"])
+        self.extrapolate.set(gain=tuple(float(g) for g in gain))
+        groups = voxels.grid // RESOLVE_GROUP
+        self.extrapolate.program.run(groups, groups, groups)
+        self.ctx.memory_barrier(self.ctx.SHADER_IMAGE_ACCESS_BARRIER_BIT | self.ctx.TEXTURE_FETCH_BARRIER_BIT
+                                | self.ctx.TEXTURE_UPDATE_BARRIER_BIT)
+        voxels.mipmap_faces(older_set)
+        return older_set
+
     def release(self):
         self.program.release()
+        self.extrapolate.release()

@@ -2,6 +2,7 @@
 import numpy as np
 
 from .. import transforms
+from ..constants import TEXTURE_UNIT
 from .target import ScreenTarget
 
 SHOW = {"voxels": 0, "voxel-normals": 1, "voxel-albedo": 2}
@@ -16,8 +17,8 @@ class VoxelViewPass:
         self.target.resize(size)
 
     def render(self, mode, volume, mip, voxel_uniforms, view_projection, camera_position):
-        volume.use(0)
-        self.program.set(**voxel_uniforms, volume=0, show=SHOW[mode], mip=float(mip),
+        volume.use(TEXTURE_UNIT["VOXEL_INSPECT"])
+        self.program.set(**voxel_uniforms, show=SHOW[mode], mip=float(mip),
                          inverse_view_projection=transforms.gl_bytes(np.linalg.inv(view_projection)),
                          camera_position=tuple(camera_position), viewport_size=tuple(float(x) for x in self.target.size))
         self.target.draw(self.program)

@@ -5,7 +5,8 @@ distribution and diffuse albedo, plus the six one-sided face views of the radian
 read, all with hardware mipmaps."""
 import numpy as np
 
-from ..constants import GL_IMAGE_FORMAT, GRID_SIZES, IMAGE_UNIT, TEXTURE_UNIT, VOXEL_FORMAT, VOXEL_MEMORY_BUDGET
+from ..constants import (GL_IMAGE_FORMAT, GRID_SIZES, IMAGE_UNIT, STORAGE_BINDING, TEXTURE_UNIT, VOXEL_FORMAT,
+                         VOXEL_MEMORY_BUDGET)
 from ..errors import VctError
 
 SUMS = (  # accumulator image, GL format
@@ -62,6 +63,7 @@ class VoxelizePass:
         self.program = programs.program(vertex_shader="voxelize.vert", geometry_shader="voxelize.geom",
                                         fragment_shader="voxelize.frag")
         self.resolve = programs.compute("voxel_resolve.comp")
+        self.readback = programs.compute("voxel_readback.comp")
         self.grid = 0
         self.sums = []
         self.radiance = self.normal = self.albedo = None
@@ -125,6 +127,28 @@ class VoxelizePass:
         self.ctx.memory_barrier(self.ctx.SHADER_IMAGE_ACCESS_BARRIER_BIT | self.ctx.TEXTURE_FETCH_BARRIER_BIT
                                 | self.ctx.TEXTURE_UPDATE_BARRIER_BIT)
 
+    def read_volume(self, volume, level=0):
+        """One mip level of a volume as float32 (n, n, n, 4), indexed [z, y, x]."""
+        import math
+
+        n = max(1, self.grid >> level)
+        buffer = self.ctx.buffer(reserve=n ** 3 * 16)
+        try:
+            volume.use(TEXTURE_UNIT["VOXEL_INSPECT"])
+            self.readback.set(level=level)
+            buffer.bind_to_storage_buffer(STORAGE_BINDING["READBACK"])
+            groups = math.ceil(n / RESOLVE_GROUP)
+            self.readback.program.run(groups, groups, groups)
+            self.ctx.memory_barrier(self.ctx.SHADER_STORAGE_BARRIER_BIT)
+            return np.frombuffer(buffer.read(), dtype="f4").reshape(n, n, n, 4).copy()
+        finally:
+            buffer.release()
+
+    def face_total(self, face_set):
+        """Mean premultiplied radiance (rgb) of a face set over the grid, from the 1^3 levels."""
+        top = self.mip_count - 1
+        return sum(self.read_volume(volume, top)[0, 0, 0, :3].astype(np.float64) for volume in self.face_sets[face_set])
+
     def mipmap_faces(self, face_set):
         for volume in self.face_sets[face_set]:
             volume.build_mipmaps()
@@ -141,3 +165,4 @@ class VoxelizePass:
         self._release_grid()
         self.program.release()
         self.resolve.release()
+        self.readback.release()

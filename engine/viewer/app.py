@@ -21,6 +21,7 @@ from . import panels
 from .camera import FlyCamera
 from .gui import Gui
 from .hot_reload import ShaderWatcher
+from .panels import PANELS_MIN_WINDOW
 from .present import Presenter
 from .screenshots import screenshot_path
 from .stats import FrameStats, ProcessStats
@@ -34,14 +35,16 @@ MOVE_KEYS = {  # key -> (right, up, forward)
 
 
 class Viewer:
-    def __init__(self, scene, settings, size, glsl_root=GLSL_ROOT, panels=True, vsync=True, visible=True):
+    def __init__(self, scene, settings, size, glsl_root=GLSL_ROOT, show_panels=True, vsync=True,
+                 visible=True):
         import moderngl
 
         self.scene = scene
         self.settings = settings.validate()
-        self.show_panels = panels
+        self.show_panels = show_panels and size[0] >= PANELS_MIN_WINDOW[0] and size[1] >= PANELS_MIN_WINDOW[1]
         self.selected = next((node.name for node, _ in scene.lights()), None)
         self.settings_message = None
+        self._pending_screenshot = None  # "frame" or "window" after F12 / PrtScrn (Shift: window)
         self.window = self.gui = self.renderer = self.presenter = None
         try:
             self.window = Window(size[0], size[1], self._title(), visible=visible, vsync=vsync)
@@ -107,7 +110,7 @@ class Viewer:
             self.renderer.render_frame(self.scene, self.settings)
 
     def _draw_panels(self, size):
-        panels.draw_overlay(self.frames, self.process, self.renderer, self.window.vsync)
+        panels.draw_overlay(self.frames, self.process, self.renderer, self.window.vsync, self.show_panels)
         panels.draw_shader_errors(self.shaders.errors, size)
         if not self.show_panels:
             return
@@ -154,8 +157,6 @@ class Viewer:
         scroll = io.mouse_wheel if mouse else 0.0
         self.camera.update(dt, move, turn, scroll, fast=io.key_shift)
 
-    _pending_screenshot = None
-
     # -- screenshots -------------------------------------------------------------------------
 
     def frame_pixels(self):
@@ -170,13 +171,16 @@ class Viewer:
 
     def _save_pending_screenshot(self, window_pixels):
         kind, self._pending_screenshot = self._pending_screenshot, None
-        if kind == "frame":
-            path = self.save_screenshot()
-        else:
-            path = screenshot_path(self.scene.name, "-window")
-            save_png(path, window_pixels)
-        print(f"saved {path}")
-        sys.stdout.flush()
+        try:
+            if kind == "frame":
+                path = self.save_screenshot()
+            else:
+                path = screenshot_path(self.scene.name, "-window")
+                save_png(path, window_pixels)
+        except (VctError, OSError) as exc:  # e.g. a read-only working directory: keep viewing
+            print(f"vct view: screenshot not saved: {exc}", file=sys.stderr)
+            return
+        print(f"saved {path}", flush=True)
 
     # -- loop --------------------------------------------------------------------------------
 
@@ -218,7 +222,7 @@ def view_command(args):
     settings = settings_from_args(args)
     scene = load_scene(args.scene)
     size = (args.width or scene.camera.width, args.height or scene.camera.height)
-    with Viewer(scene, settings, size, glsl_root=shader_root(args), panels=not args.no_panels,
+    with Viewer(scene, settings, size, glsl_root=shader_root(args), show_panels=not args.no_panels,
                 vsync=args.frames is None) as viewer:
         viewer.run(args.frames)
         if args.screenshot:

@@ -17,6 +17,8 @@ class Gui:
         style = imgui.get_style()
         style.window_rounding = 4.0
         style.frame_rounding = 2.0
+        style.item_spacing = imgui.ImVec2(style.item_spacing.x, 3.0)  # a little denser: panels over a small window
+        style.frame_padding = imgui.ImVec2(style.frame_padding.x, 2.0)
         address = ctypes.cast(window.handle, ctypes.c_void_p).value
         imgui.backends.glfw_init_for_opengl(address, True)
         imgui.backends.opengl3_init(GLSL_VERSION)

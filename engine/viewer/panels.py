@@ -12,21 +12,29 @@ from . import inspector
 MARGIN = 8
 PANEL_WIDTH = 280
 TREE_WIDTH = 170
+PANELS_MIN_WINDOW = (600, 440)  # smaller windows start with the panels hidden (F1 shows them)
 ERROR_RED = imgui.ImVec4(1.0, 0.45, 0.4, 1.0)
 DIM = imgui.ImVec4(0.7, 0.7, 0.7, 1.0)
 VOXEL_VIEW_MODES = ("voxels", "voxel-normals", "voxel-albedo")
 
 
-def _place(x, y, pivot_x=0.0, pivot_y=0.0, width=None, cond=imgui.Cond_.first_use_ever):
-    """Initial position (pivot: which corner sits at x, y); a fixed width, height to fit."""
+def _place(x, y, pivot_x=0.0, pivot_y=0.0, width=None, max_height=None, cond=imgui.Cond_.first_use_ever):
+    """Initial position (pivot: which corner sits at x, y); a fixed width, the height to fit
+    the contents up to `max_height` (then it scrolls)."""
     imgui.set_next_window_pos(imgui.ImVec2(x, y), cond, imgui.ImVec2(pivot_x, pivot_y))
     if width is not None:
-        imgui.set_next_window_size_constraints(imgui.ImVec2(width, 0), imgui.ImVec2(width, imgui.FLT_MAX))
+        imgui.set_next_window_size_constraints(imgui.ImVec2(width, 0),
+                                               imgui.ImVec2(width, max_height or imgui.FLT_MAX))
+
+
+def _half_height(window_size):
+    """The right-hand column holds two panels: each gets at most half the window."""
+    return max((window_size[1] - 3 * MARGIN) / 2, 120)
 
 
 # ---- overlay --------------------------------------------------------------------------------
 
-def draw_overlay(frames, process, renderer, vsync):
+def draw_overlay(frames, process, renderer, vsync, panels_shown=True):
     """FPS, ms per frame, CPU %, RAM, draw calls and per-pass ms, in the top-left corner."""
     _place(MARGIN, MARGIN, cond=imgui.Cond_.always)
     imgui.set_next_window_bg_alpha(0.6)
@@ -35,16 +43,19 @@ def draw_overlay(frames, process, renderer, vsync):
              | imgui.WindowFlags_.no_nav | imgui.WindowFlags_.no_inputs)
     if imgui.begin("Overlay", None, flags)[0]:
         s = renderer.settings
-        imgui.text(f"FPS  {frames.fps:7.1f}   SPF {frames.ms_per_frame:8.1f} ms")
-        imgui.text(f"CPU  {process.cpu_percent:7.0f} %  RAM {process.ram_mb:8.0f} MB")
-        imgui.text(f"Draw calls {renderer.geometry.draw_calls:4d}")
-        imgui.text_colored(DIM, f"{renderer.size[0]}x{renderer.size[1]}  {s.mode}  grid {s.grid}  "
-                                f"vsync {'on' if vsync else 'off'}")
+        cpu = "--" if process.cpu_percent is None else f"{process.cpu_percent:.0f}"
+        imgui.text(f"FPS {frames.fps:6.1f}  SPF {frames.ms_per_frame:7.1f} ms")
+        imgui.text(f"CPU {cpu:>5} %  RAM {process.ram_mb:7.0f} MB")
+        imgui.text(f"Draw calls {renderer.geometry.draw_calls}")
+        imgui.text_colored(DIM, f"{renderer.size[0]}x{renderer.size[1]} {s.mode} grid {s.grid}"
+                                f"{' vsync' if vsync else ''}")
         if renderer.timings:
             imgui.separator()
             for name, ms in renderer.timings.items():
-                imgui.text(f"{name:<13}{ms:9.1f} ms")
-            imgui.text_colored(DIM, f"{'passes':<13}{sum(renderer.timings.values()):9.1f} ms")
+                imgui.text(f"{name:<12}{ms:8.1f} ms")
+            imgui.text_colored(DIM, f"{'all passes':<12}{sum(renderer.timings.values()):8.1f} ms")
+        if not panels_shown:
+            imgui.text_colored(DIM, "F1: panels")
     imgui.end()
 
 
@@ -80,13 +91,13 @@ def _tree(node, selected, depth):
 # ---- inspector ------------------------------------------------------------------------------
 
 def draw_inspector(scene, selected, window_size):
-    _place(window_size[0] - MARGIN, MARGIN, 1.0, 0.0, width=PANEL_WIDTH)
+    _place(window_size[0] - MARGIN, MARGIN, 1.0, 0.0, width=PANEL_WIDTH, max_height=_half_height(window_size))
     if imgui.begin("Inspector", None, imgui.WindowFlags_.always_auto_resize)[0]:
         node = scene.root.find(selected) if selected else None
         if node is None:
             imgui.text_colored(DIM, "Select a node in the Scene Graph.")
         else:
-            imgui.push_item_width(PANEL_WIDTH - 100)
+            imgui.push_item_width(PANEL_WIDTH - 112)
             imgui.text(node.name)
             _transform(scene, node)
             if node.material is not None:
@@ -97,8 +108,13 @@ def draw_inspector(scene, selected, window_size):
     imgui.end()
 
 
+def _section(label, default_open=True):
+    return imgui.collapsing_header(label, imgui.TreeNodeFlags_.default_open if default_open else 0)
+
+
 def _transform(scene, node):
-    imgui.separator_text("Transform")
+    if not _section("Transform", default_open=node.light is None):  # a light's interest is its light
+        return
     changed, value = imgui.drag_float3("Translation", list(node.translation), 0.01)
     if changed:
         inspector.set_translation(scene, node.name, value)
@@ -113,7 +129,8 @@ def _transform(scene, node):
 def _material(scene, node):
     material = node.material
     users = inspector.material_users(scene, material)
-    imgui.separator_text(f"Material: {material.name}")
+    if not _section(f"Material: {material.name}###material"):
+        return
     if len(users) > 1:
         imgui.text_colored(DIM, f"shared by {len(users)} nodes")
         imgui.same_line()
@@ -136,7 +153,8 @@ def _material(scene, node):
 
 def _light(scene, node):
     light = node.light
-    imgui.separator_text(f"Light: {light.type}")
+    if not _section(f"Light: {light.type}###light"):
+        return
     changed, value = imgui.color_edit3("Colour", list(inspector.light_colour(light)), imgui.ColorEditFlags_.float)
     if changed:
         inspector.set_light_colour(scene, node.name, value)
@@ -161,10 +179,11 @@ def _light(scene, node):
 
 def draw_renderer_panel(settings, window_size, message=None):
     """Render settings; returns the changed RenderSettings (not yet validated) or None."""
-    _place(window_size[0] - MARGIN, window_size[1] - MARGIN, 1.0, 1.0, width=PANEL_WIDTH)
+    _place(window_size[0] - MARGIN, window_size[1] - MARGIN, 1.0, 1.0, width=PANEL_WIDTH,
+           max_height=_half_height(window_size))
     changes = {}
     if imgui.begin("Renderer", None, imgui.WindowFlags_.always_auto_resize)[0]:
-        imgui.push_item_width(PANEL_WIDTH - 100)
+        imgui.push_item_width(PANEL_WIDTH - 112)
         _combo("Mode", settings.mode, MODES, changes, "mode")
         if settings.mode in VOXEL_VIEW_MODES:
             changed, mip = imgui.slider_int("Mip level", settings.voxel_mip, 0, settings.grid.bit_length() - 1)

@@ -49,7 +49,7 @@ class ProcessStats:
         self.clock = clock
         self.process.cpu_percent(None)  # starts the interval; the first reading comes later
         self._sampled = clock()
-        self.cpu_percent = 0.0
+        self.cpu_percent = None  # None until the first interval has passed
         self.ram_mb = self.process.memory_info().rss / 2 ** 20
 
     def update(self):

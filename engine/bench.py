@@ -1,0 +1,101 @@
+"""`vct bench`: per-pass milliseconds (median over frames after warm-up, each pass timed with
+ctx.finish() and the wall clock) for each grid size, optionally with the error against a
+reference radiance image, so cost and accuracy can be read side by side."""
+import json
+import statistics
+import time
+
+import numpy as np
+
+from .errors import VctError
+from .settings import VOXEL_MODES
+
+PASS_ORDER = ("shadow", "gbuffer", "lighting", "voxelize", "mipmap", "bounces", "cone_trace",
+              "voxel_view", "gbuffer_view")
+
+
+def relative_errors(radiance, reference):
+    """relMAE = sum|c - r| / sum r, relMSE = sum (c - r)^2 / sum r^2, mean luminance ratio."""
+    diff = radiance.astype(np.float64) - reference
+    return {"rel_mae": float(np.abs(diff).sum() / reference.sum()),
+            "rel_mse": float((diff ** 2).sum() / (reference.astype(np.float64) ** 2).sum()),
+            "luminance_ratio": float(radiance.mean() / reference.mean())}
+
+
+def benchmark(scene, renderer, settings, grids, frames, warmup, reference=None):
+    rows = []
+    for grid in grids if settings.mode in VOXEL_MODES else [settings.grid]:
+        s = settings.replace(grid=grid)
+        renderer.measure = False
+        for _ in range(warmup):
+            renderer.render_frame(scene, s)
+        renderer.measure = True
+        per_pass, totals = {}, []
+        for _ in range(frames):
+            renderer.ctx.finish()
+            start = time.perf_counter()
+            renderer.render_frame(scene, s)
+            renderer.ctx.finish()
+            totals.append((time.perf_counter() - start) * 1000.0)
+            for name, ms in renderer.timings.items():
+                per_pass.setdefault(name, []).append(ms)
+        row = {"grid": grid, "mode": s.mode, "bounces": s.bounces, "bounce_iterations": renderer.bounce_iterations,
+               "passes_ms": {name: statistics.median(per_pass[name]) for name in PASS_ORDER if name in per_pass},
+               "total_ms": statistics.median(totals), "draw_calls": renderer.geometry.draw_calls}
+        if reference is not None:
+            row.update(relative_errors(renderer.radiance(), reference))
+        rows.append(row)
+    renderer.measure = False
+    return rows
+
+
+def format_table(rows):
+    names = [n for n in PASS_ORDER if any(n in r["passes_ms"] for r in rows)]
+    has_error = any("rel_mae" in r for r in rows)
+    header = ["grid"] + names + ["total"] + (["relMAE", "lum ratio"] if has_error else [])
+    lines = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
+    for r in rows:
+        cells = [f"{r['grid']}^3"] + [f"{r['passes_ms'].get(n, 0.0):.1f}" for n in names] + [f"{r['total_ms']:.1f}"]
+        if has_error:
+            cells += [f"{r['rel_mae']:.3f}", f"{r['luminance_ratio']:.3f}"]
+        lines.append("| " + " | ".join(cells) + " |")
+    return "\n".join(lines)
+
+
+def bench_command(args):
+    from .cli import settings_from_args, shader_root, check_writable
+    from .gl import renderer_name
+    from .renderer import Renderer, write_atomically
+    from .scene_file import load_scene
+
+    try:
+        grids = [int(g) for g in args.grids.split(",") if g.strip()]
+    except ValueError:
+        raise VctError(f"expected comma-separated whole numbers, got {args.grids!r}", field="--grids") from None
+    settings = settings_from_args(args)
+    for grid in grids:
+        settings.replace(grid=grid).validate()
+    if args.json:
+        check_writable(args.json, "--json")
+    reference = None
+    if args.reference:
+        try:
+            reference = np.load(args.reference).astype(np.float64)
+        except (OSError, ValueError) as exc:
+            raise VctError(f"cannot read reference ({exc})", source=args.reference, field="--reference") from None
+    scene = load_scene(args.scene)
+    width, height = args.width or scene.camera.width, args.height or scene.camera.height
+    with Renderer(width, height, settings, glsl_root=shader_root(args)) as renderer:
+        if reference is not None and reference.shape != (height, width, 3):
+            raise VctError(f"shape {reference.shape} does not match the image {height}x{width}", source=args.reference, field="--reference")
+        device = renderer_name(renderer.ctx)
+        print(f"{scene.name}: {width}x{height}, mode {settings.mode}, bounces {settings.bounces or 'converged'}, "
+              f"median of {args.frames} frames after {args.warmup} warm-up, on {device}", flush=True)
+        rows = benchmark(scene, renderer, settings, grids, args.frames, args.warmup, reference)
+    print(format_table(rows))
+    if args.json:
+        report = {"scene": scene.source, "width": width, "height": height, "device": device,
+                  "frames": args.frames, "warmup": args.warmup, "results": rows}
+        write_atomically(args.json, lambda f: f.write(json.dumps(report, indent=2).encode()))
+        print(f"wrote {args.json}")
+    return 0

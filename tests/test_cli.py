@@ -1,0 +1,201 @@
+"""The `vct` command line (engine.cli), run as a real process (`python -m engine.cli`).
+
+Facts: every command's --help is complete; `vct render` writes the PNG and the float32 HDR it
+was asked for and says where; every bad input (a broken scene, an impossible setting, an
+unwritable output, a shader that does not compile) exits with code 2 and exactly one stderr
+line "vct: error: ..." naming the file and/or field, with no traceback and no output file
+(nor temporary file) left behind.
+"""
+import os
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+from PIL import Image
+
+from test_scene_file import BAD_SCENES, write_bad_scene  # tests/ is on sys.path under pytest
+
+ROOT = Path(__file__).resolve().parent.parent
+CORNELL = ROOT / "scenes" / "cornell_box.json"
+SMALL = ["--mode", "direct", "--width", "32", "--height", "32"]
+
+SETTINGS_OPTIONS = ["--width", "--height", "--mode", "--grid", "--bounces", "--mip", "--cone-step", "--cone-offset",
+                    "--ao-distance", "--no-direct", "--no-diffuse", "--no-specular", "--exposure", "--shaders", "--tonemap"]
+HELP = {
+    (): ["render", "view", "bench"],
+    ("render",): ["scene", "--out", "--hdr", *SETTINGS_OPTIONS],
+    ("view",): ["scene", "--frames", "--screenshot", "--no-panels", *SETTINGS_OPTIONS],
+    ("bench",): ["scene", "--frames", "--warmup", "--grids", "--json", "--reference", *SETTINGS_OPTIONS],
+}
+
+
+def vct(*args, cwd=ROOT):
+    return subprocess.run([sys.executable, "-m", "engine.cli", *map(str, args)], cwd=cwd,
+                          capture_output=True, text=True, timeout=120)
+
+
+def assert_one_line_error(result, *mentions):
+    """Exit code 2, no traceback, exactly one stderr line "vct: error: ..." holding each mention."""
+    assert result.returncode == 2, (result.returncode, result.stderr)
+    assert "Traceback" not in result.stderr + result.stdout, result.stderr
+    lines = result.stderr.splitlines()
+    assert len(lines) == 1, result.stderr
+    assert lines[0].startswith("vct: error: "), lines[0]
+    for mention in mentions:
+        assert str(mention) in lines[0], (mention, lines[0])
+    return lines[0]
+
+
+@pytest.fixture
+def out_dir(tmp_path):
+    """An empty output directory; each test below checks what is left in it."""
+    directory = tmp_path / "out"
+    directory.mkdir()
+    return directory
+
+
+# ---- help ------------------------------------------------------------------------------------
+
+def test_entry_point_is_the_cli_main():
+    tomllib = pytest.importorskip("tomllib")  # Python 3.11+
+
+    scripts = tomllib.loads((ROOT / "pyproject.toml").read_text())["project"]["scripts"]
+    assert scripts["vct"] == "engine.cli:main"
+
+
+@pytest.mark.parametrize("command, options", list(HELP.items()), ids=lambda v: " ".join(v) if isinstance(v, tuple) else None)
+def test_help_exits_0_and_mentions_every_option(command, options):
+    result = vct(*command, "--help")
+    assert result.returncode == 0, result.stderr
+    assert result.stderr == ""
+    assert result.stdout.startswith("usage: vct" + "".join(f" {c}" for c in command))
+    for option in options:
+        assert option in result.stdout, f"`vct {' '.join(command)} --help` does not mention {option}"
+
+
+def test_render_help_lists_every_mode_and_tone_mapper():
+    from engine.settings import MODES, TONEMAPS
+
+    text = vct("render", "--help").stdout
+    for name in (*MODES, *TONEMAPS):
+        assert name in text
+
+
+# ---- a good render ---------------------------------------------------------------------------
+
+def test_render_writes_a_32x32_rgb_png_and_float32_hdr_and_prints_the_output_path(out_dir):
+    png, npy = out_dir / "cornell.png", out_dir / "cornell.npy"
+    result = vct("render", CORNELL, "--out", png, "--hdr", npy, *SMALL)
+    assert result.returncode == 0, result.stderr
+    assert str(png) in result.stdout and str(npy) in result.stdout
+    assert "Traceback" not in result.stderr
+    with Image.open(png) as image:
+        assert image.format == "PNG" and image.mode == "RGB" and image.size == (32, 32)
+    radiance = np.load(npy)
+    assert radiance.dtype == np.float32 and radiance.shape == (32, 32, 3)
+    assert np.all(np.isfinite(radiance)) and radiance.min() >= 0 and radiance.max() > 0
+    assert sorted(p.name for p in out_dir.iterdir()) == ["cornell.npy", "cornell.png"]  # no temporary files
+
+
+def test_render_size_defaults_to_the_scene_camera(tmp_path, out_dir):
+    import json
+
+    data = json.loads(CORNELL.read_text())
+    data["camera"].update(width=24, height=16)
+    scene = tmp_path / "small.json"
+    scene.write_text(json.dumps(data))
+    result = vct("render", scene, "--out", out_dir / "small.png", "--mode", "albedo")
+    assert result.returncode == 0, result.stderr
+    with Image.open(out_dir / "small.png") as image:
+        assert image.size == (24, 16)
+
+
+# ---- bad input: exit 2, one line, nothing written --------------------------------------------
+
+@pytest.mark.parametrize("case", BAD_SCENES, ids=lambda case: case.id)
+def test_bad_scene_exits_2_with_one_line_naming_the_file_and_field_and_writes_nothing(tmp_path, out_dir, case):
+    scene = write_bad_scene(tmp_path, case)
+    result = vct("render", scene, "--out", out_dir / "x.png", "--hdr", out_dir / "x.npy", *SMALL)
+    assert_one_line_error(result, scene, case.field or "", case.mention)
+    assert list(out_dir.iterdir()) == []
+
+
+def test_missing_scene_file_exits_2_naming_it(out_dir):
+    result = vct("render", out_dir / "nowhere.json", "--out", out_dir / "x.png", *SMALL)
+    assert_one_line_error(result, out_dir / "nowhere.json")
+    assert list(out_dir.iterdir()) == []
+
+
+@pytest.mark.parametrize("args, field", [
+    (["--grid", "48"], "grid"), (["--grid", "512"], "grid"), (["--grid", "8"], "grid"),
+    (["--width", "0"], "--width"), (["--height", "-3"], "--height"), (["--width", "wide"], "--width"),
+    (["--exposure", "nan"], "--exposure"), (["--exposure", "0"], "exposure"),
+    (["--mip", "9", "--grid", "16"], "mip"), (["--bounces", "-1"], "--bounces"),
+    (["--mode", "raytraced"], "--mode"), (["--tonemap", "filmic"], "--tonemap"),
+], ids=lambda v: " ".join(v) if isinstance(v, list) else None)
+def test_impossible_setting_exits_2_with_one_line_naming_the_option(out_dir, args, field):
+    result = vct("render", CORNELL, "--out", out_dir / "x.png", "--hdr", out_dir / "x.npy", *SMALL, *args)
+    assert_one_line_error(result, field)
+    assert list(out_dir.iterdir()) == []
+
+
+def test_usage_error_exits_2_without_traceback():
+    result = vct("render", CORNELL, "--mode", "raytraced")  # argparse: --out missing, bad mode
+    assert result.returncode == 2 and "Traceback" not in result.stderr
+    assert vct().returncode == 2  # no command
+
+
+@pytest.mark.parametrize("flag", ["--out", "--hdr"])
+def test_output_in_a_missing_directory_exits_2_naming_path_and_flag(out_dir, flag):
+    paths = {"--out": out_dir / "x.png", "--hdr": out_dir / "x.npy"}
+    paths[flag] = out_dir / "no" / "such" / "dir" / paths[flag].name
+    result = vct("render", CORNELL, "--out", paths["--out"], "--hdr", paths["--hdr"], *SMALL)
+    assert_one_line_error(result, paths[flag], flag)
+    assert list(out_dir.iterdir()) == []
+
+
+@pytest.mark.parametrize("flag", ["--out", "--hdr"])
+def test_output_that_is_a_directory_exits_2_naming_path_and_flag(out_dir, flag):
+    taken = out_dir / "taken"
+    taken.mkdir()
+    paths = {"--out": out_dir / "x.png", "--hdr": out_dir / "x.npy", flag: taken}
+    result = vct("render", CORNELL, "--out", paths["--out"], "--hdr", paths["--hdr"], *SMALL)
+    assert_one_line_error(result, taken, flag)
+    assert [p.name for p in out_dir.iterdir()] == ["taken"] and list(taken.iterdir()) == []
+
+
+def test_hdr_and_png_on_the_same_path_exits_2(out_dir):
+    result = vct("render", CORNELL, "--out", out_dir / "x.png", "--hdr", out_dir / "x.png", *SMALL)
+    assert_one_line_error(result, "--hdr")
+    assert list(out_dir.iterdir()) == []
+
+
+@pytest.mark.skipif(not Path("/proc").is_dir(), reason="needs /proc, a directory not even root can create files in")
+def test_png_that_fails_to_write_after_rendering_leaves_no_hdr_behind(out_dir):
+    """/proc passes the up-front check for root but refuses the file: the failure comes after
+    the render, when the .npy may already be written, and must take it away again."""
+    result = vct("render", CORNELL, "--out", "/proc/vct-test.png", "--hdr", out_dir / "x.npy", *SMALL)
+    assert_one_line_error(result, "/proc/vct-test.png")
+    assert list(out_dir.iterdir()) == []
+
+
+def test_shaders_directory_that_does_not_exist_exits_2_naming_it(out_dir):
+    result = vct("render", CORNELL, "--out", out_dir / "x.png", "--shaders", out_dir / "glsl", *SMALL)
+    assert_one_line_error(result, "--shaders", out_dir / "glsl")
+    assert list(out_dir.iterdir()) == []
+
+
+def test_shader_syntax_error_exits_2_naming_the_glsl_file_and_line_and_writes_nothing(tmp_path, out_dir):
+    glsl = tmp_path / "glsl"
+    shutil.copytree(ROOT / "glsl", glsl)
+    brdf = glsl / "lib" / "brdf.glsl"
+    lines = brdf.read_text().splitlines()
+    body = next(i for i, line in enumerate(lines) if line.rstrip().endswith("{"))  # first function
+    lines.insert(body + 1, "    float broken = ;")
+    brdf.write_text("\n".join(lines) + "\n")
+    result = vct("render", CORNELL, "--out", out_dir / "x.png", "--hdr", out_dir / "x.npy", "--shaders", glsl, *SMALL)
+    assert_one_line_error(result, f"glsl/lib/brdf.glsl:{body + 2}:")
+    assert list(out_dir.iterdir()) == []

@@ -1,0 +1,136 @@
+"""Voxelization: a watertight, deterministic grid of radiance, normals and albedo, with
+hardware mipmaps, built from the scene every frame."""
+import numpy as np
+import pytest
+
+import engine
+from engine.passes import voxelize
+from conftest import SCENES
+
+
+def voxel_index(renderer, point):
+    """Index (x, y, z) of the voxel holding a world point in the renderer's last grid."""
+    region, n = renderer.voxelize.region, renderer.voxelize.grid
+    lo = np.asarray(region.center) - region.size / 2.0
+    return tuple(int(i) for i in np.floor((np.asarray(point) - lo) / (region.size / n)))
+
+
+def at(volume, index):
+    x, y, z = index
+    return volume[z, y, x]
+
+
+@pytest.fixture
+def voxels64(renderer):
+    """The Cornell box at 64^3 (the renderer's last grid, so voxel_index applies)."""
+    scene = engine.load_scene(SCENES / "cornell_box.json")
+    renderer.render(scene, mode="voxels", grid=64)
+    return {name: renderer.voxels(name) for name in ("radiance", "normal", "albedo")}
+
+
+def test_voxel_size_follows_region_and_grid(renderer):
+    """Voxel size = region size / N: the lecture's 2.56-unit region gives 0.01 at 256^3."""
+    scene = engine.load_scene(SCENES / "cornell_box.json")
+    scene.voxel_region = engine.scene.VoxelRegion(np.zeros(3), 2.56)
+    renderer.render(scene, mode="voxels", grid=16)
+    assert renderer.voxelize.uniforms()["voxel_size"] == pytest.approx(0.16)
+    assert 2.56 / 256 == pytest.approx(0.01)
+
+
+def test_voxelizing_twice_is_bit_identical(renderer):
+    """Order-independent fixed-point averaging: the same scene gives the same bits."""
+    scene = engine.load_scene(SCENES / "cornell_box.json")
+    first, second = [], []
+    for out in (first, second):
+        renderer.render(scene, mode="voxels", grid=32)
+        out += [renderer.voxels(name).tobytes() for name in ("radiance", "normal", "albedo")]
+    assert first == second
+
+
+@pytest.mark.parametrize("grid", [32, 64])
+def test_walls_are_watertight(renderer, grid):
+    """Every ray crossing a wall plane along its normal meets at least one opaque voxel."""
+    scene = engine.load_scene(SCENES / "cornell_box.json")
+    renderer.render(scene, mode="voxels", grid=grid)
+    opaque = renderer.voxels("radiance")[..., 3] > 0  # [z, y, x]
+    inner = [voxel_index(renderer, (c, c, c))[0] for c in (-0.99, 0.99)]
+    span = slice(inner[0], inner[1] + 1)
+    for axis, name in ((2, "x"), (1, "y"), (0, "z")):
+        for side in (-1.0, 1.0):
+            wall = voxel_index(renderer, (side,) * 3)[0]
+            layers = slice(max(wall - 1, 0), min(wall + 2, grid))  # the wall's voxel and its neighbours
+            hit = np.take(opaque, range(layers.start, layers.stop), axis=axis).any(axis=axis)
+            assert hit[span, span].all(), f"hole in the {name} = {side} wall at grid {grid}"
+
+
+def test_left_wall_voxels_are_red_and_face_plus_x(renderer, voxels64):
+    index = voxel_index(renderer, (-1.0, 0.0, 0.0))
+    albedo = at(voxels64["albedo"], index)
+    normal = at(voxels64["normal"], index)
+    assert albedo[3] == 1.0
+    assert np.allclose(albedo[:3], [0.65, 0.05, 0.05], atol=0.01)
+    assert np.allclose(normal[:3], [1.0, 0.0, 0.0], atol=0.02)
+
+
+def test_box_interior_is_empty(renderer, voxels64):
+    """Only surfaces are voxelized: the inside of the tall box holds no voxel."""
+    center = np.array([-0.35, -0.4, -0.4])
+    lo = voxel_index(renderer, center - [0.15, 0.45, 0.15])
+    hi = voxel_index(renderer, center + [0.15, 0.45, 0.15])
+    inside = voxels64["radiance"][lo[2]:hi[2] + 1, lo[1]:hi[1] + 1, lo[0]:hi[0] + 1, 3]
+    assert inside.size > 0 and not inside.any()
+
+
+def test_mip_levels_are_the_mean_of_their_children(renderer):
+    """Hardware mipmaps: level k+1 equals the mean of its 8 children of level k within
+    8-bit rounding (premultiplied, so empty children lower opacity, not colour)."""
+    scene = engine.load_scene(SCENES / "cornell_box.json")
+    renderer.render(scene, mode="voxels", grid=32)
+    for name in ("radiance", "normal"):
+        for level in (0, 2):
+            fine = renderer.voxels(name, level)
+            coarse = renderer.voxels(name, level + 1)
+            n = fine.shape[0] // 2
+            mean = fine.reshape(n, 2, n, 2, n, 2, 4).mean(axis=(1, 3, 5))
+            scale = max(1.0, float(np.abs(fine).max()))
+            assert np.abs(coarse - mean).max() <= scale / 255.0, (name, level)
+    top = renderer.voxels("radiance", 5)
+    assert top.shape == (1, 1, 1, 4) and 0.0 < top[0, 0, 0, 3] < 1.0
+
+
+def test_floor_voxel_under_the_light_holds_the_direct_radiance(renderer, voxels64):
+    """The voxel's radiance is the surface's direct radiance: k_d/pi * I cos / d^2, the same
+    value the G-buffer pass computes at that point (within 10%)."""
+    expected = 0.73 / np.pi * 3.0 / 1.7 ** 2
+    index = voxel_index(renderer, (0.0, -1.0, 0.0))
+    voxel = at(voxels64["radiance"], index)
+    assert voxel[3] == 1.0
+    assert voxel[:3] == pytest.approx([expected] * 3, rel=0.10)
+
+
+def test_voxel_in_the_tall_box_shadow_gets_no_direct_light(renderer, voxels64):
+    shadowed = at(voxels64["radiance"], voxel_index(renderer, (-0.8, -1.0, -0.9)))
+    lit = at(voxels64["radiance"], voxel_index(renderer, (0.0, -1.0, 0.0)))
+    assert shadowed[3] == 1.0
+    assert shadowed[:3].max() < 0.01 * lit[:3].max()
+
+
+def test_voxel_view_shows_the_coloured_walls(renderer):
+    scene = engine.load_scene(SCENES / "cornell_box.json")
+    image = renderer.render(scene, mode="voxels", grid=64)
+    left, right = image[40, 3], image[128, 252]
+    assert left[0] > 3 * left[1] and right[1] > 2 * right[0]
+    normals = renderer.render(scene, mode="voxel-normals", grid=64) * 2.0 - 1.0
+    assert np.allclose(normals[60, 200], [0.0, 0.0, 1.0], atol=0.05)
+    albedo = renderer.render(scene, mode="voxel-albedo", grid=64, voxel_mip=1)
+    assert np.allclose(albedo[60, 200], [0.73] * 3, atol=0.02)
+
+
+def test_impossible_grid_sizes_are_refused_before_allocation(renderer, monkeypatch):
+    for grid in (8, 48, 512):
+        with pytest.raises(engine.VctError, match="grid"):
+            voxelize.check_grid(renderer.ctx, grid)
+    monkeypatch.setattr(voxelize, "VOXEL_MEMORY_BUDGET", voxelize.voxel_memory_bytes(64))
+    with pytest.raises(engine.VctError, match="GiB"):
+        voxelize.check_grid(renderer.ctx, 128)
+    voxelize.check_grid(renderer.ctx, 64)
