@@ -1,6 +1,8 @@
 """`vct bench`: per-pass milliseconds (median over frames after warm-up, each pass timed with
 ctx.finish() and the wall clock) for each grid size, optionally with the error against a
-reference radiance image, so cost and accuracy can be read side by side."""
+reference radiance image, so cost and accuracy can be read side by side. Frames are dynamic
+frames as in the viewer: everything is rebuilt every frame, and with bounces 0 each frame adds
+one bounce on top of the previous frame's voxel radiance (converging over the warm-up)."""
 import json
 import statistics
 import time
@@ -86,10 +88,11 @@ def bench_command(args):
     scene = load_scene(args.scene)
     width, height = args.width or scene.camera.width, args.height or scene.camera.height
     with Renderer(width, height, settings, glsl_root=shader_root(args)) as renderer:
+        renderer.feedback = True
         if reference is not None and reference.shape != (height, width, 3):
             raise VctError(f"shape {reference.shape} does not match the image {height}x{width}", source=args.reference, field="--reference")
         device = renderer_name(renderer.ctx)
-        print(f"{scene.name}: {width}x{height}, mode {settings.mode}, bounces {settings.bounces or 'converged'}, "
+        print(f"{scene.name}: {width}x{height}, mode {settings.mode}, bounces {settings.bounces or '1 per frame (feedback)'}, "
               f"median of {args.frames} frames after {args.warmup} warm-up, on {device}", flush=True)
         rows = benchmark(scene, renderer, settings, grids, args.frames, args.warmup, reference)
     print(format_table(rows))

@@ -105,7 +105,9 @@ def build_parser():
 
     bench = commands.add_parser("bench", help="time each pass",
                                 description="Time each render pass (median over frames after warm-up, "
-                                            "ctx.finish() + wall clock) for each grid size.")
+                                            "ctx.finish() + wall clock) for each grid size. Frames are dynamic: "
+                                            "the scene is revoxelized every frame, and with --bounces 0 each frame "
+                                            "adds one bounce on top of the previous one, as in the viewer.")
     bench.add_argument("scene", help="scene JSON file")
     bench.add_argument("--frames", type=_positive_int, default=10, help="timed frames per configuration (default 10)")
     bench.add_argument("--warmup", type=_nonnegative_int, default=2, help="untimed frames first (default 2)")

@@ -38,7 +38,8 @@ IMAGE_UNIT = {
     "OUT_RADIANCE": 10,
     "OUT_NORMAL": 11,
     "OUT_ALBEDO": 12,
-    "OUT_DIRECTIONAL": 13,  # 6 consecutive units
+    "OUT_DIRECTIONAL": 13,    # 6 consecutive units
+    "OTHER_DIRECTIONAL": 19,  # 6 consecutive units: the other face set, cleared with the first
 }
 
 # Shader storage buffer bindings.
@@ -46,6 +47,7 @@ STORAGE_BINDING = {
     "LIGHTS": 0,
     "SHADOW_MATRICES": 1,
     "READBACK": 2,
+    "OCCUPIED": 3,
 }
 
 MAX_LIGHTS = 16

@@ -56,6 +56,7 @@ class Renderer:
         self._owns_context = ctx is None
         self._context_entered = False
         self.ctx = ctx or create_headless_context()
+        self._check_size(self.size)
         self.programs = ProgramLibrary(self.ctx, glsl_root)
         self.geometry = SceneGeometry(self.ctx)
         self.measure = False  # when True, each pass is timed with ctx.finish() + wall clock
@@ -86,9 +87,18 @@ class Renderer:
         self._passes.append(render_pass)
         return render_pass
 
+    def _check_size(self, size):
+        limit = min(self.ctx.info["GL_MAX_TEXTURE_SIZE"], *self.ctx.info["GL_MAX_VIEWPORT_DIMS"])
+        if max(size) > limit:
+            if self._owns_context:
+                self.ctx.release()
+            raise VctError(f"image size {size[0]}x{size[1]} exceeds the driver's limit of {limit} pixels per side",
+                           field="size")
+
     @_current
     def resize(self, width, height):
         """Follow a new output size (all screen-space targets are recreated)."""
+        self._check_size((int(width), int(height)))
         self.size = (max(1, int(width)), max(1, int(height)))
         for render_pass in (self.gbuffer, self.lighting, self.gbuffer_view, self.cone_trace, self.voxel_view, self.tonemap):
             render_pass.resize(self.size)

@@ -1,28 +1,27 @@
 #version 450 core
-// One diffuse bounce inside the grid: every covered voxel gathers light with the 6 diffuse
-// cones from the previous radiance (its six face views) and re-emits it:
+// One diffuse bounce inside the grid: every covered voxel (from the resolve pass's list)
+// gathers light with the 6 diffuse cones from the previous radiance (its six face views) and
+// re-emits it:
 //   L_out = L_base + k_d sum_j w_j L_prev(p, w_j)
 // (L_base = emission + direct light from voxelization). Repeating it converges to the
-// infinite-bounce radiance because k_d < 1.
+// infinite-bounce radiance because k_d < 1. A list keeps every invocation busy: covered voxels
+// are a thin shell, so a dispatch over the whole grid would leave most SIMD lanes idle.
 #include "engine_constants.glsl"
 #include "lib/cone.glsl"
 
-layout(local_size_x = 4, local_size_y = 4, local_size_z = 4) in;
+layout(local_size_x = 64) in;
 layout(binding = TEX_VOXEL_RADIANCE) uniform sampler3D base_radiance;
 layout(binding = TEX_VOXEL_NORMAL) uniform sampler3D voxel_normal;
 layout(binding = TEX_VOXEL_ALBEDO) uniform sampler3D voxel_albedo;
 layout(binding = IMG_OUT_DIRECTIONAL, rgba16f) uniform writeonly image3D out_directional[VOXEL_FACES];
+layout(std430, binding = SSBO_OCCUPIED) readonly buffer OccupiedVoxels { uint occupied_count; uint occupied[]; };
 
 void main() {
-    ivec3 v = ivec3(gl_GlobalInvocationID);
-    vec4 base = texelFetch(base_radiance, v, 0);
-    if (base.a == 0.0) {
-        for (int f = 0; f < VOXEL_FACES; ++f) imageStore(out_directional[f], v, vec4(0.0));
-        return;
-    }
+    if (gl_GlobalInvocationID.x >= occupied_count) return;
+    ivec3 v = unpack_voxel(occupied[gl_GlobalInvocationID.x]);
+    vec3 radiance = texelFetch(base_radiance, v, 0).rgb;
     vec3 mean_normal = texelFetch(voxel_normal, v, 0).xyz;
     vec3 albedo = texelFetch(voxel_albedo, v, 0).rgb;
-    vec3 radiance = base.rgb;
     if (dot(mean_normal, mean_normal) > 1e-6 && any(greaterThan(albedo, vec3(0.0)))) {
         vec3 n = normalize(mean_normal);
         radiance += albedo * trace_diffuse(voxel_center(v), n, 1e9).rgb;

@@ -199,3 +199,34 @@ def test_shader_syntax_error_exits_2_naming_the_glsl_file_and_line_and_writes_no
     result = vct("render", CORNELL, "--out", out_dir / "x.png", "--hdr", out_dir / "x.npy", "--shaders", glsl, *SMALL)
     assert_one_line_error(result, f"glsl/lib/brdf.glsl:{body + 2}:")
     assert list(out_dir.iterdir()) == []
+
+
+def test_no_opengl_45_exits_2_with_one_line(out_dir):
+    """A context backend that cannot give OpenGL 4.5 is one clear line, not a traceback."""
+    env = dict(os.environ, VCT_GL_BACKEND="none-such")
+    result = subprocess.run([sys.executable, "-m", "engine.cli", "render", str(CORNELL), "--out", str(out_dir / "x.png"), *SMALL],
+                            cwd=ROOT, capture_output=True, text=True, timeout=120, env=env)
+    assert_one_line_error(result, "OpenGL 4.5")
+    assert list(out_dir.iterdir()) == []
+
+
+def test_osmesa_fallback_renders_the_same_image(out_dir):
+    """Where EGL is missing, OSMesa gives the same OpenGL 4.5 pipeline."""
+    from ctypes.util import find_library
+    if not find_library("OSMesa"):
+        pytest.skip("libOSMesa is not installed (Debian: libosmesa6)")
+    outputs = {}
+    for backend in ("egl", "osmesa"):
+        env = dict(os.environ, VCT_GL_BACKEND=backend)
+        npy = out_dir / f"{backend}.npy"
+        result = subprocess.run([sys.executable, "-m", "engine.cli", "render", str(CORNELL), "--out", str(out_dir / f"{backend}.png"),
+                                 "--hdr", str(npy), *SMALL], cwd=ROOT, capture_output=True, text=True, timeout=120, env=env)
+        assert result.returncode == 0, result.stderr
+        outputs[backend] = np.load(npy)
+    assert np.abs(outputs["egl"] - outputs["osmesa"]).max() < 1e-4
+
+
+def test_image_larger_than_the_driver_allows_exits_2(out_dir):
+    result = vct("render", CORNELL, "--out", out_dir / "x.png", "--mode", "direct", "--width", "100000", "--height", "16")
+    assert_one_line_error(result, "size")
+    assert list(out_dir.iterdir()) == []

@@ -150,3 +150,30 @@ def test_tone_mapping_curves_and_srgb(renderer, cornell):
     for curve in ("aces", "reinhard"):
         renderer.render(cornell, mode="direct", tonemap=curve)
         assert renderer.tonemapped().max() <= 255
+
+
+def test_spot_light_lights_its_cone_only(tmp_path):
+    """Inside the inner angle a spot light is a point light (I cos / d^2); outside the outer
+    angle it gives nothing."""
+    scene = plane_scene(tmp_path, [0.0, 1.0, 0.0], [2.0, 2.0, 2.0])
+    lamp = scene.root.find("Lamp").light
+    lamp.type, lamp.direction = "spot", np.array([0.0, -1.0, 0.0])
+    lamp.inner_angle_deg, lamp.outer_angle_deg = 20.0, 30.0
+    with engine.Renderer(64, 64) as r:
+        radiance = r.render(scene, mode="direct")
+    albedo = np.array([0.5, 0.6, 0.7])
+    assert np.allclose(radiance[32, 32], albedo / math.pi * 2.0, rtol=0.01)  # straight below, d = 1
+    assert np.all(radiance[2, 2] == 0.0)  # about 70 degrees off the axis
+
+
+def test_directional_light_gives_uniform_irradiance(tmp_path):
+    """A directional light of irradiance E at angle theta gives L = albedo/pi * E cos(theta)
+    everywhere on an open floor."""
+    scene = plane_scene(tmp_path, [0.0, 1.0, 0.0], [1.0, 1.0, 1.0])
+    lamp = scene.root.find("Lamp").light
+    direction = np.array([0.6, -0.8, 0.0])
+    lamp.type, lamp.direction, lamp.intensity = "directional", direction, np.array([3.0, 3.0, 3.0])
+    with engine.Renderer(64, 64) as r:
+        radiance = r.render(scene, mode="direct")
+    expected = np.array([0.5, 0.6, 0.7]) / math.pi * 3.0 * 0.8
+    assert np.allclose(radiance[8:56, 8:56].reshape(-1, 3), expected, rtol=0.01)

@@ -3,9 +3,11 @@ with the 6 diffuse cones, using its normal distribution and albedo:
     L_out = L_base + k_d sum_j w_j L_in(p, w_j)
 Each run reads one set of face views and writes the other; repeating it adds one bounce each
 time and converges to the infinite-bounce radiance since k_d < 1."""
+import math
+
 import numpy as np
 
-from ..constants import GL_IMAGE_FORMAT, IMAGE_UNIT, TEXTURE_UNIT
+from ..constants import GL_IMAGE_FORMAT, IMAGE_UNIT, STORAGE_BINDING, TEXTURE_UNIT
 from .voxelize import RESOLVE_GROUP, bind_faces, use_faces
 
 # Convergence: stop when the light the remaining bounces would add is below this fraction of
@@ -13,6 +15,7 @@ from .voxelize import RESOLVE_GROUP, bind_faces, use_faces
 CONVERGENCE_TOLERANCE = 2e-3
 RATIO_SETTLED = 0.01
 MAX_ITERATIONS = 64
+BOUNCE_GROUP = 64  # local size of voxel_bounce.comp
 
 
 class BouncePass:
@@ -30,8 +33,8 @@ class BouncePass:
         voxels.albedo.use(TEXTURE_UNIT["VOXEL_ALBEDO"])
         use_faces(voxels.face_sets[source_set])
         bind_faces(voxels.face_sets[target_set])
-        groups = voxels.grid // RESOLVE_GROUP
-        self.program.program.run(groups, groups, groups)
+        voxels.occupied.bind_to_storage_buffer(STORAGE_BINDING["OCCUPIED"])
+        self.program.program.run(math.ceil(voxels.occupied_count / BOUNCE_GROUP))
         self.ctx.memory_barrier(self.ctx.SHADER_IMAGE_ACCESS_BARRIER_BIT | self.ctx.TEXTURE_FETCH_BARRIER_BIT
                                 | self.ctx.TEXTURE_UPDATE_BARRIER_BIT)
         voxels.mipmap_faces(target_set)

@@ -44,10 +44,10 @@ def bind_output(volume, unit):
     volume.bind_to_image(unit, read=False, write=True, format=GL_IMAGE_FORMAT["rgba16f"])
 
 
-def bind_faces(volumes):
-    """Bind six face views to the image units out_directional[0..5]."""
+def bind_faces(volumes, first_unit=IMAGE_UNIT["OUT_DIRECTIONAL"]):
+    """Bind six face views to six consecutive image units (out_directional[0..5])."""
     for face, volume in enumerate(volumes):
-        bind_output(volume, IMAGE_UNIT["OUT_DIRECTIONAL"] + face)
+        bind_output(volume, first_unit + face)
 
 
 def use_faces(volumes):
@@ -68,6 +68,8 @@ class VoxelizePass:
         self.sums = []
         self.radiance = self.normal = self.albedo = None
         self.face_sets = []  # two lists of 6 face views; the bounce pass writes one from the other
+        self.occupied = None  # storage buffer: count, then the packed coordinates of covered voxels
+        self.occupied_count = 0
         self.framebuffer = None
         self.region = None
 
@@ -79,12 +81,13 @@ class VoxelizePass:
             self.sums.append(self.ctx.texture3d((n, n, n), 1, data=bytes(4 * n ** 3), dtype=dtype))
         self.radiance, self.normal, self.albedo = (self.new_volume() for _ in range(3))
         self.face_sets = [[self.new_volume() for _ in range(VOXEL_FACES)] for _ in range(2)]
+        self.occupied = self.ctx.buffer(reserve=16 + 4 * n ** 3)
         self.framebuffer = self.ctx.empty_framebuffer((n, n))
 
     def new_volume(self):
-        """An N^3 RGBA16F volume with a full mip chain, trilinear between levels."""
+        """An N^3 RGBA16F volume of zeros with a full mip chain, trilinear between levels."""
         n = self.grid
-        volume = self.ctx.texture3d((n, n, n), 4, dtype=VOXEL_FORMAT)
+        volume = self.ctx.texture3d((n, n, n), 4, data=bytes(8 * n ** 3), dtype=VOXEL_FORMAT)
         volume.build_mipmaps()
         volume.filter = (self.ctx.LINEAR_MIPMAP_LINEAR, self.ctx.LINEAR)
         volume.repeat_x = volume.repeat_y = volume.repeat_z = False
@@ -122,10 +125,14 @@ class VoxelizePass:
         for unit, volume in (("OUT_RADIANCE", self.radiance), ("OUT_NORMAL", self.normal), ("OUT_ALBEDO", self.albedo)):
             bind_output(volume, IMAGE_UNIT[unit])
         bind_faces(self.face_sets[face_set])
+        bind_faces(self.face_sets[1 - face_set], IMAGE_UNIT["OTHER_DIRECTIONAL"])
+        self.occupied.write(bytes(4))
+        self.occupied.bind_to_storage_buffer(STORAGE_BINDING["OCCUPIED"])
         groups = grid // RESOLVE_GROUP
         self.resolve.program.run(groups, groups, groups)
         self.ctx.memory_barrier(self.ctx.SHADER_IMAGE_ACCESS_BARRIER_BIT | self.ctx.TEXTURE_FETCH_BARRIER_BIT
-                                | self.ctx.TEXTURE_UPDATE_BARRIER_BIT)
+                                | self.ctx.TEXTURE_UPDATE_BARRIER_BIT | self.ctx.SHADER_STORAGE_BARRIER_BIT)
+        self.occupied_count = int(np.frombuffer(self.occupied.read(4), dtype="u4")[0])
 
     def read_volume(self, volume, level=0):
         """One mip level of a volume as float32 (n, n, n, 4), indexed [z, y, x]."""
@@ -154,11 +161,12 @@ class VoxelizePass:
             volume.build_mipmaps()
 
     def _release_grid(self):
-        for resource in [*self.sums, *sum(self.face_sets, []), self.radiance, self.normal, self.albedo, self.framebuffer]:
+        for resource in [*self.sums, *sum(self.face_sets, []), self.radiance, self.normal, self.albedo,
+                         self.occupied, self.framebuffer]:
             if resource is not None:
                 resource.release()
         self.sums, self.face_sets = [], []
-        self.radiance = self.normal = self.albedo = self.framebuffer = None
+        self.radiance = self.normal = self.albedo = self.occupied = self.framebuffer = None
         self.grid = 0
 
     def release(self):

@@ -31,3 +31,12 @@ float face_coverage(vec3 mean_normal, int face) {
     float projected = max(towards, 0.0) / max(max(abs(n.x), abs(n.y)), abs(n.z));
     return coherence * projected + (1.0 - coherence);
 }
+
+// Voxel coordinates packed into one uint for the list of covered voxels (N <= 1024).
+uint pack_voxel(ivec3 v) {
+    return uint(v.x) | (uint(v.y) << 10) | (uint(v.z) << 20);
+}
+
+ivec3 unpack_voxel(uint bits) {
+    return ivec3(bits & 1023u, (bits >> 10) & 1023u, bits >> 20);
+}
