@@ -48,6 +48,7 @@ STORAGE_BINDING = {
     "SHADOW_MATRICES": 1,
     "READBACK": 2,
     "OCCUPIED": 3,
+    "PREVIOUS_OCCUPIED": 4,
 }
 
 MAX_LIGHTS = 16
@@ -70,6 +71,10 @@ GL_IMAGE_FORMAT = {"r32ui": 0x8236, "r32i": 0x8235, "rgba16f": 0x881A}
 VOXEL_MEMORY_BUDGET = 4 * 2 ** 30
 
 GRID_SIZES = (16, 32, 64, 128, 256)
+
+# Compute shader local sizes: passes over the list of covered voxels, and over a whole volume.
+LIST_GROUP = 64
+VOLUME_GROUP = 4
 
 
 def cone_cosine_centroid_tilt(tilt, half_angle, samples=400):
@@ -122,6 +127,8 @@ def glsl_header():
     lines += [f"#define LIGHT_{name.upper()} {value}" for name, value in LIGHT_TYPE.items()]
     lines += [
         f"#define MAX_LIGHTS {MAX_LIGHTS}",
+        f"#define LIST_GROUP {LIST_GROUP}",
+        f"#define VOLUME_GROUP {VOLUME_GROUP}",
         f"#define MAX_SHADOW_VIEWS {MAX_SHADOW_VIEWS}",
         f"#define VOXEL_FIXED_SCALE {VOXEL_FIXED_SCALE:.1f}",
         f"#define VOXEL_MAX_FRAGMENTS {VOXEL_MAX_FRAGMENTS}",

@@ -9,7 +9,7 @@
 #include "engine_constants.glsl"
 #include "lib/cone.glsl"
 
-layout(local_size_x = 64) in;
+layout(local_size_x = LIST_GROUP) in;
 layout(binding = TEX_VOXEL_RADIANCE) uniform sampler3D base_radiance;
 layout(binding = TEX_VOXEL_NORMAL) uniform sampler3D voxel_normal;
 layout(binding = TEX_VOXEL_ALBEDO) uniform sampler3D voxel_albedo;

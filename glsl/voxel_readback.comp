@@ -2,7 +2,7 @@
 // Copies one mip level of a voxel volume into a storage buffer, for inspection from Python.
 #include "engine_constants.glsl"
 
-layout(local_size_x = 4, local_size_y = 4, local_size_z = 4) in;
+layout(local_size_x = VOLUME_GROUP, local_size_y = VOLUME_GROUP, local_size_z = VOLUME_GROUP) in;
 layout(binding = TEX_VOXEL_INSPECT) uniform sampler3D volume;
 uniform int level;
 layout(std430, binding = SSBO_READBACK) writeonly buffer Texels { vec4 texels[]; };

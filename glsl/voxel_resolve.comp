@@ -1,17 +1,14 @@
 #version 450 core
-// Voxel resolve: divide the fixed-point sums by the fragment count into RGBA16F voxels, zero
-// the sums for the next frame, write the six one-sided face views of the radiance that cones
-// read (rgb premultiplied by the face coverage in a), and append every covered voxel to the
-// list the bounce pass works through.
+// Voxel resolve, over the list of covered voxels: divide the fixed-point sums by the fragment
+// count into RGBA16F voxels, zero the sums for the next frame, and write the six one-sided
+// face views of the radiance that cones read (rgb premultiplied by the face coverage in a).
 // Radiance and albedo are premultiplied by opacity (a = 1 for a covered voxel, 0 for an empty
 // one), so hardware mipmaps average empty children as transparent instead of darkening the
 // colour. The normal keeps its length: |mean of unit normals| < 1 records how spread they are.
-// Empty voxels are written only when they were covered last frame (then in both face sets):
-// everything else at an empty voxel is already zero.
 #include "engine_constants.glsl"
 #include "lib/voxel.glsl"
 
-layout(local_size_x = 4, local_size_y = 4, local_size_z = 4) in;
+layout(local_size_x = LIST_GROUP) in;
 layout(binding = IMG_SUM_RADIANCE_R, r32ui) uniform uimage3D sum_radiance_r;
 layout(binding = IMG_SUM_RADIANCE_G, r32ui) uniform uimage3D sum_radiance_g;
 layout(binding = IMG_SUM_RADIANCE_B, r32ui) uniform uimage3D sum_radiance_b;
@@ -22,28 +19,16 @@ layout(binding = IMG_SUM_NORMAL_X, r32i) uniform iimage3D sum_normal_x;
 layout(binding = IMG_SUM_NORMAL_Y, r32i) uniform iimage3D sum_normal_y;
 layout(binding = IMG_SUM_NORMAL_Z, r32i) uniform iimage3D sum_normal_z;
 layout(binding = IMG_SUM_COUNT, r32ui) uniform uimage3D sum_count;
-layout(binding = IMG_OUT_RADIANCE, rgba16f) uniform image3D out_radiance;
+layout(binding = IMG_OUT_RADIANCE, rgba16f) uniform writeonly image3D out_radiance;
 layout(binding = IMG_OUT_NORMAL, rgba16f) uniform writeonly image3D out_normal;
 layout(binding = IMG_OUT_ALBEDO, rgba16f) uniform writeonly image3D out_albedo;
 layout(binding = IMG_OUT_DIRECTIONAL, rgba16f) uniform writeonly image3D out_directional[VOXEL_FACES];
-layout(binding = IMG_OTHER_DIRECTIONAL, rgba16f) uniform writeonly image3D other_directional[VOXEL_FACES];
-layout(std430, binding = SSBO_OCCUPIED) buffer OccupiedVoxels { uint occupied_count; uint occupied[]; };
+layout(std430, binding = SSBO_OCCUPIED) readonly buffer OccupiedVoxels { uint occupied_count; uint occupied[]; };
 
 void main() {
-    ivec3 v = ivec3(gl_GlobalInvocationID);
+    if (gl_GlobalInvocationID.x >= occupied_count) return;
+    ivec3 v = unpack_voxel(occupied[gl_GlobalInvocationID.x]);
     uint count = imageLoad(sum_count, v).r;
-    if (count == 0u) {
-        if (imageLoad(out_radiance, v).a == 0.0) return;  // empty last frame too
-        imageStore(out_radiance, v, vec4(0.0));
-        imageStore(out_normal, v, vec4(0.0));
-        imageStore(out_albedo, v, vec4(0.0));
-        for (int f = 0; f < VOXEL_FACES; ++f) {
-            imageStore(out_directional[f], v, vec4(0.0));
-            imageStore(other_directional[f], v, vec4(0.0));
-        }
-        return;
-    }
-    occupied[atomicAdd(occupied_count, 1u)] = pack_voxel(v);
     float samples = float(min(count, uint(VOXEL_MAX_FRAGMENTS)));
     float to_value = 1.0 / (samples * VOXEL_FIXED_SCALE);
     vec3 radiance = vec3(imageLoad(sum_radiance_r, v).r, imageLoad(sum_radiance_g, v).r, imageLoad(sum_radiance_b, v).r) * to_value;

@@ -2,7 +2,8 @@
 // Voxelization, fragment stage: one fragment = one surface sample in one voxel. Its outgoing
 // diffuse radiance (emission + direct light, with the G-buffer pass's shadow maps), normal and
 // albedo are added to fixed-point sums with image atomics, together with a fragment count, so
-// the average is order-independent and the grid is identical from frame to frame.
+// the average is order-independent and the grid is identical from frame to frame. The first
+// fragment in a voxel appends it to the list of covered voxels the later passes work through.
 #include "lib/voxel.glsl"
 #include "lib/lights.glsl"
 
@@ -24,6 +25,7 @@ layout(binding = IMG_SUM_NORMAL_X, r32i) uniform coherent iimage3D sum_normal_x;
 layout(binding = IMG_SUM_NORMAL_Y, r32i) uniform coherent iimage3D sum_normal_y;
 layout(binding = IMG_SUM_NORMAL_Z, r32i) uniform coherent iimage3D sum_normal_z;
 layout(binding = IMG_SUM_COUNT, r32ui) uniform coherent uimage3D sum_count;
+layout(std430, binding = SSBO_OCCUPIED) buffer OccupiedVoxels { uint occupied_count; uint occupied[]; };
 
 uint fixed_point(float x) {
     return uint(clamp(x, 0.0, VOXEL_MAX_VALUE) * VOXEL_FIXED_SCALE + 0.5);
@@ -50,7 +52,9 @@ void main() {
     }
     vec3 radiance = emission + diffuse_albedo / PI * irradiance;
 
-    if (imageAtomicAdd(sum_count, voxel, 1u) >= uint(VOXEL_MAX_FRAGMENTS)) return;  // headroom of the sums
+    uint earlier_fragments = imageAtomicAdd(sum_count, voxel, 1u);
+    if (earlier_fragments == 0u) occupied[atomicAdd(occupied_count, 1u)] = pack_voxel(voxel);  // first in this voxel
+    if (earlier_fragments >= uint(VOXEL_MAX_FRAGMENTS)) return;  // headroom of the sums
     imageAtomicAdd(sum_radiance_r, voxel, fixed_point(radiance.r));
     imageAtomicAdd(sum_radiance_g, voxel, fixed_point(radiance.g));
     imageAtomicAdd(sum_radiance_b, voxel, fixed_point(radiance.b));

@@ -7,15 +7,14 @@ import math
 
 import numpy as np
 
-from ..constants import GL_IMAGE_FORMAT, IMAGE_UNIT, STORAGE_BINDING, TEXTURE_UNIT
-from .voxelize import RESOLVE_GROUP, bind_faces, use_faces
+from ..constants import GL_IMAGE_FORMAT, IMAGE_UNIT, LIST_GROUP, STORAGE_BINDING, TEXTURE_UNIT
+from .voxelize import bind_faces, use_faces
 
 # Convergence: stop when the light the remaining bounces would add is below this fraction of
 # the total, or close the series once successive increments shrink by a steady ratio.
 CONVERGENCE_TOLERANCE = 2e-3
 RATIO_SETTLED = 0.01
 MAX_ITERATIONS = 64
-BOUNCE_GROUP = 64  # local size of voxel_bounce.comp
 
 
 class BouncePass:
@@ -34,7 +33,7 @@ class BouncePass:
         use_faces(voxels.face_sets[source_set])
         bind_faces(voxels.face_sets[target_set])
         voxels.occupied.bind_to_storage_buffer(STORAGE_BINDING["OCCUPIED"])
-        self.program.program.run(math.ceil(voxels.occupied_count / BOUNCE_GROUP))
+        self.program.program.run(max(1, math.ceil(voxels.occupied_count / LIST_GROUP)))
         self.ctx.memory_barrier(self.ctx.SHADER_IMAGE_ACCESS_BARRIER_BIT | self.ctx.TEXTURE_FETCH_BARRIER_BIT
                                 | self.ctx.TEXTURE_UPDATE_BARRIER_BIT)
         voxels.mipmap_faces(target_set)
@@ -67,8 +66,8 @@ class BouncePass:
             volume.bind_to_image(IMAGE_UNIT["OUT_DIRECTIONAL"] + face, read=True, write=True,
                                  format=GL_IMAGE_FORMAT["rgba16f"])
         self.extrapolate.set(gain=tuple(float(g) for g in gain))
-        groups = voxels.grid // RESOLVE_GROUP
-        self.extrapolate.program.run(groups, groups, groups)
+        voxels.occupied.bind_to_storage_buffer(STORAGE_BINDING["OCCUPIED"])
+        self.extrapolate.program.run(max(1, math.ceil(voxels.occupied_count / LIST_GROUP)))
         self.ctx.memory_barrier(self.ctx.SHADER_IMAGE_ACCESS_BARRIER_BIT | self.ctx.TEXTURE_FETCH_BARRIER_BIT
                                 | self.ctx.TEXTURE_UPDATE_BARRIER_BIT)
         voxels.mipmap_faces(older_set)

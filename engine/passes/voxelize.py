@@ -3,10 +3,12 @@ projection, conservative dilation, image-atomic fixed-point averaging), resolved
 3D textures of radiance (emission + injected direct light, premultiplied by opacity), normal
 distribution and diffuse albedo, plus the six one-sided face views of the radiance that cones
 read, all with hardware mipmaps."""
+import math
+
 import numpy as np
 
-from ..constants import (GL_IMAGE_FORMAT, GRID_SIZES, IMAGE_UNIT, STORAGE_BINDING, TEXTURE_UNIT, VOXEL_FORMAT,
-                         VOXEL_MEMORY_BUDGET)
+from ..constants import (GL_IMAGE_FORMAT, GRID_SIZES, IMAGE_UNIT, LIST_GROUP, STORAGE_BINDING, TEXTURE_UNIT,
+                         VOLUME_GROUP, VOXEL_FORMAT, VOXEL_MEMORY_BUDGET)
 from ..errors import VctError
 
 SUMS = (  # accumulator image, GL format
@@ -15,7 +17,6 @@ SUMS = (  # accumulator image, GL format
     ("SUM_NORMAL_X", "r32i"), ("SUM_NORMAL_Y", "r32i"), ("SUM_NORMAL_Z", "r32i"),
     ("SUM_COUNT", "r32ui"),
 )
-RESOLVE_GROUP = 4  # local size of voxel_resolve.comp along each axis
 VOXEL_FACES = 6
 # Mipmapped RGBA16F volumes held per grid: base radiance, normal, albedo, and two sets of six
 # one-sided face views of the radiance (the set cones read and the set a bounce writes).
@@ -62,14 +63,16 @@ class VoxelizePass:
         self.geometry = geometry
         self.program = programs.program(vertex_shader="voxelize.vert", geometry_shader="voxelize.geom",
                                         fragment_shader="voxelize.frag")
+        self.clear = programs.compute("voxel_clear.comp")
         self.resolve = programs.compute("voxel_resolve.comp")
         self.readback = programs.compute("voxel_readback.comp")
         self.grid = 0
         self.sums = []
         self.radiance = self.normal = self.albedo = None
         self.face_sets = []  # two lists of 6 face views; the bounce pass writes one from the other
-        self.occupied = None  # storage buffer: count, then the packed coordinates of covered voxels
-        self.occupied_count = 0
+        # Lists of covered voxels (count, then packed coordinates): this frame's and last frame's.
+        self.occupied = self.previous_occupied = None
+        self.occupied_count = self.previous_count = 0
         self.framebuffer = None
         self.region = None
 
@@ -81,7 +84,8 @@ class VoxelizePass:
             self.sums.append(self.ctx.texture3d((n, n, n), 1, data=bytes(4 * n ** 3), dtype=dtype))
         self.radiance, self.normal, self.albedo = (self.new_volume() for _ in range(3))
         self.face_sets = [[self.new_volume() for _ in range(VOXEL_FACES)] for _ in range(2)]
-        self.occupied = self.ctx.buffer(reserve=16 + 4 * n ** 3)
+        self.occupied, self.previous_occupied = (self.ctx.buffer(data=bytes(4 + 4 * n ** 3)) for _ in range(2))
+        self.occupied_count = self.previous_count = 0
         self.framebuffer = self.ctx.empty_framebuffer((n, n))
 
     def new_volume(self):
@@ -109,6 +113,11 @@ class VoxelizePass:
             check_grid(self.ctx, grid, scene.source)
             self._allocate(grid)
         self.region = scene.region()
+        self.previous_occupied, self.occupied = self.occupied, self.previous_occupied
+        self.previous_count = self.occupied_count
+        self.occupied.write(bytes(4))
+        self.occupied.bind_to_storage_buffer(STORAGE_BINDING["OCCUPIED"])
+        self.previous_occupied.bind_to_storage_buffer(STORAGE_BINDING["PREVIOUS_OCCUPIED"])
         self.program.set(**self.uniforms())
         for (name, fmt), texture in zip(SUMS, self.sums):
             texture.bind_to_image(IMAGE_UNIT[name], read=True, write=True, format=GL_IMAGE_FORMAT[fmt])
@@ -121,30 +130,30 @@ class VoxelizePass:
             self.program.set(albedo=tuple(m.albedo), metalness=m.metalness, emission=tuple(m.emission))
 
         self.geometry.draw(self.program, scene, material)
-        self.ctx.memory_barrier(self.ctx.SHADER_IMAGE_ACCESS_BARRIER_BIT)
+        self.ctx.memory_barrier(self.ctx.SHADER_IMAGE_ACCESS_BARRIER_BIT | self.ctx.SHADER_STORAGE_BARRIER_BIT)
+        self.occupied_count = int(np.frombuffer(self.occupied.read(4), dtype="u4")[0])
         for unit, volume in (("OUT_RADIANCE", self.radiance), ("OUT_NORMAL", self.normal), ("OUT_ALBEDO", self.albedo)):
             bind_output(volume, IMAGE_UNIT[unit])
         bind_faces(self.face_sets[face_set])
         bind_faces(self.face_sets[1 - face_set], IMAGE_UNIT["OTHER_DIRECTIONAL"])
-        self.occupied.write(bytes(4))
-        self.occupied.bind_to_storage_buffer(STORAGE_BINDING["OCCUPIED"])
-        groups = grid // RESOLVE_GROUP
-        self.resolve.program.run(groups, groups, groups)
-        self.ctx.memory_barrier(self.ctx.SHADER_IMAGE_ACCESS_BARRIER_BIT | self.ctx.TEXTURE_FETCH_BARRIER_BIT
-                                | self.ctx.TEXTURE_UPDATE_BARRIER_BIT | self.ctx.SHADER_STORAGE_BARRIER_BIT)
-        self.occupied_count = int(np.frombuffer(self.occupied.read(4), dtype="u4")[0])
+        barrier = (self.ctx.SHADER_IMAGE_ACCESS_BARRIER_BIT | self.ctx.TEXTURE_FETCH_BARRIER_BIT
+                   | self.ctx.TEXTURE_UPDATE_BARRIER_BIT)
+        if self.previous_count:
+            self.clear.program.run(math.ceil(self.previous_count / LIST_GROUP))
+            self.ctx.memory_barrier(barrier)
+        if self.occupied_count:
+            self.resolve.program.run(math.ceil(self.occupied_count / LIST_GROUP))
+            self.ctx.memory_barrier(barrier)
 
     def read_volume(self, volume, level=0):
         """One mip level of a volume as float32 (n, n, n, 4), indexed [z, y, x]."""
-        import math
-
         n = max(1, self.grid >> level)
         buffer = self.ctx.buffer(reserve=n ** 3 * 16)
         try:
             volume.use(TEXTURE_UNIT["VOXEL_INSPECT"])
             self.readback.set(level=level)
             buffer.bind_to_storage_buffer(STORAGE_BINDING["READBACK"])
-            groups = math.ceil(n / RESOLVE_GROUP)
+            groups = math.ceil(n / VOLUME_GROUP)
             self.readback.program.run(groups, groups, groups)
             self.ctx.memory_barrier(self.ctx.SHADER_STORAGE_BARRIER_BIT)
             return np.frombuffer(buffer.read(), dtype="f4").reshape(n, n, n, 4).copy()
@@ -162,15 +171,16 @@ class VoxelizePass:
 
     def _release_grid(self):
         for resource in [*self.sums, *sum(self.face_sets, []), self.radiance, self.normal, self.albedo,
-                         self.occupied, self.framebuffer]:
+                         self.occupied, self.previous_occupied, self.framebuffer]:
             if resource is not None:
                 resource.release()
         self.sums, self.face_sets = [], []
-        self.radiance = self.normal = self.albedo = self.occupied = self.framebuffer = None
+        self.radiance = self.normal = self.albedo = self.occupied = self.previous_occupied = self.framebuffer = None
         self.grid = 0
 
     def release(self):
         self._release_grid()
         self.program.release()
+        self.clear.release()
         self.resolve.release()
         self.readback.release()
