@@ -29,6 +29,7 @@ def benchmark(scene, renderer, settings, grids, frames, warmup, reference=None):
     for grid in grids if settings.mode in VOXEL_MODES else [settings.grid]:
         s = settings.replace(grid=grid)
         renderer.measure = False
+        renderer.feedback = True
         for _ in range(warmup):
             renderer.render_frame(scene, s)
         renderer.measure = True
@@ -44,8 +45,12 @@ def benchmark(scene, renderer, settings, grids, frames, warmup, reference=None):
         row = {"grid": grid, "mode": s.mode, "bounces": s.bounces, "bounce_iterations": renderer.bounce_iterations,
                "passes_ms": {name: statistics.median(per_pass[name]) for name in PASS_ORDER if name in per_pass},
                "total_ms": statistics.median(totals), "draw_calls": renderer.geometry.draw_calls}
-        if reference is not None:
+        if reference is not None:  # the accuracy of this configuration, converged
+            renderer.feedback = False
+            renderer.measure = False
+            renderer.render_frame(scene, s)
             row.update(relative_errors(renderer.radiance(), reference))
+            renderer.feedback = True
         rows.append(row)
     renderer.measure = False
     return rows
@@ -88,7 +93,6 @@ def bench_command(args):
     scene = load_scene(args.scene)
     width, height = args.width or scene.camera.width, args.height or scene.camera.height
     with Renderer(width, height, settings, glsl_root=shader_root(args)) as renderer:
-        renderer.feedback = True
         if reference is not None and reference.shape != (height, width, 3):
             raise VctError(f"shape {reference.shape} does not match the image {height}x{width}", source=args.reference, field="--reference")
         device = renderer_name(renderer.ctx)

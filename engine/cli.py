@@ -58,6 +58,9 @@ def _add_settings_arguments(parser, default_mode="gi"):
     parser.add_argument("--bounces", type=_nonnegative_int, default=d.bounces,
                         help="diffuse bounces: 1 = direct + one indirect bounce, K = K bounces, "
                              "0 = iterate until converged (default 0)")
+    parser.add_argument("--bounce-interleave", type=_positive_int, default=d.bounce_interleave,
+                        help="viewer and bench with --bounces 0: each frame 1 in K covered voxels gathers light "
+                             f"again, the others reuse their last gather (default {d.bounce_interleave}; 1 = all)")
     parser.add_argument("--mip", type=_nonnegative_int, default=d.voxel_mip, help="mip level for the voxel views (default 0)")
     parser.add_argument("--cone-step", type=_finite_float, default=d.cone_step,
                         help=f"cone march step as a fraction of the cone diameter (default {d.cone_step})")
@@ -74,7 +77,8 @@ def _add_settings_arguments(parser, default_mode="gi"):
 
 
 def settings_from_args(args):
-    return RenderSettings(mode=args.mode, grid=args.grid, bounces=args.bounces, voxel_mip=args.mip,
+    return RenderSettings(mode=args.mode, grid=args.grid, bounces=args.bounces, bounce_interleave=args.bounce_interleave,
+                          voxel_mip=args.mip,
                           cone_step=args.cone_step, cone_offset=args.cone_offset, ao_distance=args.ao_distance,
                           direct=not args.no_direct, indirect_diffuse=not args.no_diffuse,
                           indirect_specular=not args.no_specular, exposure=args.exposure,

@@ -40,6 +40,7 @@ IMAGE_UNIT = {
     "OUT_ALBEDO": 12,
     "OUT_DIRECTIONAL": 13,    # 6 consecutive units
     "OTHER_DIRECTIONAL": 19,  # 6 consecutive units: the other face set, cleared with the first
+    "GATHERED": 25,           # the bounce pass's last gather per voxel (amortized bounces)
 }
 
 # Shader storage buffer bindings.

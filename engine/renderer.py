@@ -12,7 +12,6 @@ from pathlib import Path
 
 import numpy as np
 
-from .constants import TEXTURE_UNIT
 from .errors import VctError
 from .gl import create_headless_context
 from .passes.bounce import BouncePass
@@ -25,7 +24,7 @@ from .passes.tonemap import TonemapPass
 from .passes.voxel_view import VoxelViewPass
 from .passes.voxelize import VoxelizePass
 from .scene_gpu import SceneGeometry
-from .settings import DATA_MODES, VOXEL_MODES, RenderSettings
+from .settings import DATA_MODES, GBUFFER_VIEWS, VOXEL_MODES, VOXEL_VIEWS, RenderSettings
 from .shaders import GLSL_ROOT, ProgramLibrary
 
 NEAR_PLANE = 0.01
@@ -82,6 +81,7 @@ class Renderer:
         self.frame_settings = self.settings  # the settings the last frame used
         self._history_set = None  # face set holding the last frame's voxel radiance (feedback)
         self.bounce_iterations = 0
+        self._frame = 0  # frames rendered with voxels, for the bounce interleave
 
     def _add(self, render_pass):
         self._passes.append(render_pass)
@@ -155,7 +155,7 @@ class Renderer:
         with self.timed("gbuffer"):
             self.gbuffer.render(scene, projection @ view)
         self.gbuffer.bind()
-        if s.mode in ("albedo", "normal", "depth"):
+        if s.mode in GBUFFER_VIEWS:
             with self.timed("gbuffer_view"):
                 forward = camera.look_at - camera.position
                 self.gbuffer_view.render(s.mode, camera.position, forward / np.linalg.norm(forward), far)
@@ -165,31 +165,32 @@ class Renderer:
         with self.timed("lighting"):
             self.lighting.render(camera.position)
         self.output = self.lighting.target
-        if s.mode not in VOXEL_MODES:
-            return self.output
-        if s.mode in ("voxels", "voxel-normals", "voxel-albedo"):
-            with self.timed("voxelize"):
-                self.voxelize.run(scene, s.grid)
-            voxel_uniforms = self.voxelize.uniforms()
-            shown = {"voxels": self.voxelize.radiance, "voxel-normals": self.voxelize.normal,
-                     "voxel-albedo": self.voxelize.albedo}[s.mode]
+        if s.mode in VOXEL_VIEWS:
+            self.output = self._voxel_view(scene, s, projection @ view, camera.position)
+        elif s.mode in VOXEL_MODES:
+            self.output = self._cone_trace(scene, s, camera.position)
+        return self.output
+
+    def _voxel_view(self, scene, s, view_projection, camera_position):
+        with self.timed("voxelize"):
+            self.voxelize.run(scene, s.grid)
+        shown = {"voxels": self.voxelize.radiance, "voxel-normals": self.voxelize.normal,
+                 "voxel-albedo": self.voxelize.albedo}[s.mode]
+        with self.timed("voxel_view"):
             shown.build_mipmaps()
-            with self.timed("voxel_view"):
-                self.voxel_view.render(s.mode, shown, s.voxel_mip, voxel_uniforms, projection @ view, camera.position)
-            self.output = self.voxel_view.target
-            return self.output
+            self.voxel_view.render(s.mode, shown, s.voxel_mip, self.voxelize.uniforms(), view_projection, camera_position)
+        return self.voxel_view.target
+
+    def _cone_trace(self, scene, s, camera_position):
         face_set = self.build_voxels(scene, s)
-        voxel_uniforms = self.voxelize.uniforms()
         with self.timed("cone_trace"):
-            self.cone_trace.render(voxel_uniforms, self.cone_uniforms(s), self.voxelize.face_sets[face_set],
-                                   self.lighting.target.texture,
-                                   camera.position, ao=s.mode == "ao",
+            self.cone_trace.render(self.voxelize.uniforms(), self.cone_uniforms(s), self.voxelize.face_sets[face_set],
+                                   self.lighting.target.texture, camera_position, ao=s.mode == "ao",
                                    direct=s.mode == "gi" and s.direct,
                                    diffuse=s.mode == "indirect" or (s.mode == "gi" and s.indirect_diffuse),
                                    specular=s.mode == "specular" or (s.mode == "gi" and s.indirect_specular),
                                    ao_distance=s.ao_distance)
-        self.output = self.cone_trace.target
-        return self.output
+        return self.cone_trace.target
 
     def cone_uniforms(self, s):
         return dict(cone_step=float(s.cone_step), cone_offset=float(s.cone_offset),
@@ -201,19 +202,24 @@ class Renderer:
         target = 0 if history is None else 1 - history
         with self.timed("voxelize"):
             self.voxelize.run(scene, s.grid, target)
-        with self.timed("mipmap"):
-            self.voxelize.mipmap_faces(target)
         source = history if history is not None else target
+        if source == target:  # cones or the first bounce read the freshly voxelized set
+            with self.timed("mipmap"):
+                self.voxelize.mipmap_faces(target)
         cone_uniforms = self.cone_uniforms(s)
         with self.timed("bounces"):
             if s.bounces == 0 and not self.feedback:
                 source, iterations = self.bounce.converge(self.voxelize, cone_uniforms, source)
+            elif s.bounces == 0:  # feedback: one (amortized) bounce per frame
+                iterations = 1
+                source = self.bounce.run(self.voxelize, cone_uniforms, source, s.bounce_interleave, self._frame)
             else:
-                iterations = s.bounces - 1 if s.bounces > 0 else 1
+                iterations = s.bounces - 1
                 for _ in range(iterations):
                     source = self.bounce.run(self.voxelize, cone_uniforms, source)
         self.bounce_iterations = iterations
         self._history_set = source
+        self._frame += 1
         return source
 
     @_current

@@ -9,7 +9,9 @@ from .errors import VctError
 RADIANCE_MODES = ("gi", "direct", "indirect", "specular", "ao", "voxels")
 DATA_MODES = ("albedo", "normal", "depth", "voxel-normals", "voxel-albedo")
 MODES = RADIANCE_MODES + DATA_MODES
-VOXEL_MODES = ("gi", "indirect", "specular", "ao", "voxels", "voxel-normals", "voxel-albedo")
+GBUFFER_VIEWS = ("albedo", "normal", "depth")
+VOXEL_VIEWS = ("voxels", "voxel-normals", "voxel-albedo")
+VOXEL_MODES = ("gi", "indirect", "specular", "ao") + VOXEL_VIEWS
 TONEMAPS = ("aces", "reinhard", "none")
 
 
@@ -18,6 +20,7 @@ class RenderSettings:
     mode: str = "gi"
     grid: int = 128                 # voxels per side, a power of two in 16..256
     bounces: int = 0                # diffuse bounces through the voxels; 0 = iterate to convergence
+    bounce_interleave: int = 4      # viewer (bounces 0): 1 in K voxels gathers again each frame
     voxel_mip: int = 0              # mip level shown by the voxel views
     cone_step: float = 0.5          # march step as a fraction of the cone diameter
     cone_offset: float = 1.0        # cone start offset along the normal, in voxels
@@ -36,6 +39,8 @@ class RenderSettings:
             raise VctError(f"grid must be a power of two from 16 to 256, got {self.grid}", field="grid")
         if self.bounces < 0:
             raise VctError("must be 0 (converge) or a positive count", field="bounces")
+        if not 1 <= self.bounce_interleave <= 8:
+            raise VctError("must be in 1..8", field="bounce_interleave")
         if not 0 <= self.voxel_mip <= self.grid.bit_length() - 1:
             raise VctError(f"must be in 0..{self.grid.bit_length() - 1} for grid {self.grid}", field="mip")
         for name in ("cone_step", "cone_offset", "ao_distance", "exposure"):

@@ -1,6 +1,6 @@
 #version 450 core
 // Clears the voxels that were covered last frame and are empty now (no fragment this frame),
-// in every volume and both face sets. Together with zero-initialized volumes this keeps every
+// in every volume, both face sets and the bounce pass's cache. Together with zero-initialized volumes this keeps every
 // empty voxel zero without touching the whole grid each frame.
 #include "engine_constants.glsl"
 #include "lib/voxel.glsl"
@@ -12,6 +12,7 @@ layout(binding = IMG_OUT_NORMAL, rgba16f) uniform writeonly image3D out_normal;
 layout(binding = IMG_OUT_ALBEDO, rgba16f) uniform writeonly image3D out_albedo;
 layout(binding = IMG_OUT_DIRECTIONAL, rgba16f) uniform writeonly image3D out_directional[VOXEL_FACES];
 layout(binding = IMG_OTHER_DIRECTIONAL, rgba16f) uniform writeonly image3D other_directional[VOXEL_FACES];
+layout(binding = IMG_GATHERED, rgba16f) uniform writeonly image3D gathered;
 layout(std430, binding = SSBO_PREVIOUS_OCCUPIED) readonly buffer PreviousVoxels { uint previous_count; uint previous[]; };
 
 void main() {
@@ -21,6 +22,7 @@ void main() {
     imageStore(out_radiance, v, vec4(0.0));
     imageStore(out_normal, v, vec4(0.0));
     imageStore(out_albedo, v, vec4(0.0));
+    imageStore(gathered, v, vec4(0.0));
     for (int f = 0; f < VOXEL_FACES; ++f) {
         imageStore(out_directional[f], v, vec4(0.0));
         imageStore(other_directional[f], v, vec4(0.0));

@@ -194,3 +194,14 @@ def test_converged_gi_matches_the_path_traced_reference(renderer, cornell, refer
     gi = reference("gi")
     error, ratio = rel_mae(radiance, gi), luminance_ratio(radiance, gi)
     assert error <= 0.20 and 0.9 <= ratio <= 1.1, f"relMAE {error:.3f}, luminance ratio {ratio:.3f}"
+
+
+def test_feedback_frames_converge_to_the_converged_image(cornell):
+    """In the viewer each frame adds one bounce (re-gathering 1 in 4 voxels) on top of the
+    previous frame: after enough frames the image equals the headless converged one."""
+    with engine.Renderer(64, 64) as r:
+        converged = r.render(cornell, mode="gi", grid=32)
+        r.feedback = True
+        frames = [r.render(cornell, mode="gi", grid=32, bounce_interleave=4) for _ in range(40)]
+    assert rel_mae(frames[0], converged) > 0.1          # the first frame has one bounce only
+    assert rel_mae(frames[-1], converged) < 0.01

@@ -8,7 +8,7 @@ import math
 import numpy as np
 
 from ..constants import GL_IMAGE_FORMAT, IMAGE_UNIT, LIST_GROUP, STORAGE_BINDING, TEXTURE_UNIT
-from .voxelize import bind_faces, use_faces
+from .voxelize import bind_faces, bind_output, use_faces
 
 # Convergence: stop when the light the remaining bounces would add is below this fraction of
 # the total, or close the series once successive increments shrink by a steady ratio.
@@ -23,10 +23,13 @@ class BouncePass:
         self.program = programs.compute("voxel_bounce.comp")
         self.extrapolate = programs.compute("voxel_extrapolate.comp")
 
-    def run(self, voxels, cone_uniforms, source_set):
-        """One bounce from face set `source_set` into the other; returns the set written."""
+    def run(self, voxels, cone_uniforms, source_set, interleave=1, phase=0):
+        """One bounce from face set `source_set` into the other; returns the set written. With
+        interleave K > 1 only one voxel class in K gathers again (class `phase`), the others
+        reuse their last gather."""
         target_set = 1 - source_set
-        self.program.set(**voxels.uniforms(), **cone_uniforms)
+        self.program.set(**voxels.uniforms(), **cone_uniforms, interleave=interleave, interleave_phase=phase % interleave)
+        bind_output(voxels.gathered, IMAGE_UNIT["GATHERED"])
         voxels.radiance.use(TEXTURE_UNIT["VOXEL_RADIANCE"])
         voxels.normal.use(TEXTURE_UNIT["VOXEL_NORMAL"])
         voxels.albedo.use(TEXTURE_UNIT["VOXEL_ALBEDO"])

@@ -20,7 +20,7 @@ SUMS = (  # accumulator image, GL format
 VOXEL_FACES = 6
 # Mipmapped RGBA16F volumes held per grid: base radiance, normal, albedo, and two sets of six
 # one-sided face views of the radiance (the set cones read and the set a bounce writes).
-MIPMAPPED_VOLUMES = 3 + 2 * VOXEL_FACES
+MIPMAPPED_VOLUMES = 4 + 2 * VOXEL_FACES  # + the bounce pass's gather cache
 
 
 def voxel_memory_bytes(n):
@@ -69,6 +69,7 @@ class VoxelizePass:
         self.grid = 0
         self.sums = []
         self.radiance = self.normal = self.albedo = None
+        self.gathered = None  # last diffuse gather per voxel, for amortized bounces
         self.face_sets = []  # two lists of 6 face views; the bounce pass writes one from the other
         # Lists of covered voxels (count, then packed coordinates): this frame's and last frame's.
         self.occupied = self.previous_occupied = None
@@ -82,7 +83,7 @@ class VoxelizePass:
         for _, fmt in SUMS:
             dtype = "u4" if fmt == "r32ui" else "i4"
             self.sums.append(self.ctx.texture3d((n, n, n), 1, data=bytes(4 * n ** 3), dtype=dtype))
-        self.radiance, self.normal, self.albedo = (self.new_volume() for _ in range(3))
+        self.radiance, self.normal, self.albedo, self.gathered = (self.new_volume() for _ in range(4))
         self.face_sets = [[self.new_volume() for _ in range(VOXEL_FACES)] for _ in range(2)]
         self.occupied, self.previous_occupied = (self.ctx.buffer(data=bytes(4 + 4 * n ** 3)) for _ in range(2))
         self.occupied_count = self.previous_count = 0
@@ -132,7 +133,8 @@ class VoxelizePass:
         self.geometry.draw(self.program, scene, material)
         self.ctx.memory_barrier(self.ctx.SHADER_IMAGE_ACCESS_BARRIER_BIT | self.ctx.SHADER_STORAGE_BARRIER_BIT)
         self.occupied_count = int(np.frombuffer(self.occupied.read(4), dtype="u4")[0])
-        for unit, volume in (("OUT_RADIANCE", self.radiance), ("OUT_NORMAL", self.normal), ("OUT_ALBEDO", self.albedo)):
+        for unit, volume in (("OUT_RADIANCE", self.radiance), ("OUT_NORMAL", self.normal), ("OUT_ALBEDO", self.albedo),
+                             ("GATHERED", self.gathered)):
             bind_output(volume, IMAGE_UNIT[unit])
         bind_faces(self.face_sets[face_set])
         bind_faces(self.face_sets[1 - face_set], IMAGE_UNIT["OTHER_DIRECTIONAL"])
@@ -170,12 +172,13 @@ class VoxelizePass:
             volume.build_mipmaps()
 
     def _release_grid(self):
-        for resource in [*self.sums, *sum(self.face_sets, []), self.radiance, self.normal, self.albedo,
+        for resource in [*self.sums, *sum(self.face_sets, []), self.radiance, self.normal, self.albedo, self.gathered,
                          self.occupied, self.previous_occupied, self.framebuffer]:
             if resource is not None:
                 resource.release()
         self.sums, self.face_sets = [], []
-        self.radiance = self.normal = self.albedo = self.occupied = self.previous_occupied = self.framebuffer = None
+        self.radiance = self.normal = self.albedo = self.gathered = None
+        self.occupied = self.previous_occupied = self.framebuffer = None
         self.grid = 0
 
     def release(self):
