@@ -21,6 +21,7 @@ TEXTURE_UNIT = {
     "DIRECT_LIGHT": 9,
     "VOXEL_DIRECTIONAL": 10,  # 6 consecutive units: radiance seen by cones, by face (+x, -x, +y, -y, +z, -z)
     "VOXEL_INSPECT": 16,      # the volume a voxel view or a readback reads
+    "DIFFUSE_GATHER": 17,     # the half-resolution diffuse/AO gather
 }
 
 # Image units (imageLoad/imageStore/imageAtomic* bindings).
