@@ -42,7 +42,7 @@ def benchmark(scene, renderer, settings, grids, frames, warmup, reference=None):
             totals.append((time.perf_counter() - start) * 1000.0)
             for name, ms in renderer.timings.items():
                 per_pass.setdefault(name, []).append(ms)
-        row = {"grid": grid, "mode": s.mode, "bounces": s.bounces, "bounce_iterations": renderer.bounce_iterations,
+        row = {"grid": grid if s.mode in VOXEL_MODES else None, "mode": s.mode, "bounces": s.bounces, "bounce_iterations": renderer.bounce_iterations,
                "passes_ms": {name: statistics.median(per_pass[name]) for name in PASS_ORDER if name in per_pass},
                "total_ms": statistics.median(totals), "draw_calls": renderer.geometry.draw_calls}
         if reference is not None:  # the accuracy of this configuration, converged
@@ -62,7 +62,7 @@ def format_table(rows):
     header = ["grid"] + names + ["total"] + (["relMAE", "lum ratio"] if has_error else [])
     lines = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
     for r in rows:
-        cells = [f"{r['grid']}^3"] + [f"{r['passes_ms'].get(n, 0.0):.1f}" for n in names] + [f"{r['total_ms']:.1f}"]
+        cells = [f"{r['grid']}^3" if r["grid"] else "-"] + [f"{r['passes_ms'].get(n, 0.0):.1f}" for n in names] + [f"{r['total_ms']:.1f}"]
         if has_error:
             cells += [f"{r['rel_mae']:.3f}", f"{r['luminance_ratio']:.3f}"]
         lines.append("| " + " | ".join(cells) + " |")
