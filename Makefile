@@ -10,6 +10,7 @@ PIP_INSTALL := $(VENV)/bin/python -m pip install -q --disable-pip-version-check
 .PHONY: render test bench clean system-deps test-system-deps
 
 render: system-deps $(VENV)/.installed
+	@mkdir -p out
 	$(VENV)/bin/vct render $(SCENE) --out out/cornell_box.png
 
 test: test-system-deps $(VENV)/.installed-test

@@ -3,11 +3,9 @@ with the 6 diffuse cones, using its normal distribution and albedo:
     L_out = L_base + k_d sum_j w_j L_in(p, w_j)
 Each run reads one set of face views and writes the other; repeating it adds one bounce each
 time and converges to the infinite-bounce radiance since k_d < 1."""
-import math
-
 import numpy as np
 
-from ..constants import GL_IMAGE_FORMAT, IMAGE_UNIT, LIST_GROUP, STORAGE_BINDING, TEXTURE_UNIT
+from ..constants import GL_IMAGE_FORMAT, IMAGE_UNIT, TEXTURE_UNIT
 from .voxelize import bind_faces, bind_output, use_faces
 
 # Convergence: stop when the light the remaining bounces would add is below this fraction of
@@ -35,10 +33,7 @@ class BouncePass:
         voxels.albedo.use(TEXTURE_UNIT["VOXEL_ALBEDO"])
         use_faces(voxels.face_sets[source_set])
         bind_faces(voxels.face_sets[target_set])
-        voxels.occupied.bind_to_storage_buffer(STORAGE_BINDING["OCCUPIED"])
-        self.program.program.run(max(1, math.ceil(voxels.occupied_count / LIST_GROUP)))
-        self.ctx.memory_barrier(self.ctx.SHADER_IMAGE_ACCESS_BARRIER_BIT | self.ctx.TEXTURE_FETCH_BARRIER_BIT
-                                | self.ctx.TEXTURE_UPDATE_BARRIER_BIT)
+        voxels.dispatch_per_voxel(self.program, voxels.occupied_count)
         voxels.mipmap_faces(target_set)
         return target_set
 
@@ -69,10 +64,7 @@ class BouncePass:
             volume.bind_to_image(IMAGE_UNIT["OUT_DIRECTIONAL"] + face, read=True, write=True,
                                  format=GL_IMAGE_FORMAT["rgba16f"])
         self.extrapolate.set(gain=tuple(float(g) for g in gain))
-        voxels.occupied.bind_to_storage_buffer(STORAGE_BINDING["OCCUPIED"])
-        self.extrapolate.program.run(max(1, math.ceil(voxels.occupied_count / LIST_GROUP)))
-        self.ctx.memory_barrier(self.ctx.SHADER_IMAGE_ACCESS_BARRIER_BIT | self.ctx.TEXTURE_FETCH_BARRIER_BIT
-                                | self.ctx.TEXTURE_UPDATE_BARRIER_BIT)
+        voxels.dispatch_per_voxel(self.extrapolate, voxels.occupied_count)
         voxels.mipmap_faces(older_set)
         return older_set
 

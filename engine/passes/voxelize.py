@@ -138,14 +138,16 @@ class VoxelizePass:
             bind_output(volume, IMAGE_UNIT[unit])
         bind_faces(self.face_sets[face_set])
         bind_faces(self.face_sets[1 - face_set], IMAGE_UNIT["OTHER_DIRECTIONAL"])
-        barrier = (self.ctx.SHADER_IMAGE_ACCESS_BARRIER_BIT | self.ctx.TEXTURE_FETCH_BARRIER_BIT
-                   | self.ctx.TEXTURE_UPDATE_BARRIER_BIT)
-        if self.previous_count:
-            self.clear.program.run(math.ceil(self.previous_count / LIST_GROUP))
-            self.ctx.memory_barrier(barrier)
-        if self.occupied_count:
-            self.resolve.program.run(math.ceil(self.occupied_count / LIST_GROUP))
-            self.ctx.memory_barrier(barrier)
+        self.dispatch_per_voxel(self.clear, self.previous_count)
+        self.dispatch_per_voxel(self.resolve, self.occupied_count)
+
+    def dispatch_per_voxel(self, handle, count):
+        """Run a compute program once per entry of a voxel list (`count` entries), then make its
+        image writes visible to the texture fetches, mipmaps and passes that follow."""
+        if count:
+            handle.program.run(math.ceil(count / LIST_GROUP))
+        self.ctx.memory_barrier(self.ctx.SHADER_IMAGE_ACCESS_BARRIER_BIT | self.ctx.TEXTURE_FETCH_BARRIER_BIT
+                                | self.ctx.TEXTURE_UPDATE_BARRIER_BIT)
 
     def read_volume(self, volume, level=0):
         """One mip level of a volume as float32 (n, n, n, 4), indexed [z, y, x]."""
