@@ -207,16 +207,17 @@ class Renderer:
             with self.timed("mipmap"):
                 self.voxelize.mipmap_faces(target)
         cone_uniforms = self.cone_uniforms(s)
-        with self.timed("bounces"):
-            if s.bounces == 0 and not self.feedback:
+        if s.bounces == 0 and not self.feedback:
+            with self.timed("bounces"):
                 source, iterations = self.bounce.converge(self.voxelize, cone_uniforms, source)
-            elif s.bounces == 0:  # feedback: one (amortized) bounce per frame
-                iterations = 1
-                source = self.bounce.run(self.voxelize, cone_uniforms, source, s.bounce_interleave, self._frame)
-            else:
-                iterations = s.bounces - 1
-                for _ in range(iterations):
-                    source = self.bounce.run(self.voxelize, cone_uniforms, source)
+        else:  # feedback: one (amortized) bounce per frame; else bounces - 1 re-injections
+            iterations = 1 if s.bounces == 0 else s.bounces - 1
+            interleave = s.bounce_interleave if s.bounces == 0 else 1
+            for _ in range(iterations):
+                with self.timed("bounces"):
+                    source = self.bounce.run(self.voxelize, cone_uniforms, source, interleave, self._frame)
+                with self.timed("mipmap"):
+                    self.voxelize.mipmap_faces(source)
         self.bounce_iterations = iterations
         self._history_set = source
         self._frame += 1

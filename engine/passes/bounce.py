@@ -22,9 +22,9 @@ class BouncePass:
         self.extrapolate = programs.compute("voxel_extrapolate.comp")
 
     def run(self, voxels, cone_uniforms, source_set, interleave=1, phase=0):
-        """One bounce from face set `source_set` into the other; returns the set written. With
-        interleave K > 1 only one voxel class in K gathers again (class `phase`), the others
-        reuse their last gather."""
+        """One bounce from face set `source_set` into the other; returns the set written (its
+        level 0: mipmap it before cones read it). With interleave K > 1 only one voxel class
+        in K gathers again (class `phase`), the others reuse their last gather."""
         target_set = 1 - source_set
         self.program.set(**voxels.uniforms(), **cone_uniforms, interleave=interleave, interleave_phase=phase % interleave)
         bind_output(voxels.gathered, IMAGE_UNIT["GATHERED"])
@@ -34,7 +34,6 @@ class BouncePass:
         use_faces(voxels.face_sets[source_set])
         bind_faces(voxels.face_sets[target_set])
         voxels.dispatch_per_voxel(self.program, voxels.occupied_count)
-        voxels.mipmap_faces(target_set)
         return target_set
 
     def converge(self, voxels, cone_uniforms, source_set):
@@ -45,6 +44,7 @@ class BouncePass:
         ratios = []
         for iteration in range(1, MAX_ITERATIONS + 1):
             source_set = self.run(voxels, cone_uniforms, source_set)
+            voxels.mipmap_faces(source_set)
             totals.append(voxels.face_total(source_set))
             increment = totals[-1] - totals[-2]
             if np.all(increment <= CONVERGENCE_TOLERANCE * totals[-1]):
