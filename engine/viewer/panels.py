@@ -6,7 +6,7 @@ returns a new RenderSettings that the viewer validates before using it.
 from imgui_bundle import imgui
 
 from ..constants import GRID_SIZES
-from ..settings import MODES, TONEMAPS
+from ..settings import MODES, TONEMAPS, VOXEL_VIEWS
 from . import inspector
 
 MARGIN = 8
@@ -15,7 +15,6 @@ TREE_WIDTH = 170
 PANELS_MIN_WINDOW = (600, 440)  # smaller windows start with the panels hidden (F1 shows them)
 ERROR_RED = imgui.ImVec4(1.0, 0.45, 0.4, 1.0)
 DIM = imgui.ImVec4(0.7, 0.7, 0.7, 1.0)
-VOXEL_VIEW_MODES = ("voxels", "voxel-normals", "voxel-albedo")
 
 
 def _place(x, y, pivot_x=0.0, pivot_y=0.0, width=None, max_height=None, cond=imgui.Cond_.first_use_ever):
@@ -185,7 +184,7 @@ def draw_renderer_panel(settings, window_size, message=None):
     if imgui.begin("Renderer", None, imgui.WindowFlags_.always_auto_resize)[0]:
         imgui.push_item_width(PANEL_WIDTH - 112)
         _combo("Mode", settings.mode, MODES, changes, "mode")
-        if settings.mode in VOXEL_VIEW_MODES:
+        if settings.mode in VOXEL_VIEWS:
             changed, mip = imgui.slider_int("Mip level", settings.voxel_mip, 0, settings.grid.bit_length() - 1)
             if changed:
                 changes["voxel_mip"] = mip
@@ -196,6 +195,10 @@ def draw_renderer_panel(settings, window_size, message=None):
                                             "converge" if settings.bounces == 0 else "%d")
         if changed:
             changes["bounces"] = bounces
+        if settings.bounces == 0:
+            changed, interleave = imgui.slider_int("Re-gather 1 in", settings.bounce_interleave, 1, 8)
+            if changed:
+                changes["bounce_interleave"] = interleave
         _slider("Cone step", settings.cone_step, 0.05, 2.0, changes, "cone_step")
         _slider("Cone offset", settings.cone_offset, 0.0, 4.0, changes, "cone_offset")
         if settings.mode == "ao":
