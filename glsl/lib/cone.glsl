@@ -38,11 +38,17 @@ vec4 sample_faces(vec3 uvw, float mip, vec3 w, float spread) {
     return sum;
 }
 
-// Radiance (rgb) and opacity (a) gathered along a cone from surface point p with normal n.
-// d = max(voxel, 2 tan(a/2) t); mip = log2(d / voxel). A mip cell 2^mip voxels wide whose
-// voxels have mean coverage a holds a 2^mip voxel layers of surface across the cone, so it
-// covers c = min(1, a 2^mip) of the cone's cross-section (a plane stays opaque at every
-// level). Front-to-back compositing with c corrected to the step: a' = 1 - (1 - c)^(step / d).
+// Radiance (rgb) and opacity (a) gathered along a cone from surface point p with normal n,
+// starting one voxel out along the normal and along the cone, one sample per step:
+//   d = max(voxel, 2 tan(a/2) t)                 the cone's diameter at distance t
+//   mip = log2(d / voxel) - 1                    a trilinear lookup averages over a tent two
+//                                                cells wide, so cells of d/2 span d
+//   c = min(1, a 2^mip)                          a mip cell 2^mip voxels wide with mean coverage
+//                                                a holds a 2^mip voxel layers of surface across
+//                                                the cone: a plane stays opaque at every level
+//   alpha += min(c step / d, 1 - alpha)          the covered fraction, front to back, which
+//                                                makes the result independent of the step
+//   t += step = cone_step * d
 vec4 trace_cone(vec3 p, vec3 n, vec3 direction, float tan_half_angle, float max_distance) {
     vec3 start = p + n * (cone_offset * voxel_size);
     vec4 gathered = vec4(0.0);
@@ -50,8 +56,7 @@ vec4 trace_cone(vec3 p, vec3 n, vec3 direction, float tan_half_angle, float max_
     float t = voxel_size;  // start one voxel out along the cone
     while (gathered.a < 1.0 && t < max_distance) {
         float diameter = max(voxel_size, 2.0 * tan_half_angle * t);
-        float mip = max(log2(diameter / voxel_size) - 1.0, 0.0);
-        mip = min(mip, voxel_max_mip);  // the 1^3 level already spans the whole region
+        float mip = min(max(log2(diameter / voxel_size) - 1.0, 0.0), voxel_max_mip);  // 1^3 spans the region
         vec3 uvw = voxel_uvw(start + direction * t);
         // Stop once the cone's footprint has left [0,1]^3 (outside reads as empty).
         float footprint = 0.5 * diameter / voxel_region_size;
