@@ -6,7 +6,6 @@ where the right-hand rule of their vertex order says; boxes, spheres, groups and
 them. Bad-input facts: every malformed scene raises SceneError with one line that names the file
 and the field. BAD_SCENES is shared with tests/test_cli.py, which feeds the same files to `vct`.
 """
-import copy
 import json
 import math
 import shutil

@@ -6,7 +6,7 @@ import pytest
 
 import engine
 from engine import constants
-from engine.shaders import GLSL_ROOT, ProgramLibrary, preprocess
+from engine.shaders import GLSL_ROOT, preprocess
 
 
 @pytest.fixture
