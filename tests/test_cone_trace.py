@@ -205,3 +205,23 @@ def test_feedback_frames_converge_to_the_converged_image(cornell):
         frames = [r.render(cornell, mode="gi", grid=32, bounce_interleave=4) for _ in range(40)]
     assert rel_mae(frames[0], converged) > 0.1          # the first frame has one bounce only
     assert rel_mae(frames[-1], converged) < 0.01
+
+
+@pytest.mark.parametrize("name", sorted(p.name for p in SCENES.glob("*.json")))
+def test_every_example_scene_renders_finite_lit_images(name):
+    """Each scene in scenes/ loads and renders finite radiance, lit in GI (an emitter out of
+    view lights the room through the voxels alone, so direct light may be black)."""
+    scene = engine.load_scene(SCENES / name)
+    with engine.Renderer(64, 64) as r:
+        assert np.isfinite(r.render(scene, mode="direct")).all()
+        gi = r.render(scene, mode="gi", grid=32)
+    assert np.isfinite(gi).all() and gi.mean() > 0.01
+
+
+def test_gold_sphere_reflects_the_red_wall_on_its_left(renderer):
+    """cornell_spheres.json: the metal sphere's specular cone picks up the red wall on the
+    side facing it (the left) and the green wall on the right."""
+    scene = engine.load_scene(SCENES / "cornell_spheres.json")
+    specular = renderer.render(scene, mode="specular", grid=64)
+    left, right = specular[212, 18], specular[212, 110]   # the sphere's left and right rims
+    assert left[0] > 2.0 * left[1] and right[1] > right[0]
