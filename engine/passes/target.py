@@ -1,4 +1,5 @@
 """A colour render target and the fullscreen-triangle draw that the screen-space passes share."""
+import numpy as np
 
 
 class ScreenTarget:
@@ -31,9 +32,7 @@ class ScreenTarget:
         vao[1].render(self.ctx.TRIANGLES, vertices=3)
 
     def read(self):
-        """Pixels as float32 (H, W, components), row 0 at the top."""
-        import numpy as np
-
+        """Pixels as float32 (H, W, components), row 0 at the top (uint8 for 8-bit targets)."""
         dtype = {"f4": "f4", "f2": "f2", "f1": "u1"}[self.dtype]
         data = np.frombuffer(self.texture.read(), dtype=dtype).reshape(self.size[1], self.size[0], self.components)
         return data[::-1].astype("f4" if dtype != "u1" else "u1")
