@@ -13,7 +13,6 @@ filter). `--max-depth 3` gives direct light + one bounce (Mitsuba counts the cam
 the emitter hit), `-1` all bounces.
 """
 import argparse
-import math
 import sys
 import tempfile
 from pathlib import Path
