@@ -54,7 +54,6 @@ STORAGE_BINDING = {
 }
 
 MAX_LIGHTS = 16
-MAX_SHADOW_VIEWS = 6 * MAX_LIGHTS
 
 LIGHT_TYPE = {"point": 0, "spot": 1, "directional": 2}
 
@@ -69,8 +68,10 @@ VOXEL_NORMAL_SCALE = 65536.0  # signed sums of unit normals: 256 * 65536 < 2^31
 VOXEL_FORMAT = "f2"  # RGBA16F: HDR radiance without banding (field notes 9)
 HDR_FORMAT = "f4"
 GL_IMAGE_FORMAT = {"r32ui": 0x8236, "r32i": 0x8235, "rgba16f": 0x881A}
-# Voxel memory allowed before a grid is refused (bytes); the 256^3 grid needs about 1.4 GiB.
+# Voxel memory allowed before a grid is refused (bytes); the 256^3 grid needs about 3 GiB.
 VOXEL_MEMORY_BUDGET = 4 * 2 ** 30
+# One-sided views of the voxel radiance that cones read, one per axis direction (+x, -x, ...).
+VOXEL_FACES = 6
 
 GRID_SIZES = (16, 32, 64, 128, 256)
 
@@ -130,8 +131,8 @@ def glsl_header():
     lines += [
         f"#define MAX_LIGHTS {MAX_LIGHTS}",
         f"#define LIST_GROUP {LIST_GROUP}",
+        f"#define VOXEL_FACES {VOXEL_FACES}",
         f"#define VOLUME_GROUP {VOLUME_GROUP}",
-        f"#define MAX_SHADOW_VIEWS {MAX_SHADOW_VIEWS}",
         f"#define VOXEL_FIXED_SCALE {VOXEL_FIXED_SCALE:.1f}",
         f"#define VOXEL_MAX_FRAGMENTS {VOXEL_MAX_FRAGMENTS}",
         f"#define VOXEL_MAX_VALUE {VOXEL_MAX_VALUE:.3f}",

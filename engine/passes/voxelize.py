@@ -8,7 +8,7 @@ import math
 import numpy as np
 
 from ..constants import (GL_IMAGE_FORMAT, GRID_SIZES, IMAGE_UNIT, LIST_GROUP, STORAGE_BINDING, TEXTURE_UNIT,
-                         VOLUME_GROUP, VOXEL_FORMAT, VOXEL_MEMORY_BUDGET)
+                         VOLUME_GROUP, VOXEL_FACES, VOXEL_FORMAT, VOXEL_MEMORY_BUDGET)
 from ..errors import VctError
 
 SUMS = (  # accumulator image, GL format
@@ -17,15 +17,15 @@ SUMS = (  # accumulator image, GL format
     ("SUM_NORMAL_X", "r32i"), ("SUM_NORMAL_Y", "r32i"), ("SUM_NORMAL_Z", "r32i"),
     ("SUM_COUNT", "r32ui"),
 )
-VOXEL_FACES = 6
 # Mipmapped RGBA16F volumes held per grid: base radiance, normal, albedo, and two sets of six
 # one-sided face views of the radiance (the set cones read and the set a bounce writes).
 MIPMAPPED_VOLUMES = 4 + 2 * VOXEL_FACES  # + the bounce pass's gather cache
 
 
 def voxel_memory_bytes(n):
-    """GPU memory a grid of n^3 needs: 32-bit sums plus mipmapped RGBA16F volumes (x 8/7)."""
-    return n ** 3 * (4 * len(SUMS) + MIPMAPPED_VOLUMES * 8 * 8 / 7)
+    """GPU memory a grid of n^3 needs: 32-bit sums, mipmapped RGBA16F volumes (x 8/7) and the
+    two lists of covered voxels (32 bits per voxel each, at most)."""
+    return n ** 3 * (4 * len(SUMS) + MIPMAPPED_VOLUMES * 8 * 8 / 7 + 2 * 4)
 
 
 def check_grid(ctx, n, source=None):

@@ -1,4 +1,5 @@
 // The voxel grid: a cube of side voxel_region_size at voxel_region_min, split into voxel_grid^3.
+#include "engine_constants.glsl"
 uniform vec3 voxel_region_min;
 uniform float voxel_region_size;
 uniform int voxel_grid;       // N voxels per side
@@ -14,10 +15,9 @@ vec3 voxel_center(ivec3 v) {
     return voxel_region_min + (vec3(v) + 0.5) * voxel_size;
 }
 
-// Cones read six one-sided views of the radiance, one per face direction (+x, -x, +y, -y,
-// +z, -z): view f holds the surfaces that face along f, i.e. those a cone travelling against
-// f can see. Surfaces are one-sided (they face into the room, or out of a solid).
-#define VOXEL_FACES 6
+// Cones read VOXEL_FACES one-sided views of the radiance, one per face direction (+x, -x, +y,
+// -y, +z, -z): view f holds the surfaces that face along f, i.e. those a cone travelling
+// against f can see. Surfaces are one-sided (they face into the room, or out of a solid).
 
 // Fraction of a voxel's cross-section, seen against face f, that its surfaces cover. A plane
 // with unit normal n inside a voxel covers |n_k| / max_j |n_j| of the face perpendicular to
