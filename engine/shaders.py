@@ -110,22 +110,15 @@ def preprocess(name, defines=None, root=GLSL_ROOT):
     return Source("\n".join(lines) + "\n", files)
 
 
-def build_program(ctx, stages, defines=None, root=GLSL_ROOT):
-    """Compile and link a program. `stages` maps 'vertex_shader'/'geometry_shader'/
-    'fragment_shader' to file names under glsl/. Errors raise ShaderError with real paths."""
-    sources = {stage: preprocess(name, defines, root) for stage, name in stages.items()}
+def compile_sources(ctx, sources):
+    """Compile and link preprocessed stages ({'vertex_shader': Source, ...}, or just
+    'compute_shader'). Errors raise ShaderError naming the real file and line."""
     try:
+        if "compute_shader" in sources:
+            return ctx.compute_shader(sources["compute_shader"].text)
         return ctx.program(**{stage: src.text for stage, src in sources.items()})
     except Exception as exc:  # moderngl raises a plain Error with the driver log
         raise _shader_error(exc, sources) from None
-
-
-def build_compute(ctx, name, defines=None, root=GLSL_ROOT):
-    source = preprocess(name, defines, root)
-    try:
-        return ctx.compute_shader(source.text)
-    except Exception as exc:
-        raise _shader_error(exc, {"compute_shader": source}) from None
 
 
 def _shader_error(exc, sources):
@@ -167,16 +160,12 @@ class ProgramHandle:
     def build(self):
         """Compile; on success replace the program, on failure keep the old one and raise."""
         ctx, root = self.library.ctx, self.library.root
-        files = set()
-        for name in self.stages.values():
-            files.update(preprocess(name, self.defines, root).files)
+        sources = {stage: preprocess(name, self.defines, root) for stage, name in self.stages.items()}
+        files = set().union(*(source.files for source in sources.values()))
         paths = [Path(root) / Path(f).relative_to("glsl") for f in files if f.startswith("glsl/")]
         mtimes = {p: p.stat().st_mtime_ns for p in paths if p.exists()}
         try:
-            if "compute_shader" in self.stages:
-                program = build_compute(ctx, self.stages["compute_shader"], self.defines, root)
-            else:
-                program = build_program(ctx, self.stages, self.defines, root)
+            program = compile_sources(ctx, sources)
         except ShaderError as exc:
             self.error = exc
             self._mtimes = mtimes
