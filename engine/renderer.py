@@ -132,8 +132,9 @@ class Renderer:
         self.ctx.finish()
         self.timings[name] = self.timings.get(name, 0.0) + (time.perf_counter() - start) * 1000.0
 
-    def camera_matrices(self, camera):
-        lo, hi = self._scene_bounds
+    def camera_matrices(self, camera, bounds):
+        """View, projection and far plane (past the farthest corner of the scene's bounds)."""
+        lo, hi = bounds
         corners = np.array([[x, y, z] for x in (lo[0], hi[0]) for y in (lo[1], hi[1]) for z in (lo[2], hi[2])])
         far = float(np.max(np.linalg.norm(corners - camera.position, axis=1))) * 1.1 + 1.0
         view = camera.view_matrix()
@@ -147,9 +148,8 @@ class Renderer:
         self.frame_settings = s
         self.timings = {}
         self.geometry.draw_calls = 0
-        self._scene_bounds = scene.bounds()
         camera = scene.camera
-        view, projection, far = self.camera_matrices(camera)
+        view, projection, far = self.camera_matrices(camera, scene.bounds())
         with self.timed("shadow"):
             self.shadow.update(scene)
         with self.timed("gbuffer"):

@@ -5,7 +5,7 @@ Each run reads one set of face views and writes the other; repeating it adds one
 time and converges to the infinite-bounce radiance since k_d < 1."""
 import numpy as np
 
-from ..constants import GL_IMAGE_FORMAT, IMAGE_UNIT, TEXTURE_UNIT
+from ..constants import IMAGE_UNIT, TEXTURE_UNIT
 from .voxelize import bind_faces, bind_output, use_faces
 
 # Convergence: stop when the light the remaining bounces would add is below this fraction of
@@ -60,9 +60,7 @@ class BouncePass:
     def _close_series(self, voxels, latest_set, gain):
         older_set = 1 - latest_set
         use_faces(voxels.face_sets[latest_set])
-        for face, volume in enumerate(voxels.face_sets[older_set]):
-            volume.bind_to_image(IMAGE_UNIT["OUT_DIRECTIONAL"] + face, read=True, write=True,
-                                 format=GL_IMAGE_FORMAT["rgba16f"])
+        bind_faces(voxels.face_sets[older_set], read=True)
         self.extrapolate.set(gain=tuple(float(g) for g in gain))
         voxels.dispatch_per_voxel(self.extrapolate, voxels.occupied_count)
         voxels.mipmap_faces(older_set)

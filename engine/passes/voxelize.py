@@ -41,14 +41,14 @@ def check_grid(ctx, n, source=None):
                        f"{VOXEL_MEMORY_BUDGET / 2**30:.1f} GiB", source=source, field="grid")
 
 
-def bind_output(volume, unit):
-    volume.bind_to_image(unit, read=False, write=True, format=GL_IMAGE_FORMAT["rgba16f"])
+def bind_output(volume, unit, read=False):
+    volume.bind_to_image(unit, read=read, write=True, format=GL_IMAGE_FORMAT["rgba16f"])
 
 
-def bind_faces(volumes, first_unit=IMAGE_UNIT["OUT_DIRECTIONAL"]):
+def bind_faces(volumes, first_unit=IMAGE_UNIT["OUT_DIRECTIONAL"], read=False):
     """Bind six face views to six consecutive image units (out_directional[0..5])."""
     for face, volume in enumerate(volumes):
-        bind_output(volume, first_unit + face)
+        bind_output(volume, first_unit + face, read)
 
 
 def use_faces(volumes):
