@@ -1,6 +1,7 @@
 """vct: a small voxel cone tracing renderer (Python host, GLSL on OpenGL 4.5 via moderngl)."""
 from .errors import ContextError, SceneError, ShaderError, VctError
-from .renderer import Renderer, save_npy, save_png
+from .output import save_npy, save_png
+from .renderer import Renderer
 from .scene_file import load_scene
 from .settings import MODES, RenderSettings
 

@@ -3,13 +3,11 @@ ctx.finish() and the wall clock) for each grid size, optionally with the error a
 reference radiance image, so cost and accuracy can be read side by side. Frames are dynamic
 frames as in the viewer: everything is rebuilt every frame, and with bounces 0 each frame adds
 one bounce on top of the previous frame's voxel radiance (converging over the warm-up)."""
-import json
 import statistics
 import time
 
 import numpy as np
 
-from .errors import VctError
 from .settings import VOXEL_MODES
 
 PASS_ORDER = ("shadow", "gbuffer", "lighting", "voxelize", "mipmap", "bounces", "cone_trace",
@@ -67,42 +65,3 @@ def format_table(rows):
             cells += [f"{r['rel_mae']:.3f}", f"{r['luminance_ratio']:.3f}"]
         lines.append("| " + " | ".join(cells) + " |")
     return "\n".join(lines)
-
-
-def bench_command(args):
-    from .cli import settings_from_args, shader_root, check_writable
-    from .gl import renderer_name
-    from .renderer import Renderer, write_atomically
-    from .scene_file import load_scene
-
-    try:
-        grids = [int(g) for g in args.grids.split(",") if g.strip()]
-    except ValueError:
-        raise VctError(f"expected comma-separated whole numbers, got {args.grids!r}", field="--grids") from None
-    settings = settings_from_args(args)
-    for grid in grids:
-        settings.replace(grid=grid).validate()
-    if args.json:
-        check_writable(args.json, "--json")
-    reference = None
-    if args.reference:
-        try:
-            reference = np.load(args.reference).astype(np.float64)
-        except (OSError, ValueError) as exc:
-            raise VctError(f"cannot read reference ({exc})", source=args.reference, field="--reference") from None
-    scene = load_scene(args.scene)
-    width, height = args.width or scene.camera.width, args.height or scene.camera.height
-    with Renderer(width, height, settings, glsl_root=shader_root(args)) as renderer:
-        if reference is not None and reference.shape != (height, width, 3):
-            raise VctError(f"shape {reference.shape} does not match the image {height}x{width}", source=args.reference, field="--reference")
-        device = renderer_name(renderer.ctx)
-        print(f"{scene.name}: {width}x{height}, mode {settings.mode}, bounces {settings.bounces or '1 per frame (feedback)'}, "
-              f"median of {args.frames} frames after {args.warmup} warm-up, on {device}", flush=True)
-        rows = benchmark(scene, renderer, settings, grids, args.frames, args.warmup, reference)
-    print(format_table(rows))
-    if args.json:
-        report = {"scene": scene.source, "width": width, "height": height, "device": device,
-                  "frames": args.frames, "warmup": args.warmup, "results": rows}
-        write_atomically(args.json, lambda f: f.write(json.dumps(report, indent=2).encode()))
-        print(f"wrote {args.json}")
-    return 0

@@ -125,12 +125,8 @@ def main(argv=None):
         if args.command == "render":
             return render_command(args)
         if args.command == "view":
-            from .viewer.app import view_command
-
             return view_command(args)
         if args.command == "bench":
-            from .bench import bench_command
-
             return bench_command(args)
     except VctError as exc:
         print(f"vct: error: {exc}", file=sys.stderr)
@@ -164,7 +160,8 @@ def check_writable(path, flag):
 
 
 def render_command(args):
-    from .renderer import Renderer, save_npy
+    from .output import save_npy, save_png
+    from .renderer import Renderer
     from .scene_file import load_scene
 
     check_writable(args.out, "--out")
@@ -179,8 +176,6 @@ def render_command(args):
     with Renderer(width, height, settings, glsl_root=shader_root(args)) as renderer:
         radiance = renderer.render(scene)
         pixels = renderer.tonemapped()
-    from .renderer import save_png
-
     written = []
     try:  # both outputs or neither
         if args.hdr:
@@ -192,6 +187,69 @@ def render_command(args):
             path.unlink(missing_ok=True)
         raise
     print(f"wrote {args.out}" + (f" and {args.hdr}" if args.hdr else "") + f" ({width}x{height}, mode {settings.mode})")
+    return 0
+
+
+def view_command(args):
+    from .scene_file import load_scene
+    from .viewer.app import Viewer
+
+    if args.screenshot:
+        check_writable(args.screenshot, "--screenshot")
+    settings = settings_from_args(args)
+    scene = load_scene(args.scene)
+    size = (args.width or scene.camera.width, args.height or scene.camera.height)
+    with Viewer(scene, settings, size, glsl_root=shader_root(args), show_panels=not args.no_panels,
+                vsync=args.frames is None) as viewer:
+        viewer.run(args.frames)
+        if args.screenshot:
+            path = viewer.save_screenshot(args.screenshot)
+            print(f"wrote {path} ({viewer.renderer.size[0]}x{viewer.renderer.size[1]}, mode {viewer.settings.mode}, "
+                  f"{viewer.frames.frames} frames)")
+    return 0
+
+
+def bench_command(args):
+    import json
+
+    import numpy as np
+
+    from .bench import benchmark, format_table
+    from .gl import renderer_name
+    from .output import write_atomically
+    from .renderer import Renderer
+    from .scene_file import load_scene
+
+    try:
+        grids = [int(g) for g in args.grids.split(",") if g.strip()]
+    except ValueError:
+        raise VctError(f"expected comma-separated whole numbers, got {args.grids!r}", field="--grids") from None
+    settings = settings_from_args(args)
+    for grid in grids:
+        settings.replace(grid=grid).validate()
+    if args.json:
+        check_writable(args.json, "--json")
+    reference = None
+    if args.reference:
+        try:
+            reference = np.load(args.reference).astype(np.float64)
+        except (OSError, ValueError) as exc:
+            raise VctError(f"cannot read reference ({exc})", source=args.reference, field="--reference") from None
+    scene = load_scene(args.scene)
+    width, height = args.width or scene.camera.width, args.height or scene.camera.height
+    with Renderer(width, height, settings, glsl_root=shader_root(args)) as renderer:
+        if reference is not None and reference.shape != (height, width, 3):
+            raise VctError(f"shape {reference.shape} does not match the image {height}x{width}", source=args.reference, field="--reference")
+        device = renderer_name(renderer.ctx)
+        print(f"{scene.name}: {width}x{height}, mode {settings.mode}, bounces {settings.bounces or '1 per frame (feedback)'}, "
+              f"median of {args.frames} frames after {args.warmup} warm-up, on {device}", flush=True)
+        rows = benchmark(scene, renderer, settings, grids, args.frames, args.warmup, reference)
+    print(format_table(rows))
+    if args.json:
+        report = {"scene": scene.source, "width": width, "height": height, "device": device,
+                  "frames": args.frames, "warmup": args.warmup, "results": rows}
+        write_atomically(args.json, lambda f: f.write(json.dumps(report, indent=2).encode()))
+        print(f"wrote {args.json}")
     return 0
 
 

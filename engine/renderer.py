@@ -8,12 +8,12 @@
 import functools
 import time
 from contextlib import contextmanager
-from pathlib import Path
 
 import numpy as np
 
 from .errors import VctError
 from .gl import create_headless_context
+from .output import save_png
 from .passes.bounce import BouncePass
 from .passes.cone_trace import ConeTracePass
 from .passes.gbuffer import GBufferPass
@@ -277,26 +277,3 @@ class Renderer:
 
     def __exit__(self, *exc):
         self.close()
-
-
-def save_png(path, pixels):
-    """Write uint8 pixels (H, W, 3) to a PNG atomically: nothing is left half-written."""
-    from PIL import Image
-
-    write_atomically(path, lambda f: Image.fromarray(pixels, "RGB").save(f, format="PNG"))
-
-
-def save_npy(path, array):
-    write_atomically(path, lambda f: np.save(f, np.asarray(array, dtype="f4")))
-
-
-def write_atomically(path, write):
-    path = Path(path)
-    tmp = path.with_name(f".{path.name}.tmp")
-    try:
-        with open(tmp, "wb") as f:
-            write(f)
-        tmp.replace(path)
-    except OSError as exc:
-        tmp.unlink(missing_ok=True)
-        raise VctError(f"cannot write ({exc.strerror or exc})", source=path) from None

@@ -15,7 +15,8 @@ import numpy as np
 from imgui_bundle import imgui
 
 from ..errors import VctError
-from ..renderer import Renderer, save_png
+from ..output import save_png
+from ..renderer import Renderer
 from ..shaders import GLSL_ROOT
 from . import panels
 from .camera import FlyCamera
@@ -211,22 +212,3 @@ class Viewer:
 
     def __exit__(self, *exc):
         self.close()
-
-
-def view_command(args):
-    from ..cli import check_writable, settings_from_args, shader_root
-    from ..scene_file import load_scene
-
-    if args.screenshot:
-        check_writable(args.screenshot, "--screenshot")
-    settings = settings_from_args(args)
-    scene = load_scene(args.scene)
-    size = (args.width or scene.camera.width, args.height or scene.camera.height)
-    with Viewer(scene, settings, size, glsl_root=shader_root(args), show_panels=not args.no_panels,
-                vsync=args.frames is None) as viewer:
-        viewer.run(args.frames)
-        if args.screenshot:
-            path = viewer.save_screenshot(args.screenshot)
-            print(f"wrote {path} ({viewer.renderer.size[0]}x{viewer.renderer.size[1]}, mode {viewer.settings.mode}, "
-                  f"{viewer.frames.frames} frames)")
-    return 0
