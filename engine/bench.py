@@ -1,17 +1,29 @@
-"""`vct bench`: per-pass milliseconds (median over frames after warm-up, each pass timed with
-ctx.finish() and the wall clock) for each grid size, optionally with the error against a
-reference radiance image, so cost and accuracy can be read side by side. Frames are dynamic
-frames as in the viewer: everything is rebuilt every frame, and with bounces 0 each frame adds
-one bounce on top of the previous frame's voxel radiance (converging over the warm-up)."""
+"""`vct bench`: per-pass milliseconds of the frames a viewer renders, for each grid size.
+
+Three kinds of frame, each timed over a path after the radiance has settled (progressive
+bounces, as in the viewer; each pass timed with ctx.finish() and the wall clock, median over
+the frames):
+- static: the camera moves along a small orbit, nothing else changes;
+- light:  a light moves along a circle every frame (its shadow map, light injection, one
+          bounce re-gathering one interleave class, the face views);
+- object: an object moves back and forth every frame (its voxels, every shadow map, the rest
+          as for a light).
+Optionally the error of each grid's converged image against a reference radiance image, so
+cost and accuracy can be read side by side.
+"""
+import math
+import resource
 import statistics
 import time
 
 import numpy as np
 
-from .settings import VOXEL_MODES
+from .settings import MODE_TABLE
 
-PASS_ORDER = ("shadow", "gbuffer", "lighting", "voxelize", "mipmap", "bounces", "cone_trace",
+FRAME_KINDS = ("static", "light", "object")
+PASS_ORDER = ("shadow", "gbuffer", "lighting", "voxelize", "inject", "gather", "faces", "mipmap", "cone_trace",
               "voxel_view", "gbuffer_view")
+SETTLE_FRAMES = 400  # progressive frames allowed for the radiance to settle before timing
 
 
 def relative_errors(radiance, reference):
@@ -22,46 +34,121 @@ def relative_errors(radiance, reference):
             "luminance_ratio": float(radiance.mean() / reference.mean())}
 
 
-def benchmark(scene, renderer, settings, grids, frames, warmup, reference=None):
-    rows = []
-    for grid in grids if settings.mode in VOXEL_MODES else [settings.grid]:
-        s = settings.replace(grid=grid)
-        renderer.measure = False
-        renderer.feedback = True
-        for _ in range(warmup):
-            renderer.render_frame(scene, s)
-        renderer.measure = True
-        per_pass, totals = {}, []
-        for _ in range(frames):
+def peak_rss_mb():
+    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
+
+
+def moving_object(scene):
+    """The node a benchmark moves: the smallest mesh instance of the scene (by bounds)."""
+    sizes = [(float(np.linalg.norm(np.subtract(*node.mesh.bounds(world)[::-1]))), node.name, node)
+             for node, world in scene.drawables()]
+    return min(sizes, key=lambda s: (s[0], s[1]))[2] if sizes else None
+
+
+class FramePath:
+    """Per-frame changes of one frame kind, applied to the scene before each frame and undone
+    by `restore()`."""
+
+    def __init__(self, scene, kind):
+        self.scene, self.kind = scene, kind
+        lo, hi = scene.bounds()
+        self.size = float(np.max(hi - lo)) or 1.0
+        camera = scene.camera
+        self.camera = (camera.position.copy(), camera.look_at.copy())
+        lights = [node for node, _ in scene.lights()]
+        self.light = lights[0] if lights and kind == "light" else None
+        self.light_position = self.light.light.position.copy() if self.light else None
+        self.object = moving_object(scene) if kind == "object" else None
+        self.translation = self.object.translation.copy() if self.object else None
+
+    @property
+    def subject(self):
+        return self.light.name if self.light else self.object.name if self.object else "camera"
+
+    def apply(self, frame):
+        angle = 2.0 * math.pi * frame / 16.0
+        position, look_at = self.camera
+        orbit = 0.02 * self.size * np.array([math.cos(angle), math.sin(angle), 0.0])
+        self.scene.camera.position = position + orbit
+        self.scene.camera.look_at = look_at
+        if self.light is not None:
+            self.light.light.position = self.light_position + 0.1 * self.size * np.array([math.cos(angle), 0.0, math.sin(angle)])
+        if self.object is not None:
+            self.object.translation = self.translation + 0.05 * self.size * np.array([math.sin(angle), 0.0, 0.0])
+
+    def restore(self):
+        self.scene.camera.position, self.scene.camera.look_at = self.camera
+        if self.light is not None:
+            self.light.light.position = self.light_position
+        if self.object is not None:
+            self.object.translation = self.translation
+
+
+def settle(scene, renderer, settings):
+    """Render progressive frames until the bounces settle."""
+    for _ in range(SETTLE_FRAMES):
+        renderer.render_frame(scene, settings)
+        if renderer.bounces.settled:
+            return
+
+
+def time_frames(scene, renderer, settings, kind, frames, warmup):
+    """One record: median total and per-pass ms of `frames` frames of one kind."""
+    path = FramePath(scene, kind)
+    totals, per_pass = [], {}
+    try:
+        for frame in range(warmup + frames):
+            path.apply(frame)
+            renderer.measure = frame >= warmup
             renderer.ctx.finish()
             start = time.perf_counter()
-            renderer.render_frame(scene, s)
+            renderer.render_frame(scene, settings)
             renderer.ctx.finish()
-            totals.append((time.perf_counter() - start) * 1000.0)
-            for name, ms in renderer.timings.items():
-                per_pass.setdefault(name, []).append(ms)
-        row = {"grid": grid if s.mode in VOXEL_MODES else None, "mode": s.mode, "bounces": s.bounces, "bounce_iterations": renderer.bounce_iterations,
-               "passes_ms": {name: statistics.median(per_pass[name]) for name in PASS_ORDER if name in per_pass},
-               "total_ms": statistics.median(totals), "draw_calls": renderer.geometry.draw_calls}
-        if reference is not None:  # the accuracy of this configuration, converged
-            renderer.feedback = False
-            renderer.measure = False
+            if frame >= warmup:
+                totals.append((time.perf_counter() - start) * 1000.0)
+                for name, ms in renderer.timings.items():
+                    per_pass.setdefault(name, []).append(ms)
+    finally:
+        path.restore()
+        renderer.measure = False
+    passes = {name: statistics.median(per_pass[name] + [0.0] * (frames - len(per_pass[name])))
+              for name in PASS_ORDER if name in per_pass}
+    return {"frame": kind, "moves": path.subject, "total_ms": statistics.median(totals), "passes": passes,
+            "draw_calls": renderer.geometry.draw_calls}
+
+
+def benchmark(scene, renderer, settings, grids, frames, warmup, kinds=FRAME_KINDS, reference=None):
+    """Records {"scene", "grid", "frame", "width", "height", "total_ms", "passes", ...} for every
+    grid and frame kind."""
+    rows = []
+    uses_voxels = MODE_TABLE[settings.mode].uses_voxels
+    for grid in grids if uses_voxels else [settings.grid]:
+        s = settings.replace(grid=grid)
+        renderer.progressive = True
+        settle(scene, renderer, s)
+        for kind in kinds:
+            record = {"scene": scene.name, "grid": grid if uses_voxels else None, "width": renderer.size[0],
+                      "height": renderer.size[1], **time_frames(scene, renderer, s, kind, frames, warmup)}
+            settle(scene, renderer, s)  # back to the settled scene for the next kind
+            record.update(voxel_bytes=renderer.grid.memory_bytes() if uses_voxels else 0, peak_rss_mb=peak_rss_mb())
+            rows.append(record)
+        if reference is not None and uses_voxels:  # the accuracy of this grid, converged within one frame
+            renderer.progressive = False
             renderer.render_frame(scene, s)
-            row.update(relative_errors(renderer.radiance(), reference))
-            renderer.feedback = True
-        rows.append(row)
-    renderer.measure = False
+            for record in rows[-len(kinds):]:
+                record.update(relative_errors(renderer.radiance(), reference))
     return rows
 
 
 def format_table(rows):
-    names = [n for n in PASS_ORDER if any(n in r["passes_ms"] for r in rows)]
+    names = [n for n in PASS_ORDER if any(n in r["passes"] for r in rows)]
     has_error = any("rel_mae" in r for r in rows)
-    header = ["grid"] + names + ["total"] + (["relMAE", "lum ratio"] if has_error else [])
+    header = ["grid", "frame"] + names + ["total"] + (["relMAE", "lum ratio"] if has_error else [])
     lines = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
     for r in rows:
-        cells = [f"{r['grid']}^3" if r["grid"] else "-"] + [f"{r['passes_ms'].get(n, 0.0):.1f}" for n in names] + [f"{r['total_ms']:.1f}"]
+        cells = [f"{r['grid']}^3" if r["grid"] else "-", r["frame"]]
+        cells += [f"{r['passes'][n]:.1f}" if n in r["passes"] else "-" for n in names] + [f"**{r['total_ms']:.1f}**"]
         if has_error:
-            cells += [f"{r['rel_mae']:.3f}", f"{r['luminance_ratio']:.3f}"]
+            cells += [f"{r['rel_mae']:.3f}", f"{r['luminance_ratio']:.3f}"] if "rel_mae" in r else ["", ""]
         lines.append("| " + " | ".join(cells) + " |")
     return "\n".join(lines)

@@ -104,17 +104,17 @@ def build_parser():
     view.add_argument("--no-panels", action="store_true", help="start with the panels hidden")
     _add_settings_arguments(view)
 
-    bench = commands.add_parser("bench", help="time each pass",
-                                description="Time each render pass (median over frames after warm-up, "
-                                            "ctx.finish() + wall clock) for each grid size. Frames are dynamic: "
-                                            "the scene is revoxelized every frame, and with --bounces 0 each frame "
-                                            "adds one bounce on top of the previous one, as in the viewer.")
+    bench = commands.add_parser("bench", help="time each pass of static, light and object frames",
+                                description="Time each render pass (median over frames after warm-up, ctx.finish() + "
+                                            "wall clock) for each grid size, for three kinds of frame as the viewer "
+                                            "renders them once the bounces settled: static (the camera moves), light "
+                                            "(the scene's first light moves), object (its smallest object moves).")
     bench.add_argument("scene", help="scene JSON file")
-    bench.add_argument("--frames", type=_positive_int, default=10, help="timed frames per configuration (default 10)")
-    bench.add_argument("--warmup", type=_nonnegative_int, default=2, help="untimed frames first (default 2)")
+    bench.add_argument("--frames", type=_positive_int, default=10, help="timed frames per kind and grid (default 10)")
+    bench.add_argument("--warmup", type=_nonnegative_int, default=3, help="untimed frames first (default 3)")
     bench.add_argument("--grids", default="16,32,64,128,256", help="comma-separated grid sizes (default 16,32,64,128,256)")
-    bench.add_argument("--json", help="also write the results as JSON to this file")
-    bench.add_argument("--reference", help="a reference radiance .npy to report the error of each grid against")
+    bench.add_argument("--json", help="also write the records as a JSON list to this file")
+    bench.add_argument("--reference", help="a reference radiance .npy to report the error of each grid's converged image against")
     _add_settings_arguments(bench)
     return parser
 
@@ -241,17 +241,18 @@ def bench_command(args):
         if reference is not None and reference.shape != (height, width, 3):
             raise VctError(f"shape {reference.shape} does not match the image {height}x{width}", source=args.reference, field="--reference")
         device = renderer_name(renderer.ctx)
-        print(f"{scene.name}: {width}x{height}, mode {settings.mode}, bounces {settings.bounces or '1 per frame (feedback)'}, "
-              f"median of {args.frames} frames after {args.warmup} warm-up, on {device}", flush=True)
-        rows = benchmark(scene, renderer, settings, grids, args.frames, args.warmup, reference)
+        print(f"{scene.name}: {width}x{height}, mode {settings.mode}, median of {args.frames} frames after "
+              f"{args.warmup} warm-up per kind, on {device}", flush=True)
+        rows = benchmark(scene, renderer, settings, grids, args.frames, args.warmup, reference=reference)
     print(format_table(rows))
+    moved = {row["frame"]: row["moves"] for row in rows}
+    print("moving: " + ", ".join(f"{kind}: {subject}" for kind, subject in moved.items()))
     if args.json:
-        report = {"scene": scene.source, "width": width, "height": height, "device": device,
-                  "frames": args.frames, "warmup": args.warmup, "results": rows}
-        write_atomically(args.json, lambda f: f.write(json.dumps(report, indent=2).encode()))
+        for row in rows:
+            row["device"] = device
+        write_atomically(args.json, lambda f: f.write(json.dumps(rows, indent=2).encode()))
         print(f"wrote {args.json}")
     return 0
-
 
 if __name__ == "__main__":
     sys.exit(main())

@@ -1,7 +1,10 @@
 """Constants shared by the host and the shaders, defined once.
 
 `glsl_header()` turns them into the virtual include "engine_constants.glsl", so a
-binding point or a cone table can never differ between Python and GLSL.
+binding point, a fixed-point scale or a cone table can never differ between Python and GLSL.
+
+Binding budgets are those of the least generous OpenGL 4.5 drivers: at most 8 image units
+(NVIDIA's limit) and at most 16 storage blocks per shader stage.
 """
 import math
 
@@ -14,70 +17,83 @@ TEXTURE_UNIT = {
     "GBUF_ALBEDO": 2,
     "GBUF_EMISSION": 3,
     "SHADOW_ATLAS": 4,
-    "VOXEL_RADIANCE": 5,
-    "VOXEL_NORMAL": 6,
-    "VOXEL_ALBEDO": 7,
-    "HDR_INPUT": 8,
-    "DIRECT_LIGHT": 9,
-    "VOXEL_DIRECTIONAL": 10,  # 6 consecutive units: radiance seen by cones, by face (+x, -x, +y, -y, +z, -z)
-    "VOXEL_INSPECT": 16,      # the volume a voxel view or a readback reads
-    "DIFFUSE_GATHER": 17,     # the half-resolution diffuse/AO gather
+    "VOXEL_ALBEDO": 5,      # resolved per-voxel surface: diffuse albedo, a = 1 where covered
+    "VOXEL_NORMAL": 6,      # xyz: mean normal (its length the coherence), w: surface offset in voxels
+    "VOXEL_EMISSION": 7,
+    "VOXEL_BASE": 8,        # emission + injected direct light
+    "VOXEL_GATHERED": 9,    # the diffuse gather sum_j w_j L(p, w_j) of each voxel
+    "VOXEL_GATHERED_PREVIOUS": 10,
+    "VOXEL_FACES": 11,      # VOXEL_FACES consecutive units: the face views cones read (+x, -x, +y, -y, +z, -z)
+    "HDR_INPUT": 17,
+    "DIRECT_LIGHT": 18,
+    "VOXEL_INSPECT": 19,    # the volume a voxel view or a readback reads
 }
 
-# Image units (imageLoad/imageStore/imageAtomic* bindings).
+# Image units. Each program binds at most 8 images, at units 0..7.
 IMAGE_UNIT = {
-    "SUM_RADIANCE_R": 0,
-    "SUM_RADIANCE_G": 1,
-    "SUM_RADIANCE_B": 2,
-    "SUM_COUNT": 3,
-    "SUM_NORMAL_X": 4,
-    "SUM_NORMAL_Y": 5,
-    "SUM_NORMAL_Z": 6,
-    "SUM_ALBEDO_R": 7,
-    "SUM_ALBEDO_G": 8,
-    "SUM_ALBEDO_B": 9,
-    "OUT_RADIANCE": 10,
-    "OUT_NORMAL": 11,
-    "OUT_ALBEDO": 12,
-    "OUT_DIRECTIONAL": 13,    # 6 consecutive units
-    "OTHER_DIRECTIONAL": 19,  # 6 consecutive units: the other face set, cleared with the first
-    "GATHERED": 25,           # the bounce pass's last gather per voxel (amortized bounces)
+    "FACES_OUT": 0,         # VOXEL_FACES consecutive units
+    "BASE_OUT": 6,
+    "GATHERED_OUT": 7,
+    "ALBEDO_OUT": 0,
+    "NORMAL_OUT": 1,
+    "EMISSION_OUT": 2,
+    "INSPECT_OUT": 0,
 }
+
+# Per-voxel fixed-point sums the voxelizer accumulates with atomics: one storage block per
+# channel (channel-major, one uint per voxel), so a 256^3 channel (64 MiB) stays under the
+# smallest allowed storage-block size. Normal and offset sums are signed (two's complement).
+# Emission is summed in 64 bits: the low word, and a carry word incremented on overflow.
+VOXEL_SUM_CHANNELS = ("COUNT", "ALBEDO_R", "ALBEDO_G", "ALBEDO_B", "NORMAL_X", "NORMAL_Y", "NORMAL_Z", "OFFSET",
+                      "EMISSION_R", "EMISSION_G", "EMISSION_B", "EMISSION_CARRY_R", "EMISSION_CARRY_G",
+                      "EMISSION_CARRY_B")
 
 # Shader storage buffer bindings.
 STORAGE_BINDING = {
-    "LIGHTS": 0,
-    "SHADOW_MATRICES": 1,
-    "READBACK": 2,
-    "OCCUPIED": 3,
-    "PREVIOUS_OCCUPIED": 4,
+    "VOXEL_SUMS": 0,        # len(VOXEL_SUM_CHANNELS) consecutive bindings
+    "TOUCHED": 14,          # voxels the current voxelization touched (count, then packed coordinates)
+    "COVERED": 15,          # voxels holding surface
+    "COVERED_NEXT": 16,     # the covered list being rebuilt
+    "CELLS": 17,            # covered cells of the coarser levels, level after level
+    "CELL_STAMPS": 18,
+    "CLASS_LIST": 19,       # covered voxels sorted by interleave class
+    "CLASS_COUNTS": 20,
+    "LIGHTS": 21,
+    "SHADOW_VIEWS": 22,
+    "READBACK": 23,
 }
 
 MAX_LIGHTS = 16
 
 LIGHT_TYPE = {"point": 0, "spot": 1, "directional": 2}
 
-# Voxel sums are fixed point: value * VOXEL_FIXED_SCALE stored in 32 bits.
-# Headroom: VOXEL_MAX_FRAGMENTS * VOXEL_MAX_VALUE * VOXEL_FIXED_SCALE < 2^32.
-VOXEL_FIXED_SCALE = 4096.0
-VOXEL_MAX_FRAGMENTS = 256
-VOXEL_MAX_VALUE = (2.0 ** 32 - 1) / (VOXEL_FIXED_SCALE * VOXEL_MAX_FRAGMENTS)  # 4095.99
-VOXEL_NORMAL_SCALE = 65536.0  # signed sums of unit normals: 256 * 65536 < 2^31
+# Fixed point of the voxel sums: albedo (<= 1), unit normals and the surface offset (<= 1
+# voxel) are stored as value * VOXEL_UNIT_SCALE; the signed sums have room for
+# VOXEL_MAX_FRAGMENTS fragments per voxel (VOXEL_MAX_FRAGMENTS * VOXEL_UNIT_SCALE < 2^31).
+VOXEL_UNIT_SCALE = 4096.0
+VOXEL_MAX_FRAGMENTS = 2 ** 31 // int(VOXEL_UNIT_SCALE) - 1
+# Emission radiance per fragment is clamped to the largest half float and stored as
+# value * VOXEL_EMISSION_SCALE in 32 bits (65504 * 65536 < 2^32), summed in 64 bits.
+VOXEL_EMISSION_SCALE = 65536.0
+VOXEL_MAX_EMISSION = 65504.0
 
-# GL formats of the resolved voxel textures and the render targets.
+# GL formats of the voxel volumes and the render targets.
 VOXEL_FORMAT = "f2"  # RGBA16F: HDR radiance without banding (field notes 9)
 HDR_FORMAT = "f4"
-GL_IMAGE_FORMAT = {"r32ui": 0x8236, "r32i": 0x8235, "rgba16f": 0x881A}
-# Voxel memory allowed before a grid is refused (bytes); the 256^3 grid needs about 3 GiB.
+GL_IMAGE_FORMAT = {"rgba16f": 0x881A}
+# Voxel memory allowed before a grid is refused (bytes).
 VOXEL_MEMORY_BUDGET = 4 * 2 ** 30
 # One-sided views of the voxel radiance that cones read, one per axis direction (+x, -x, ...).
 VOXEL_FACES = 6
 
 GRID_SIZES = (16, 32, 64, 128, 256)
 
-# Compute shader local sizes: passes over the list of covered voxels, and over a whole volume.
+# Compute shader local sizes: passes over a list of voxels, and over a whole volume.
 LIST_GROUP = 64
 VOLUME_GROUP = 4
+# The progressive bounce re-gathers 1 voxel class in K per frame, K <= MAX_INTERLEAVE: the
+# classes are the positions of a voxel in its 2x2x2 block.
+MAX_INTERLEAVE = 8
 
 
 def cone_cosine_centroid_tilt(tilt, half_angle, samples=400):
@@ -127,16 +143,19 @@ def glsl_header():
     lines = ["// Generated from engine/constants.py: edit there, not here."]
     for group, prefix in ((TEXTURE_UNIT, "TEX_"), (IMAGE_UNIT, "IMG_"), (STORAGE_BINDING, "SSBO_")):
         lines += [f"#define {prefix}{name} {value}" for name, value in group.items()]
+    lines += [f"#define SUM_{name} {index}" for index, name in enumerate(VOXEL_SUM_CHANNELS)]
     lines += [f"#define LIGHT_{name.upper()} {value}" for name, value in LIGHT_TYPE.items()]
     lines += [
+        f"#define VOXEL_SUM_CHANNELS {len(VOXEL_SUM_CHANNELS)}",
         f"#define MAX_LIGHTS {MAX_LIGHTS}",
         f"#define LIST_GROUP {LIST_GROUP}",
         f"#define VOXEL_FACES {VOXEL_FACES}",
         f"#define VOLUME_GROUP {VOLUME_GROUP}",
-        f"#define VOXEL_FIXED_SCALE {VOXEL_FIXED_SCALE:.1f}",
-        f"#define VOXEL_MAX_FRAGMENTS {VOXEL_MAX_FRAGMENTS}",
-        f"#define VOXEL_MAX_VALUE {VOXEL_MAX_VALUE:.3f}",
-        f"#define VOXEL_NORMAL_SCALE {VOXEL_NORMAL_SCALE:.1f}",
+        f"#define MAX_INTERLEAVE {MAX_INTERLEAVE}",
+        f"#define VOXEL_UNIT_SCALE {VOXEL_UNIT_SCALE:.1f}",
+        f"#define VOXEL_MAX_FRAGMENTS {VOXEL_MAX_FRAGMENTS}u",
+        f"#define VOXEL_EMISSION_SCALE {VOXEL_EMISSION_SCALE:.1f}",
+        f"#define VOXEL_MAX_EMISSION {VOXEL_MAX_EMISSION:.1f}",
         "#define PI 3.14159265358979",
     ]
     directions, weights, half_angle = diffuse_cones()

@@ -1,4 +1,5 @@
-"""The renderer: wires the passes together in plain order and returns linear HDR radiance.
+"""The renderer: the frame's data flow, pass after pass, each stage run only when its inputs
+changed since it last ran (found from the scene itself: engine/changes.py).
 
     scene = engine.load_scene("scenes/cornell_box.json")
     with engine.Renderer(256, 256) as r:
@@ -8,26 +9,53 @@
 import functools
 import time
 from contextlib import contextmanager
+from dataclasses import dataclass
 
 import numpy as np
 
+from .bounces import BounceSchedule
+from .changes import BoundsCache, FrameInputs, Stage, voxel_update
 from .errors import VctError
 from .gl import create_headless_context
 from .output import save_png
-from .passes.bounce import BouncePass
 from .passes.cone_trace import ConeTracePass
+from .passes.faces import FaceViewsPass
+from .passes.gather import GatherPass
 from .passes.gbuffer import GBufferPass
 from .passes.gbuffer_view import GBufferViewPass
+from .passes.inject import InjectPass
 from .passes.lighting import LightingPass
 from .passes.shadow import ShadowPass
 from .passes.tonemap import TonemapPass
-from .passes.voxel_view import VoxelViewPass
+from .passes.voxel_view import VoxelViewPass, shown_volume
 from .passes.voxelize import VoxelizePass
 from .scene_gpu import SceneGeometry
-from .settings import DATA_MODES, GBUFFER_VIEWS, VOXEL_MODES, VOXEL_VIEWS, RenderSettings
+from .settings import RenderSettings
 from .shaders import GLSL_ROOT, ProgramLibrary
+from .voxel_grid import VoxelGrid
 
 NEAR_PLANE = 0.01
+VOXEL_VOLUMES = {"radiance": "voxels", "normal": "voxel-normals", "albedo": "voxel-albedo"}
+
+
+@dataclass
+class FrameCamera:
+    position: np.ndarray
+    forward: np.ndarray
+    view_projection: np.ndarray
+    far: float
+
+
+def frame_camera(camera, size, bounds):
+    """The camera's matrices for an image of `size`; the far plane lies past the farthest
+    corner of the scene's bounds."""
+    lo, hi = bounds
+    corners = np.array([[x, y, z] for x in (lo[0], hi[0]) for y in (lo[1], hi[1]) for z in (lo[2], hi[2])])
+    far = float(np.max(np.linalg.norm(corners - camera.position, axis=1))) * 1.1 + 1.0
+    forward = camera.look_at - camera.position
+    projection = camera.projection_matrix(size[0] / size[1], NEAR_PLANE, far)
+    return FrameCamera(np.asarray(camera.position, float), forward / np.linalg.norm(forward),
+                       projection @ camera.view_matrix(), far)
 
 
 def _current(method):
@@ -56,13 +84,16 @@ class Renderer:
         self._context_entered = False
         self.ctx = ctx or create_headless_context()
         self._check_size(self.size)
+        self.measure = False        # when True, each pass is timed with ctx.finish() + wall clock
+        self.progressive = False    # bounces 0: one bounce per frame on top of the last (the viewer)
+        self.track_changes = True   # False: every frame recomputes every stage (for comparison)
+        self.timings = {}           # ms per pass of the last frame (when measuring)
+        self.passes_ran = []        # the passes the last frame ran, in order
+        self.output = None          # the ScreenTarget holding the last frame's HDR result
+        self.frame_settings = self.settings
         self.programs = ProgramLibrary(self.ctx, glsl_root)
         self.geometry = SceneGeometry(self.ctx)
-        self.measure = False  # when True, each pass is timed with ctx.finish() + wall clock
-        # When True (the viewer), bounces=0 runs one bounce per frame seeded by the previous
-        # frame's voxel radiance instead of iterating to convergence within the frame.
-        self.feedback = False
-        self.timings = {}
+        self.grid = VoxelGrid(self.ctx)
         self._passes = []
         try:
             self.shadow = self._add(ShadowPass(self.ctx, self.programs, self.geometry, self.settings.shadow_map_size))
@@ -70,18 +101,19 @@ class Renderer:
             self.lighting = self._add(LightingPass(self.ctx, self.programs, self.size))
             self.gbuffer_view = self._add(GBufferViewPass(self.ctx, self.programs, self.size))
             self.voxelize = self._add(VoxelizePass(self.ctx, self.programs, self.geometry))
-            self.bounce = self._add(BouncePass(self.ctx, self.programs))
+            self.inject = self._add(InjectPass(self.ctx, self.programs))
+            self.gather = self._add(GatherPass(self.ctx, self.programs))
+            self.faces = self._add(FaceViewsPass(self.ctx, self.programs))
             self.cone_trace = self._add(ConeTracePass(self.ctx, self.programs, self.size))
             self.voxel_view = self._add(VoxelViewPass(self.ctx, self.programs, self.size))
             self.tonemap = self._add(TonemapPass(self.ctx, self.programs, self.size))
+            self.readback = self.programs.compute("voxel_readback.comp")
         except Exception:
             self.close()
             raise
-        self.output = None  # the ScreenTarget holding the last frame's HDR result
-        self.frame_settings = self.settings  # the settings the last frame used
-        self._history_set = None  # face set holding the last frame's voxel radiance (feedback)
-        self.bounce_iterations = 0
-        self._frame = 0  # frames rendered with voxels, for the bounce interleave
+        self.bounces = BounceSchedule(self.gather, self.faces)
+        self.bounds_cache = BoundsCache()
+        self.stages = {name: Stage() for name in ("shadows", "voxels", "radiance", "bounces")}
 
     def _add(self, render_pass):
         self._passes.append(render_pass)
@@ -106,12 +138,12 @@ class Renderer:
     @_current
     def voxels(self, name="radiance", level=0):
         """A voxel volume of the last frame as float32 (n, n, n, 4), indexed [z, y, x]:
-        "radiance" (emission + direct light, premultiplied, a = opacity), "normal" (mean normal,
-        its length the coherence), "albedo"; levels above 0 come from hardware mipmaps."""
-        volume = {"radiance": self.voxelize.radiance, "normal": self.voxelize.normal, "albedo": self.voxelize.albedo}[name]
+        "radiance" (emission + direct light, a = opacity), "normal" (mean normal, its length
+        the coherence), "albedo"; levels above 0 come from hardware mipmaps."""
+        volume = shown_volume(self.grid, VOXEL_VOLUMES[name])
         if level > 0:
             volume.build_mipmaps()
-        return self.voxelize.read_volume(volume, level)
+        return self.grid.read_level(volume, self.readback, level)
 
     @_current
     def reload_shaders(self):
@@ -119,10 +151,15 @@ class Renderer:
         build. Returns (rebuilt count, [ShaderError]) for this poll."""
         return self.programs.reload_changed()
 
+    @property
+    def bounce_iterations(self):
+        return self.bounces.iterations
+
     # -- frame ---------------------------------------------------------------------------
 
     @contextmanager
     def timed(self, name):
+        self.passes_ran.append(name)
         if not self.measure:
             yield
             return
@@ -132,96 +169,90 @@ class Renderer:
         self.ctx.finish()
         self.timings[name] = self.timings.get(name, 0.0) + (time.perf_counter() - start) * 1000.0
 
-    def camera_matrices(self, camera, bounds):
-        """View, projection and far plane (past the farthest corner of the scene's bounds)."""
-        lo, hi = bounds
-        corners = np.array([[x, y, z] for x in (lo[0], hi[0]) for y in (lo[1], hi[1]) for z in (lo[2], hi[2])])
-        far = float(np.max(np.linalg.norm(corners - camera.position, axis=1))) * 1.1 + 1.0
-        view = camera.view_matrix()
-        projection = camera.projection_matrix(self.size[0] / self.size[1], NEAR_PLANE, far)
-        return view, projection, far
-
     @_current
     def render_frame(self, scene, settings=None):
         """Render one frame on the GPU; `self.output` holds the HDR result. Returns it."""
         s = (settings or self.settings).validate()
         self.frame_settings = s
-        self.timings = {}
+        self.timings, self.passes_ran = {}, []
         self.geometry.draw_calls = 0
-        camera = scene.camera
-        view, projection, far = self.camera_matrices(camera, scene.bounds())
-        with self.timed("shadow"):
-            self.shadow.update(scene)
-        with self.timed("gbuffer"):
-            self.gbuffer.render(scene, projection @ view)
-        self.gbuffer.bind()
-        if s.mode in GBUFFER_VIEWS:
-            with self.timed("gbuffer_view"):
-                forward = camera.look_at - camera.position
-                self.gbuffer_view.render(s.mode, camera.position, forward / np.linalg.norm(forward), far)
-            self.output = self.gbuffer_view.target
-            return self.output
-        self.shadow.bind(self.lighting.program, self.voxelize.program)
-        with self.timed("lighting"):
-            self.lighting.render(camera.position)
-        self.output = self.lighting.target
-        if s.mode in VOXEL_VIEWS:
-            self.output = self._voxel_view(scene, s, projection @ view, camera.position)
-        elif s.mode in VOXEL_MODES:
-            self.output = self._cone_trace(scene, s, camera.position)
+        frame = FrameInputs(scene, self.bounds_cache)
+        self.output = self._frame(frame, scene, s)
+        self.geometry.retain(frame.draws)  # meshes no longer drawn leave the GPU
         return self.output
 
-    def _voxel_view(self, scene, s, view_projection, camera_position):
-        with self.timed("voxelize"):
-            self.voxelize.run(scene, s.grid)
-        shown = {"voxels": self.voxelize.radiance, "voxel-normals": self.voxelize.normal,
-                 "voxel-albedo": self.voxelize.albedo}[s.mode]
-        with self.timed("voxel_view"):
-            shown.build_mipmaps()
-            self.voxel_view.render(s.mode, shown, s.voxel_mip, self.voxelize.uniforms(), view_projection, camera_position)
-        return self.voxel_view.target
-
-    def _cone_trace(self, scene, s, camera_position):
-        face_set = self.build_voxels(scene, s)
+    def _frame(self, frame, scene, s):
+        """The passes of one frame; returns the target holding its image."""
+        camera = frame_camera(scene.camera, self.size, frame.bounds)
+        shadow_maps = self._shadows(frame, scene.source)
+        with self.timed("gbuffer"):
+            gbuffer = self.gbuffer.render(frame.draws, camera.view_projection)
+        if s.shown.stage == "gbuffer":
+            with self.timed("gbuffer_view"):
+                return self.gbuffer_view.render(gbuffer, s.mode, camera)
+        with self.timed("lighting"):
+            direct = self.lighting.render(gbuffer, shadow_maps, camera.position)
+        if not s.shown.uses_voxels:
+            return direct
+        self._voxels(frame, s, scene.source)
+        self._radiance(shadow_maps)
+        self._bounces(s)
+        if s.shown.stage == "voxel_view":
+            with self.timed("voxel_view"):
+                return self.voxel_view.render(self.grid, s.mode, s.voxel_mip, camera)
         with self.timed("cone_trace"):
-            self.cone_trace.render(self.voxelize.uniforms(), self.cone_uniforms(s), self.voxelize.face_sets[face_set],
-                                   self.lighting.target.texture, camera_position, ao=s.mode == "ao",
-                                   direct=s.mode == "gi" and s.direct,
-                                   diffuse=s.mode == "indirect" or (s.mode == "gi" and s.indirect_diffuse),
-                                   specular=s.mode == "specular" or (s.mode == "gi" and s.indirect_specular),
-                                   ao_distance=s.ao_distance)
-        return self.cone_trace.target
+            return self.cone_trace.render(gbuffer, direct, self.grid, self.bounces.gathered(self.grid),
+                                          s.cone_uniforms(), camera.position, s.image_terms(), s.ao_distance)
 
-    def cone_uniforms(self, s):
-        return dict(cone_step=float(s.cone_step), cone_offset=float(s.cone_offset),
-                    voxel_max_mip=float(self.voxelize.mip_count - 1))
+    def _shadows(self, frame, source):
+        """Shadow maps: the tiles of the lights that changed; all of them when a shadow caster
+        moved, the scene bounds changed or lights came or went."""
+        stage = self.stages["shadows"]
+        inputs = (frame.geometry(), _bytes(frame.bounds), frame.light_values)
+        if stage.stale(inputs, self.track_changes):
+            redraw = None
+            if self.track_changes and stage.inputs is not None and stage.inputs[:2] == inputs[:2] \
+                    and len(stage.inputs[2]) == len(inputs[2]):
+                redraw = {i for i, (a, b) in enumerate(zip(stage.inputs[2], inputs[2])) if a != b}
+            with self.timed("shadow"):
+                self.shadow.render(frame.lights, frame.draws, frame.bounds, redraw, source)
+            stage.ran(inputs)
+        return self.shadow.maps
 
-    def build_voxels(self, scene, s):
-        """Voxelize, mipmap and bounce; returns the face set (index) cones should read."""
-        history = self._history_set if (self.feedback and s.bounces == 0 and s.grid == self.voxelize.grid) else None
-        target = 0 if history is None else 1 - history
-        with self.timed("voxelize"):
-            self.voxelize.run(scene, s.grid, target)
-        source = history if history is not None else target
-        if source == target:  # cones or the first bounce read the freshly voxelized set
-            with self.timed("mipmap"):
-                self.voxelize.mipmap_faces(target)
-        cone_uniforms = self.cone_uniforms(s)
-        if s.bounces == 0 and not self.feedback:
-            with self.timed("bounces"):
-                source, iterations = self.bounce.converge(self.voxelize, cone_uniforms, source)
-        else:  # feedback: one (amortized) bounce per frame; else bounces - 1 re-injections
-            iterations = 1 if s.bounces == 0 else s.bounces - 1
-            interleave = s.bounce_interleave if s.bounces == 0 else 1
-            for _ in range(iterations):
-                with self.timed("bounces"):
-                    source = self.bounce.run(self.voxelize, cone_uniforms, source, interleave, self._frame)
-                with self.timed("mipmap"):
-                    self.voxelize.mipmap_faces(source)
-        self.bounce_iterations = iterations
-        self._history_set = source
-        self._frame += 1
-        return source
+    def _voxels(self, frame, s, source):
+        """Voxelize what changed: the draws whose mesh, transform or material differ from the
+        ones the grid holds (all of them on a new grid)."""
+        stage = self.stages["voxels"]
+        if self.grid.ensure(s.grid, frame.region, source):
+            stage.forget()
+        inputs = (s.grid, _bytes((frame.region.center, frame.region.size)), tuple(frame.draws))
+        if stage.stale(inputs, self.track_changes):
+            held = stage.inputs[2] if self.track_changes and stage.inputs is not None else None
+            update = voxel_update(held, frame.draws)
+            if update.full or update.removed or update.added:
+                with self.timed("voxelize"):
+                    self.voxelize.update(self.grid, update, frame.draws)
+            stage.ran(inputs)
+
+    def _radiance(self, shadow_maps):
+        """Inject direct light into the voxels when the voxels or the lights changed."""
+        stage = self.stages["radiance"]
+        inputs = (self.stages["voxels"].version, self.stages["shadows"].version)
+        if stage.stale(inputs, self.track_changes):
+            with self.timed("inject"):
+                self.inject.run(self.grid, shadow_maps)
+            stage.ran(inputs)
+
+    def _bounces(self, s):
+        """Bounce again when the base radiance or the bounce settings changed; progressive
+        frames add one bounce until the radiance settles."""
+        stage = self.stages["bounces"]
+        inputs = (self.stages["radiance"].version, s.bounces, s.bounce_interleave, s.cone_step, s.cone_offset,
+                  self.progressive)
+        if stage.stale(inputs, self.track_changes):
+            self.bounces.restart(self.grid, s, s.cone_uniforms(), self.progressive, self.timed)
+            stage.ran(inputs)
+        self.bounces.advance(self.grid, s, s.cone_uniforms(), self.timed)
 
     @_current
     def render(self, scene, mode=None, **changes):
@@ -243,11 +274,9 @@ class Renderer:
         """Tone-map the last frame on the GPU; returns the 8-bit ScreenTarget (for a window)."""
         s = self.frame_settings
         with self.timed("tonemap"):
-            if s.mode in DATA_MODES:  # encoded data: shown as stored, no curve, no sRGB
-                self.tonemap.render(self.output.texture, 1.0, "none", encode_srgb=False)
-            else:
-                self.tonemap.render(self.output.texture, s.exposure, s.tonemap)
-        return self.tonemap.target
+            if s.shown.data:  # encoded data: shown as stored, no curve, no sRGB
+                return self.tonemap.render(self.output.texture, 1.0, "none", encode_srgb=False)
+            return self.tonemap.render(self.output.texture, s.exposure, s.tonemap)
 
     @_current
     def tonemapped(self):
@@ -267,6 +296,9 @@ class Renderer:
             for render_pass in reversed(self._passes):
                 render_pass.release()
             self._passes = []
+            if hasattr(self, "readback"):
+                self.readback.release()
+            self.grid.release()
             self.geometry.release()
         if self._owns_context:
             self.ctx.release()
@@ -277,3 +309,8 @@ class Renderer:
 
     def __exit__(self, *exc):
         self.close()
+
+
+def _bytes(arrays):
+    """Arrays as one comparable bytes key."""
+    return b"".join(np.asarray(a, dtype=np.float64).tobytes() for a in arrays)

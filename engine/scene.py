@@ -27,6 +27,14 @@ class Mesh:
     normals: np.ndarray
     indices: np.ndarray
 
+    def __post_init__(self):
+        # Immutable: the renderer knows a mesh is unchanged when it is the same object. To
+        # change geometry, give the node a new Mesh.
+        for name in ("positions", "normals", "indices"):
+            array = np.array(getattr(self, name))
+            array.flags.writeable = False
+            setattr(self, name, array)
+
     def bounds(self, matrix):
         p = transforms.transform_points(matrix, self.positions)
         return p.min(axis=0), p.max(axis=0)
@@ -130,11 +138,12 @@ class Scene:
             return np.zeros(3), np.zeros(3)
         return lo, hi
 
-    def region(self):
-        """The cubic voxel region: the file's `voxel_region`, else the bounds padded by 5%."""
+    def region(self, bounds=None):
+        """The cubic voxel region: the file's `voxel_region`, else the bounds (given, or
+        computed) padded by 5%."""
         if self.voxel_region is not None:
             return self.voxel_region
-        lo, hi = self.bounds()
+        lo, hi = bounds if bounds is not None else self.bounds()
         size = float(np.max(hi - lo)) * 1.05 or 1.0
         return VoxelRegion((lo + hi) / 2.0, size)
 

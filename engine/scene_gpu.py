@@ -1,12 +1,11 @@
-"""GPU copies of the scene's meshes, and the per-draw data read from the scene every frame."""
+"""GPU copies of the scene's meshes: vertex and index buffers per mesh (uploaded once, released
+when the mesh leaves the scene) and vertex arrays per program."""
 import numpy as np
 
 from . import transforms
 
 
 class SceneGeometry:
-    """Vertex/index buffers per mesh (uploaded once) and vertex arrays per program."""
-
     def __init__(self, ctx):
         self.ctx = ctx
         self.buffers = {}  # id(mesh) -> (mesh, vbo, ibo)
@@ -39,15 +38,27 @@ class SceneGeometry:
             arrays[id(mesh)] = vao
         return vao
 
-    def draw(self, handle, scene, per_draw=None, mode=None):
-        """Draw every mesh of the scene with `handle`; `per_draw(node, world)` sets its uniforms."""
-        for node, world in scene.drawables():
-            handle.set(model=transforms.gl_bytes(world),
-                       normal_matrix=np.asarray(transforms.normal_matrix(world), "f4").T.tobytes())
+    def draw(self, handle, draws, per_draw=None):
+        """Draw each of `draws` (changes.Draw) with `handle`; `per_draw(draw)` sets its uniforms."""
+        for draw in draws:
+            handle.set(model=transforms.gl_bytes(draw.world),
+                       normal_matrix=np.asarray(transforms.normal_matrix(draw.world), "f4").T.tobytes())
             if per_draw is not None:
-                per_draw(node, world)
-            self.vertex_array(handle, node.mesh).render(mode if mode is not None else self.ctx.TRIANGLES)
+                per_draw(draw)
+            self.vertex_array(handle, draw.mesh).render(self.ctx.TRIANGLES)
             self.draw_calls += 1
+
+    def retain(self, draws):
+        """Release the buffers and vertex arrays of meshes that no draw uses any more."""
+        live = {id(d.mesh) for d in draws}
+        for key in [k for k in self.buffers if k not in live]:
+            for _, arrays in self.vertex_arrays.values():
+                vao = arrays.pop(key, None)
+                if vao is not None:
+                    vao.release()
+            _, vbo, ibo = self.buffers.pop(key)
+            vbo.release()
+            ibo.release()
 
     def release(self):
         for _, arrays in self.vertex_arrays.values():

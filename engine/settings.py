@@ -1,18 +1,53 @@
-"""Render settings shared by the CLI, the viewer and the benchmark."""
+"""Render settings shared by the CLI, the viewer and the benchmark, and the table of modes."""
 import math
 from dataclasses import dataclass, fields
 
-from .constants import GRID_SIZES
+from .constants import GRID_SIZES, MAX_INTERLEAVE
 from .errors import VctError
 
-# Modes that show radiance (tone-mapped for display) and modes that show encoded data.
-RADIANCE_MODES = ("gi", "direct", "indirect", "specular", "ao", "voxels")
-DATA_MODES = ("albedo", "normal", "depth", "voxel-normals", "voxel-albedo")
-MODES = RADIANCE_MODES + DATA_MODES
-GBUFFER_VIEWS = ("albedo", "normal", "depth")
-VOXEL_VIEWS = ("voxels", "voxel-normals", "voxel-albedo")
-VOXEL_MODES = ("gi", "indirect", "specular", "ao") + VOXEL_VIEWS
+MAX_BOUNCES = 64  # the most bounces one change of the scene costs
+
+
+@dataclass(frozen=True)
+class Mode:
+    """What a mode shows: the stage of the frame that makes its image ("gbuffer" views,
+    "direct" light, "voxel_view", "cone_trace"), whether it is encoded data shown as stored (no
+    exposure, curve or sRGB), and the terms a cone-traced image adds."""
+
+    stage: str
+    data: bool = False
+    terms: tuple = ()
+
+    @property
+    def uses_voxels(self):
+        return self.stage in ("voxel_view", "cone_trace")
+
+
+MODE_TABLE = {
+    "gi": Mode("cone_trace", terms=("direct", "diffuse", "specular")),
+    "direct": Mode("direct"),
+    "indirect": Mode("cone_trace", terms=("diffuse",)),
+    "specular": Mode("cone_trace", terms=("specular",)),
+    "ao": Mode("cone_trace", terms=("ao",)),
+    "voxels": Mode("voxel_view"),
+    "albedo": Mode("gbuffer", data=True),
+    "normal": Mode("gbuffer", data=True),
+    "depth": Mode("gbuffer", data=True),
+    "voxel-normals": Mode("voxel_view", data=True),
+    "voxel-albedo": Mode("voxel_view", data=True),
+}
+MODES = tuple(MODE_TABLE)
 TONEMAPS = ("aces", "reinhard", "none")
+
+
+@dataclass(frozen=True)
+class ImageTerms:
+    """The terms a cone-traced image adds up, or AO alone."""
+
+    direct: bool = False
+    diffuse: bool = False
+    specular: bool = False
+    ao: bool = False
 
 
 @dataclass
@@ -20,7 +55,7 @@ class RenderSettings:
     mode: str = "gi"
     grid: int = 128                 # voxels per side, a power of two in 16..256
     bounces: int = 0                # diffuse bounces through the voxels; 0 = iterate to convergence
-    bounce_interleave: int = 4      # viewer (bounces 0): 1 in K voxels gathers again each frame
+    bounce_interleave: int = 4      # progressive (viewer), bounces 0: 1 in K voxels gathers again each frame
     voxel_mip: int = 0              # mip level shown by the voxel views
     cone_step: float = 0.5          # march step as a fraction of the cone diameter
     cone_offset: float = 1.0        # cone start offset along the normal, in voxels
@@ -30,17 +65,17 @@ class RenderSettings:
     indirect_specular: bool = True  # gi: include specular indirect light
     exposure: float = 1.0
     tonemap: str = "aces"
-    shadow_map_size: int = 1024
+    shadow_map_size: int = 1024     # texels per side of each shadow view (fixed per renderer)
 
     def validate(self, source="settings"):
-        if self.mode not in MODES:
+        if self.mode not in MODE_TABLE:
             raise VctError(f'unknown mode "{self.mode}" (expected one of {", ".join(MODES)})', field="mode")
         if self.grid not in GRID_SIZES:
             raise VctError(f"grid must be a power of two from 16 to 256, got {self.grid}", field="grid")
-        if self.bounces < 0:
-            raise VctError("must be 0 (converge) or a positive count", field="bounces")
-        if not 1 <= self.bounce_interleave <= 8:
-            raise VctError("must be in 1..8", field="bounce_interleave")
+        if not 0 <= self.bounces <= MAX_BOUNCES:
+            raise VctError(f"must be 0 (converge) or a count up to {MAX_BOUNCES}", field="bounces")
+        if not 1 <= self.bounce_interleave <= MAX_INTERLEAVE:
+            raise VctError(f"must be in 1..{MAX_INTERLEAVE}", field="bounce_interleave")
         if not 0 <= self.voxel_mip <= self.grid.bit_length() - 1:
             raise VctError(f"must be in 0..{self.grid.bit_length() - 1} for grid {self.grid}", field="mip")
         for name in ("cone_step", "cone_offset", "ao_distance", "exposure"):
@@ -57,6 +92,18 @@ class RenderSettings:
         if self.exposure <= 0:
             raise VctError("must be positive", field="exposure")
         return self
+
+    @property
+    def shown(self):
+        return MODE_TABLE[self.mode]
+
+    def image_terms(self):
+        terms = self.shown.terms
+        return ImageTerms(direct="direct" in terms and self.direct, diffuse="diffuse" in terms and self.indirect_diffuse,
+                          specular="specular" in terms and self.indirect_specular, ao="ao" in terms)
+
+    def cone_uniforms(self):
+        return dict(cone_step=float(self.cone_step), cone_offset=float(self.cone_offset))
 
     def replace(self, **changes):
         known = {f.name for f in fields(self)}

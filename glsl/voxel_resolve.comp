@@ -1,54 +1,54 @@
 #version 450 core
-// Voxel resolve, over the list of covered voxels: divide the fixed-point sums by the fragment
-// count into RGBA16F voxels, zero the sums for the next frame, and write the six one-sided
-// face views of the radiance that cones read (rgb premultiplied by the face coverage in a).
-// Radiance and albedo are premultiplied by opacity (a = 1 for a covered voxel, 0 for an empty
-// one), so hardware mipmaps average empty children as transparent instead of darkening the
-// colour. The normal keeps its length: |mean of unit normals| < 1 records how spread they are.
-#include "engine_constants.glsl"
+// Voxel resolve, over the voxels the last voxelization touched: divide the fixed-point sums by
+// the fragment count into the surface volumes (albedo, normal, emission with the surface offset
+// in a; a = 1 marks a covered voxel), zero the sums for the next update, and list the voxels
+// that were empty before and are covered now, for the new covered list.
 #include "lib/voxel.glsl"
+#include "lib/voxel_sums.glsl"
 
 layout(local_size_x = LIST_GROUP) in;
-layout(binding = IMG_SUM_RADIANCE_R, r32ui) uniform uimage3D sum_radiance_r;
-layout(binding = IMG_SUM_RADIANCE_G, r32ui) uniform uimage3D sum_radiance_g;
-layout(binding = IMG_SUM_RADIANCE_B, r32ui) uniform uimage3D sum_radiance_b;
-layout(binding = IMG_SUM_ALBEDO_R, r32ui) uniform uimage3D sum_albedo_r;
-layout(binding = IMG_SUM_ALBEDO_G, r32ui) uniform uimage3D sum_albedo_g;
-layout(binding = IMG_SUM_ALBEDO_B, r32ui) uniform uimage3D sum_albedo_b;
-layout(binding = IMG_SUM_NORMAL_X, r32i) uniform iimage3D sum_normal_x;
-layout(binding = IMG_SUM_NORMAL_Y, r32i) uniform iimage3D sum_normal_y;
-layout(binding = IMG_SUM_NORMAL_Z, r32i) uniform iimage3D sum_normal_z;
-layout(binding = IMG_SUM_COUNT, r32ui) uniform uimage3D sum_count;
-layout(binding = IMG_OUT_RADIANCE, rgba16f) uniform writeonly image3D out_radiance;
-layout(binding = IMG_OUT_NORMAL, rgba16f) uniform writeonly image3D out_normal;
-layout(binding = IMG_OUT_ALBEDO, rgba16f) uniform writeonly image3D out_albedo;
-layout(binding = IMG_OUT_DIRECTIONAL, rgba16f) uniform writeonly image3D out_directional[VOXEL_FACES];
-layout(std430, binding = SSBO_OCCUPIED) readonly buffer OccupiedVoxels { uint occupied_count; uint occupied[]; };
+layout(binding = IMG_ALBEDO_OUT, rgba16f) uniform image3D albedo_out;
+layout(binding = IMG_NORMAL_OUT, rgba16f) uniform writeonly image3D normal_out;
+layout(binding = IMG_EMISSION_OUT, rgba16f) uniform writeonly image3D emission_out;
+layout(std430, binding = SSBO_TOUCHED) readonly buffer TouchedVoxels { uint touched_count; uint touched[]; };
+layout(std430, binding = SSBO_COVERED_NEXT) buffer NextCovered { uint next_count; uint next_covered[]; };
+
+float unit_sum(uint channel, uint i) {
+    return float(int(voxel_sums[channel].value[i]));
+}
+
+float emission_sum(uint low_channel, uint carry_channel, uint i) {
+    return float(voxel_sums[carry_channel].value[i]) * 4294967296.0 + float(voxel_sums[low_channel].value[i]);
+}
 
 void main() {
-    if (gl_GlobalInvocationID.x >= occupied_count) return;
-    ivec3 v = unpack_voxel(occupied[gl_GlobalInvocationID.x]);
-    uint count = imageLoad(sum_count, v).r;
-    float samples = float(min(count, uint(VOXEL_MAX_FRAGMENTS)));
-    float to_value = 1.0 / (samples * VOXEL_FIXED_SCALE);
-    vec3 radiance = vec3(imageLoad(sum_radiance_r, v).r, imageLoad(sum_radiance_g, v).r, imageLoad(sum_radiance_b, v).r) * to_value;
-    vec3 albedo = vec3(imageLoad(sum_albedo_r, v).r, imageLoad(sum_albedo_g, v).r, imageLoad(sum_albedo_b, v).r) * to_value;
-    vec3 normal = vec3(imageLoad(sum_normal_x, v).r, imageLoad(sum_normal_y, v).r, imageLoad(sum_normal_z, v).r) / (samples * VOXEL_NORMAL_SCALE);
-    imageStore(out_radiance, v, vec4(radiance, 1.0));
-    imageStore(out_normal, v, vec4(normal, 1.0));
-    imageStore(out_albedo, v, vec4(albedo, 1.0));
-    for (int f = 0; f < VOXEL_FACES; ++f) {
-        float coverage = face_coverage(normal, f);
-        imageStore(out_directional[f], v, vec4(radiance * coverage, coverage));
+    if (gl_GlobalInvocationID.x >= touched_count) return;
+    ivec3 v = unpack_voxel(touched[gl_GlobalInvocationID.x]);
+    uint i = voxel_index(v);
+    uint count = voxel_sums[SUM_COUNT].value[i] & COUNT_MASK;
+    bool was_covered = imageLoad(albedo_out, v).a > 0.0;
+    if (count == 0u) {  // every surface left this voxel
+        imageStore(albedo_out, v, vec4(0.0));
+        imageStore(normal_out, v, vec4(0.0));
+        imageStore(emission_out, v, vec4(0.0));
+    } else {
+        float samples = float(min(count, VOXEL_MAX_FRAGMENTS));
+        float to_unit = 1.0 / (samples * VOXEL_UNIT_SCALE);
+        vec3 albedo = vec3(unit_sum(SUM_ALBEDO_R, i), unit_sum(SUM_ALBEDO_G, i), unit_sum(SUM_ALBEDO_B, i)) * to_unit;
+        vec3 normal = vec3(unit_sum(SUM_NORMAL_X, i), unit_sum(SUM_NORMAL_Y, i), unit_sum(SUM_NORMAL_Z, i)) * to_unit;
+        float offset = unit_sum(SUM_OFFSET, i) * to_unit;
+        vec3 emission = vec3(emission_sum(SUM_EMISSION_R, SUM_EMISSION_CARRY_R, i),
+                             emission_sum(SUM_EMISSION_G, SUM_EMISSION_CARRY_G, i),
+                             emission_sum(SUM_EMISSION_B, SUM_EMISSION_CARRY_B, i)) / (samples * VOXEL_EMISSION_SCALE);
+        // The mean normal keeps its length (|mean of unit normals| < 1: spread normals). The
+        // surface point c + n t along the normalized mean normal n has mean(dot(p_i - c - n t,
+        // n_i)) = 0, so t = mean(offset_i) / |mean normal|, within the voxel.
+        float coherence = length(normal);
+        float surface_offset = coherence > 0.0 ? clamp(offset / coherence, -0.87, 0.87) : 0.0;
+        imageStore(albedo_out, v, vec4(albedo, 1.0));
+        imageStore(normal_out, v, vec4(normal, 1.0));
+        imageStore(emission_out, v, vec4(emission, surface_offset));
+        if (!was_covered) next_covered[atomicAdd(next_count, 1u)] = pack_voxel(v);
     }
-    imageStore(sum_count, v, uvec4(0u));
-    imageStore(sum_radiance_r, v, uvec4(0u));
-    imageStore(sum_radiance_g, v, uvec4(0u));
-    imageStore(sum_radiance_b, v, uvec4(0u));
-    imageStore(sum_albedo_r, v, uvec4(0u));
-    imageStore(sum_albedo_g, v, uvec4(0u));
-    imageStore(sum_albedo_b, v, uvec4(0u));
-    imageStore(sum_normal_x, v, ivec4(0));
-    imageStore(sum_normal_y, v, ivec4(0));
-    imageStore(sum_normal_z, v, ivec4(0));
+    for (int channel = 0; channel < VOXEL_SUM_CHANNELS; ++channel) voxel_sums[channel].value[i] = 0u;
 }

@@ -1,38 +1,34 @@
 #version 450 core
-// Voxelization, fragment stage: one fragment = one surface sample in one voxel. Its outgoing
-// diffuse radiance (emission + direct light, with the G-buffer pass's shadow maps), normal and
-// albedo are added to fixed-point sums with image atomics, together with a fragment count, so
-// the average is order-independent and the grid is identical from frame to frame. The first
-// fragment in a voxel appends it to the list of covered voxels the later passes work through.
+// Voxelization, fragment stage: one fragment = one surface sample in one voxel. Its diffuse
+// albedo, unit normal, offset along the normal from the voxel centre and emission are added to
+// the voxel's fixed-point sums with atomics, with a fragment count (lib/voxel_sums.glsl). The
+// first fragment in a voxel flags it and lists it as touched. An update of part of the scene
+// runs in two passes: `mark_only` flags the voxels the changed objects cover (before and
+// after the change), then `touched_only` re-adds every object's fragments in those voxels
+// alone; a full voxelization runs neither restriction.
 #include "lib/voxel.glsl"
-#include "lib/lights.glsl"
+#include "lib/voxel_sums.glsl"
 
 in vec3 gs_position;
 in vec3 gs_normal;
 flat in vec4 gs_pixel_bounds;
-flat in vec3 gs_face_normal;
 uniform vec3 albedo;
 uniform float metalness;
 uniform vec3 emission;
+uniform bool mark_only;
+uniform bool touched_only;
+layout(std430, binding = SSBO_TOUCHED) buffer TouchedVoxels { uint touched_count; uint touched[]; };
 
-layout(binding = IMG_SUM_RADIANCE_R, r32ui) uniform coherent uimage3D sum_radiance_r;
-layout(binding = IMG_SUM_RADIANCE_G, r32ui) uniform coherent uimage3D sum_radiance_g;
-layout(binding = IMG_SUM_RADIANCE_B, r32ui) uniform coherent uimage3D sum_radiance_b;
-layout(binding = IMG_SUM_ALBEDO_R, r32ui) uniform coherent uimage3D sum_albedo_r;
-layout(binding = IMG_SUM_ALBEDO_G, r32ui) uniform coherent uimage3D sum_albedo_g;
-layout(binding = IMG_SUM_ALBEDO_B, r32ui) uniform coherent uimage3D sum_albedo_b;
-layout(binding = IMG_SUM_NORMAL_X, r32i) uniform coherent iimage3D sum_normal_x;
-layout(binding = IMG_SUM_NORMAL_Y, r32i) uniform coherent iimage3D sum_normal_y;
-layout(binding = IMG_SUM_NORMAL_Z, r32i) uniform coherent iimage3D sum_normal_z;
-layout(binding = IMG_SUM_COUNT, r32ui) uniform coherent uimage3D sum_count;
-layout(std430, binding = SSBO_OCCUPIED) buffer OccupiedVoxels { uint occupied_count; uint occupied[]; };
-
-uint fixed_point(float x) {
-    return uint(clamp(x, 0.0, VOXEL_MAX_VALUE) * VOXEL_FIXED_SCALE + 0.5);
+uint unit_fixed(float x) {  // two's complement of round(x * VOXEL_UNIT_SCALE), |x| <= 1
+    return uint(int(round(clamp(x, -1.0, 1.0) * VOXEL_UNIT_SCALE)));
 }
 
-int fixed_point_signed(float x) {
-    return int(round(clamp(x, -1.0, 1.0) * VOXEL_NORMAL_SCALE));
+// Adds emission to a 64-bit sum: the low word, and its carry word when the low word wraps.
+void add_emission(uint i, uint low_channel, uint carry_channel, float radiance) {
+    uint x = uint(clamp(radiance, 0.0, VOXEL_MAX_EMISSION) * VOXEL_EMISSION_SCALE + 0.5);
+    if (x == 0u) return;
+    uint before = atomicAdd(voxel_sums[low_channel].value[i], x);
+    if (before + x < before) atomicAdd(voxel_sums[carry_channel].value[i], 1u);
 }
 
 void main() {
@@ -41,27 +37,29 @@ void main() {
     if (any(lessThan(pixel, gs_pixel_bounds.xy)) || any(greaterThan(pixel, gs_pixel_bounds.zw))) discard;
     ivec3 voxel = ivec3(floor(voxel_uvw(gs_position) * float(voxel_grid)));
     if (any(lessThan(voxel, ivec3(0))) || any(greaterThanEqual(voxel, ivec3(voxel_grid)))) discard;
+    uint i = voxel_index(voxel);
+
+    if (touched_only) {
+        if ((voxel_sums[SUM_COUNT].value[i] & TOUCHED_FLAG) == 0u) discard;
+    } else {
+        uint flags = atomicOr(voxel_sums[SUM_COUNT].value[i], TOUCHED_FLAG);
+        if ((flags & TOUCHED_FLAG) == 0u) touched[atomicAdd(touched_count, 1u)] = pack_voxel(voxel);
+        if (mark_only) return;
+    }
+    uint earlier_fragments = atomicAdd(voxel_sums[SUM_COUNT].value[i], 1u) & COUNT_MASK;
+    if (earlier_fragments >= VOXEL_MAX_FRAGMENTS) return;  // headroom of the signed sums
 
     vec3 n = normalize(gs_normal);
-    // Diffuse outgoing radiance: Lo = Le + (1 - m) k_d / pi * sum_lights E_l.
     vec3 diffuse_albedo = (1.0 - metalness) * albedo;
-    vec3 irradiance = vec3(0.0);
-    for (int i = 0; i < light_count; ++i) {
-        vec3 l;
-        irradiance += light_irradiance(i, gs_position, n, l);
-    }
-    vec3 radiance = emission + diffuse_albedo / PI * irradiance;
-
-    uint earlier_fragments = imageAtomicAdd(sum_count, voxel, 1u);
-    if (earlier_fragments == 0u) occupied[atomicAdd(occupied_count, 1u)] = pack_voxel(voxel);  // first in this voxel
-    if (earlier_fragments >= uint(VOXEL_MAX_FRAGMENTS)) return;  // headroom of the sums
-    imageAtomicAdd(sum_radiance_r, voxel, fixed_point(radiance.r));
-    imageAtomicAdd(sum_radiance_g, voxel, fixed_point(radiance.g));
-    imageAtomicAdd(sum_radiance_b, voxel, fixed_point(radiance.b));
-    imageAtomicAdd(sum_albedo_r, voxel, fixed_point(diffuse_albedo.r));
-    imageAtomicAdd(sum_albedo_g, voxel, fixed_point(diffuse_albedo.g));
-    imageAtomicAdd(sum_albedo_b, voxel, fixed_point(diffuse_albedo.b));
-    imageAtomicAdd(sum_normal_x, voxel, fixed_point_signed(n.x));
-    imageAtomicAdd(sum_normal_y, voxel, fixed_point_signed(n.y));
-    imageAtomicAdd(sum_normal_z, voxel, fixed_point_signed(n.z));
+    float offset = dot(gs_position - voxel_center(voxel), n) / voxel_size;  // in [-0.87, 0.87]
+    atomicAdd(voxel_sums[SUM_ALBEDO_R].value[i], unit_fixed(diffuse_albedo.r));
+    atomicAdd(voxel_sums[SUM_ALBEDO_G].value[i], unit_fixed(diffuse_albedo.g));
+    atomicAdd(voxel_sums[SUM_ALBEDO_B].value[i], unit_fixed(diffuse_albedo.b));
+    atomicAdd(voxel_sums[SUM_NORMAL_X].value[i], unit_fixed(n.x));
+    atomicAdd(voxel_sums[SUM_NORMAL_Y].value[i], unit_fixed(n.y));
+    atomicAdd(voxel_sums[SUM_NORMAL_Z].value[i], unit_fixed(n.z));
+    atomicAdd(voxel_sums[SUM_OFFSET].value[i], unit_fixed(offset));
+    add_emission(i, SUM_EMISSION_R, SUM_EMISSION_CARRY_R, emission.r);
+    add_emission(i, SUM_EMISSION_G, SUM_EMISSION_CARRY_G, emission.g);
+    add_emission(i, SUM_EMISSION_B, SUM_EMISSION_CARRY_B, emission.b);
 }

@@ -12,7 +12,6 @@ in vec3 vs_normal[];
 out vec3 gs_position;
 out vec3 gs_normal;
 flat out vec4 gs_pixel_bounds;  // the undilated triangle's bounding box in pixels, grown by half a pixel
-flat out vec3 gs_face_normal;
 
 // Voxel-space coordinates swizzled so the dominant axis becomes depth.
 vec3 project(vec3 uvw, int axis) {
@@ -61,7 +60,6 @@ void main() {
         vec3 w = to_barycentric * vec3(dilated, 1.0);
         gs_position = w.x * vs_position[0] + w.y * vs_position[1] + w.z * vs_position[2];
         gs_normal = w.x * vs_normal[0] + w.y * vs_normal[1] + w.z * vs_normal[2];
-        gs_face_normal = normalize(face_normal);
         gs_pixel_bounds = bounds;
         gl_Position = vec4(dilated, w.x * depth[0] + w.y * depth[1] + w.z * depth[2], 1.0);
         EmitVertex();

@@ -108,7 +108,7 @@ def test_emissive_ceiling_alone_lights_the_floor_by_its_view_factor(tmp_path):
         gi = r.render(scene, mode="gi", grid=64, bounces=1)
         r.render(scene, mode="normal")  # positions from the G-buffer of the same view
         with r.ctx:
-            position = np.frombuffer(r.gbuffer.textures[0].read(), dtype="f4").reshape(64, 64, 4)[::-1]
+            position = np.frombuffer(r.gbuffer.target.textures[0].read(), dtype="f4").reshape(64, 64, 4)[::-1]
     away_from_walls = (np.abs(position[..., 0]) < 0.9) & (np.abs(position[..., 2]) < 0.9)
     floor = np.argwhere((np.abs(position[..., 1] + 1.0) < 1e-3) & away_from_walls)
     assert len(floor) > 500
@@ -201,7 +201,8 @@ def test_feedback_frames_converge_to_the_converged_image(cornell):
     previous frame: after enough frames the image equals the headless converged one."""
     with engine.Renderer(64, 64) as r:
         converged = r.render(cornell, mode="gi", grid=32)
-        r.feedback = True
+    with engine.Renderer(64, 64) as r:
+        r.progressive = True
         frames = [r.render(cornell, mode="gi", grid=32, bounce_interleave=4) for _ in range(40)]
     assert rel_mae(frames[0], converged) > 0.1          # the first frame has one bounce only
     assert rel_mae(frames[-1], converged) < 0.01

@@ -4,13 +4,13 @@ import numpy as np
 import pytest
 
 import engine
-from engine.passes import voxelize
+from engine import voxel_grid
 from conftest import SCENES
 
 
 def voxel_index(renderer, point):
     """Index (x, y, z) of the voxel holding a world point in the renderer's last grid."""
-    region, n = renderer.voxelize.region, renderer.voxelize.grid
+    region, n = renderer.grid.region, renderer.grid.n
     lo = np.asarray(region.center) - region.size / 2.0
     return tuple(int(i) for i in np.floor((np.asarray(point) - lo) / (region.size / n)))
 
@@ -33,7 +33,7 @@ def test_voxel_size_follows_region_and_grid(renderer):
     scene = engine.load_scene(SCENES / "cornell_box.json")
     scene.voxel_region = engine.scene.VoxelRegion(np.zeros(3), 2.56)
     renderer.render(scene, mode="voxels", grid=16)
-    assert renderer.voxelize.uniforms()["voxel_size"] == pytest.approx(0.16)
+    assert renderer.grid.voxel_size == pytest.approx(0.16)
     assert 2.56 / 256 == pytest.approx(0.01)
 
 
@@ -129,11 +129,11 @@ def test_voxel_view_shows_the_coloured_walls(renderer):
 def test_impossible_grid_sizes_are_refused_before_allocation(renderer, monkeypatch):
     for grid in (8, 48, 512):
         with pytest.raises(engine.VctError, match="grid"):
-            voxelize.check_grid(renderer.ctx, grid)
-    monkeypatch.setattr(voxelize, "VOXEL_MEMORY_BUDGET", voxelize.voxel_memory_bytes(64))
+            voxel_grid.check_grid(renderer.ctx, grid)
+    monkeypatch.setattr(voxel_grid, "VOXEL_MEMORY_BUDGET", voxel_grid.voxel_memory_bytes(64))
     with pytest.raises(engine.VctError, match="GiB"):
-        voxelize.check_grid(renderer.ctx, 128)
-    voxelize.check_grid(renderer.ctx, 64)
+        voxel_grid.check_grid(renderer.ctx, 128)
+    voxel_grid.check_grid(renderer.ctx, 64)
 
 
 def test_moving_an_object_leaves_no_stale_voxels(renderer):

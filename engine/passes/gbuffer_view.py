@@ -12,10 +12,12 @@ class GBufferViewPass:
     def resize(self, size):
         self.target.resize(size)
 
-    def render(self, view, camera_position, camera_forward, far_plane):
-        self.program.set(view=VIEWS[view], camera_position=tuple(camera_position),
-                         camera_forward=tuple(camera_forward), far_plane=float(far_plane))
+    def render(self, gbuffer, view, camera):
+        gbuffer.use()
+        self.program.set(view=VIEWS[view], camera_position=tuple(camera.position),
+                         camera_forward=tuple(camera.forward), far_plane=float(camera.far))
         self.target.draw(self.program)
+        return self.target
 
     def release(self):
         self.target.release()

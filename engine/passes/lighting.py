@@ -1,5 +1,5 @@
-"""Deferred direct lighting: emission plus point/spot/directional lights with shadows, into an
-HDR target."""
+"""Deferred direct lighting: emission plus point/spot/directional lights with shadows, from the
+G-buffer and the shadow maps into an HDR target."""
 from .target import ScreenTarget
 
 
@@ -11,9 +11,12 @@ class LightingPass:
     def resize(self, size):
         self.target.resize(size)
 
-    def render(self, camera_position):
+    def render(self, gbuffer, shadow_maps, camera_position):
+        gbuffer.use()
+        shadow_maps.bind(self.program)
         self.program.set(camera_position=tuple(camera_position))
         self.target.draw(self.program)
+        return self.target
 
     def release(self):
         self.target.release()

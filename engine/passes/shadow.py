@@ -1,6 +1,7 @@
 """Shadow maps for every light in one depth atlas: six cube faces per point light, one
-perspective view per spot light, one orthographic view per directional light. Also owns the
-light and shadow-view storage buffers the lighting and voxel-injection shaders read."""
+perspective view per spot light, one orthographic view per directional light. Returns the
+ShadowMaps that the lighting and light-injection passes read. Only the tiles of the lights
+whose inputs changed are redrawn."""
 import math
 
 import numpy as np
@@ -15,107 +16,48 @@ CUBE_FACES = (  # (direction, up) in the order of cube_face() in glsl/lib/lights
     ((0, 0, 1), (0, -1, 0)), ((0, 0, -1), (0, -1, 0)),
 )
 NEAR_PLANE = 0.01
+NORMAL_OFFSET_TEXELS = 1.5  # shadow lookups move off the surface by this many texels
 
 
-class ShadowPass:
-    def __init__(self, ctx, programs, geometry, tile_size=1024, normal_offset_texels=1.5):
+class ShadowMaps:
+    """The depth atlas, the packed lights and their shadow views: what every pass that
+    evaluates lights (glsl/lib/lights.glsl) reads."""
+
+    def __init__(self, ctx, tile_size):
         self.ctx = ctx
-        self.geometry = geometry
         self.tile_size = tile_size
-        self.normal_offset_texels = normal_offset_texels
-        self.program = programs.program(vertex_shader="shadow.vert", fragment_shader="shadow.frag")
-        self.atlas = None
-        self.framebuffer = None
+        self.atlas = self.framebuffer = None
+        self.columns = 1
         self.light_buffer = ctx.buffer(reserve=64 * MAX_LIGHTS)
         self.view_buffer = ctx.buffer(reserve=96 * 6 * MAX_LIGHTS)
         self.light_count = 0
 
-    def _ensure_atlas(self, tiles):
+    def ensure_atlas(self, tiles):
+        """An atlas with room for `tiles` views; True when it was (re)made (all tiles empty)."""
         columns = min(tiles, 6) or 1
         rows = max(1, math.ceil(tiles / columns))
         size = (columns * self.tile_size, rows * self.tile_size)
-        if self.atlas is None or self.atlas.size != size:
-            self._release_atlas()
-            self.atlas = self.ctx.depth_texture(size)
-            self.atlas.compare_func = "<="
-            self.atlas.filter = (self.ctx.LINEAR, self.ctx.LINEAR)
-            self.atlas.repeat_x = self.atlas.repeat_y = False
-            self.framebuffer = self.ctx.framebuffer(depth_attachment=self.atlas)
-        return columns
-
-    def _views(self, light, bounds):
-        """[(view_projection, texel_world_per_w)] of one light."""
-        lo, hi = bounds
-        corners = np.array([[x, y, z] for x in (lo[0], hi[0]) for y in (lo[1], hi[1]) for z in (lo[2], hi[2])])
-        margin = 2.0 / self.tile_size  # a border of texels so 2x2 filtering never leaves its tile
-        if light.type == "directional":
-            center = (lo + hi) / 2.0
-            radius = max(np.linalg.norm(hi - lo) / 2.0, 1e-3)
-            up = (0, 1, 0) if abs(light.direction[1]) < 0.99 else (1, 0, 0)
-            view = transforms.look_at(center - light.direction * 2.0 * radius, center, up)
-            proj = transforms.orthographic(radius, radius, radius * 0.5, radius * 3.5)
-            return [(proj @ view, 2.0 * radius / self.tile_size)]
-        far = max(np.max(np.linalg.norm(corners - light.position, axis=1)) * 1.01, NEAR_PLANE * 4)
-        if light.type == "spot":
-            half = math.radians(min(light.outer_angle_deg, 89.0))
-            tan_half = math.tan(half) * (1.0 + margin)
-            up = (0, 1, 0) if abs(light.direction[1]) < 0.99 else (1, 0, 0)
-            view = transforms.look_at(light.position, light.position + light.direction, up)
-            proj = transforms.perspective(math.degrees(2 * math.atan(tan_half)), 1.0, NEAR_PLANE, far)
-            return [(proj @ view, 2.0 * tan_half / self.tile_size)]
-        tan_half = 1.0 + margin
-        proj = transforms.perspective(math.degrees(2 * math.atan(tan_half)), 1.0, NEAR_PLANE, far)
-        return [(proj @ transforms.look_at(light.position, light.position + np.array(d), up), 2.0 * tan_half / self.tile_size)
-                for d, up in CUBE_FACES]
-
-    def update(self, scene):
-        """Pack the lights, build their views and render the atlas."""
-        lights = [light for _, light in scene.lights()]
-        if len(lights) > MAX_LIGHTS:
-            raise VctError(f"{len(lights)} lights, at most {MAX_LIGHTS} are supported", source=scene.source, field="lights")
-        bounds = scene.bounds()
-        views, light_rows = [], []
-        for light in lights:
-            first = -1
-            if light.cast_shadows:
-                first = len(views)
-                views += self._views(light, bounds)
-            range_ = light.range if light.type != "directional" else 0.0
-            light_rows.append(np.concatenate([
-                light.position, [LIGHT_TYPE[light.type]],
-                light.direction, [range_],
-                light.intensity, [first],
-                [math.cos(math.radians(light.inner_angle_deg)), math.cos(math.radians(light.outer_angle_deg)), 0.0, 0.0],
-            ]))
-        self.light_count = len(lights)
-        if light_rows:
-            self.light_buffer.write(np.array(light_rows, "f4").tobytes())
-        columns = self._ensure_atlas(len(views))
-        rows = []
-        self.framebuffer.use()
+        if self.atlas is not None and self.atlas.size == size:
+            return False
+        self._release_atlas()
+        self.columns = columns
+        self.atlas = self.ctx.depth_texture(size)
+        self.atlas.compare_func = "<="
+        self.atlas.filter = (self.ctx.LINEAR, self.ctx.LINEAR)
+        self.atlas.repeat_x = self.atlas.repeat_y = False
+        self.framebuffer = self.ctx.framebuffer(depth_attachment=self.atlas)
         self.framebuffer.clear(depth=1.0)
-        self.ctx.enable_only(self.ctx.DEPTH_TEST)
-        atlas_w, atlas_h = self.atlas.size
-        for index, (view_projection, texel_world) in enumerate(views):
-            x, y = (index % columns) * self.tile_size, (index // columns) * self.tile_size
-            self.ctx.viewport = (x, y, self.tile_size, self.tile_size)
-            self.program.set(view_projection=transforms.gl_bytes(view_projection))
-            self.geometry.draw(self.program, scene)
-            rows.append(np.concatenate([
-                np.asarray(view_projection, "f4").T.ravel(),
-                [x / atlas_w, y / atlas_h, self.tile_size / atlas_w, self.tile_size / atlas_h],
-                [texel_world, 1.0 / self.tile_size, 0.0, 0.0],
-            ]))
-        if rows:
-            self.view_buffer.write(np.array(rows, "f4").tobytes())
+        return True
 
-    def bind(self, *handles):
-        """Bind atlas and buffers, set light uniforms on the programs that read them."""
+    def tile_origin(self, index):
+        return (index % self.columns) * self.tile_size, (index // self.columns) * self.tile_size
+
+    def bind(self, handle):
+        """Bind the atlas and buffers, and set the light uniforms of a program that reads them."""
         self.atlas.use(TEXTURE_UNIT["SHADOW_ATLAS"])
         self.light_buffer.bind_to_storage_buffer(STORAGE_BINDING["LIGHTS"])
-        self.view_buffer.bind_to_storage_buffer(STORAGE_BINDING["SHADOW_MATRICES"])
-        for handle in handles:
-            handle.set(light_count=self.light_count, shadow_normal_offset=self.normal_offset_texels)
+        self.view_buffer.bind_to_storage_buffer(STORAGE_BINDING["SHADOW_VIEWS"])
+        handle.set(light_count=self.light_count, shadow_normal_offset=NORMAL_OFFSET_TEXELS)
 
     def _release_atlas(self):
         for resource in (self.framebuffer, self.atlas):
@@ -127,4 +69,87 @@ class ShadowPass:
         self._release_atlas()
         self.light_buffer.release()
         self.view_buffer.release()
+
+
+class ShadowPass:
+    def __init__(self, ctx, programs, geometry, tile_size):
+        self.ctx = ctx
+        self.geometry = geometry
+        self.program = programs.program(vertex_shader="shadow.vert", fragment_shader="shadow.frag")
+        self.maps = ShadowMaps(ctx, tile_size)
+
+    def _views(self, light, bounds):
+        """[(view_projection, texel_world_per_w)] of one light."""
+        lo, hi = bounds
+        corners = np.array([[x, y, z] for x in (lo[0], hi[0]) for y in (lo[1], hi[1]) for z in (lo[2], hi[2])])
+        margin = 2.0 / self.maps.tile_size  # a border of texels so 2x2 filtering never leaves its tile
+        if light.type == "directional":
+            center = (lo + hi) / 2.0
+            radius = max(np.linalg.norm(hi - lo) / 2.0, 1e-3)
+            up = (0, 1, 0) if abs(light.direction[1]) < 0.99 else (1, 0, 0)
+            view = transforms.look_at(center - light.direction * 2.0 * radius, center, up)
+            proj = transforms.orthographic(radius, radius, radius * 0.5, radius * 3.5)
+            return [(proj @ view, 2.0 * radius / self.maps.tile_size)]
+        far = max(np.max(np.linalg.norm(corners - light.position, axis=1)) * 1.01, NEAR_PLANE * 4)
+        if light.type == "spot":
+            half = math.radians(min(light.outer_angle_deg, 89.0))
+            tan_half = math.tan(half) * (1.0 + margin)
+            up = (0, 1, 0) if abs(light.direction[1]) < 0.99 else (1, 0, 0)
+            view = transforms.look_at(light.position, light.position + light.direction, up)
+            proj = transforms.perspective(math.degrees(2 * math.atan(tan_half)), 1.0, NEAR_PLANE, far)
+            return [(proj @ view, 2.0 * tan_half / self.maps.tile_size)]
+        tan_half = 1.0 + margin
+        proj = transforms.perspective(math.degrees(2 * math.atan(tan_half)), 1.0, NEAR_PLANE, far)
+        return [(proj @ transforms.look_at(light.position, light.position + np.array(d), up), 2.0 * tan_half / self.maps.tile_size)
+                for d, up in CUBE_FACES]
+
+    def render(self, lights, draws, bounds, redraw=None, source=None):
+        """Pack the lights and their views; draw the tiles of the lights whose indices are in
+        `redraw` (every light when None, or when the atlas had to be remade). Returns the maps."""
+        if len(lights) > MAX_LIGHTS:
+            raise VctError(f"{len(lights)} lights, at most {MAX_LIGHTS} are supported", source=source, field="lights")
+        maps = self.maps
+        views, light_rows, owners = [], [], []
+        for index, light in enumerate(lights):
+            first = -1
+            if light.cast_shadows:
+                first = len(views)
+                light_views = self._views(light, bounds)
+                views += light_views
+                owners += [index] * len(light_views)
+            range_ = light.range if light.type != "directional" else 0.0
+            light_rows.append(np.concatenate([
+                light.position, [LIGHT_TYPE[light.type]],
+                light.direction, [range_],
+                light.intensity, [first],
+                [math.cos(math.radians(light.inner_angle_deg)), math.cos(math.radians(light.outer_angle_deg)), 0.0, 0.0],
+            ]))
+        maps.light_count = len(lights)
+        if light_rows:
+            maps.light_buffer.write(np.array(light_rows, "f4").tobytes())
+        if maps.ensure_atlas(len(views)):
+            redraw = None
+        rows = []
+        maps.framebuffer.use()
+        self.ctx.enable_only(self.ctx.DEPTH_TEST)
+        atlas_w, atlas_h = maps.atlas.size
+        tile = maps.tile_size
+        for index, ((view_projection, texel_world), owner) in enumerate(zip(views, owners)):
+            x, y = maps.tile_origin(index)
+            if redraw is None or owner in redraw:
+                self.ctx.viewport = (x, y, tile, tile)
+                maps.framebuffer.clear(depth=1.0, viewport=(x, y, tile, tile))
+                self.program.set(view_projection=transforms.gl_bytes(view_projection))
+                self.geometry.draw(self.program, draws)
+            rows.append(np.concatenate([
+                np.asarray(view_projection, "f4").T.ravel(),
+                [x / atlas_w, y / atlas_h, tile / atlas_w, tile / atlas_h],
+                [texel_world, 1.0 / tile, 0.0, 0.0],
+            ]))
+        if rows:
+            maps.view_buffer.write(np.array(rows, "f4").tobytes())
+        return maps
+
+    def release(self):
+        self.maps.release()
         self.program.release()

@@ -17,6 +17,7 @@ class TonemapPass:
         hdr_texture.use(TEXTURE_UNIT["HDR_INPUT"])
         self.program.set(exposure=float(exposure), tonemap=TONEMAPPERS[tonemap], encode_srgb=bool(encode_srgb))
         self.target.draw(self.program)
+        return self.target
 
     def release(self):
         self.target.release()

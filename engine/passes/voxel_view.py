@@ -1,4 +1,5 @@
-"""Voxel views: the grid ray-marched from the camera at one mip level, as blocks."""
+"""Voxel views: the grid ray-marched from the camera at one mip level, as blocks: the base
+radiance (emission + injected direct light), the mean normals or the albedo."""
 import numpy as np
 
 from .. import transforms
@@ -6,6 +7,11 @@ from ..constants import TEXTURE_UNIT
 from .target import ScreenTarget
 
 SHOW = {"voxels": 0, "voxel-normals": 1, "voxel-albedo": 2}
+
+
+def shown_volume(grid, view):
+    """The volume a voxel view (or `Renderer.voxels`) shows."""
+    return {"voxels": grid.base, "voxel-normals": grid.normal, "voxel-albedo": grid.albedo}[view]
 
 
 class VoxelViewPass:
@@ -16,12 +22,15 @@ class VoxelViewPass:
     def resize(self, size):
         self.target.resize(size)
 
-    def render(self, mode, volume, mip, voxel_uniforms, view_projection, camera_position):
+    def render(self, grid, view, mip, camera):
+        volume = shown_volume(grid, view)
+        volume.build_mipmaps()  # an inspection view: the hardware mip chain of this volume
         volume.use(TEXTURE_UNIT["VOXEL_INSPECT"])
-        self.program.set(**voxel_uniforms, show=SHOW[mode], mip=float(mip),
-                         inverse_view_projection=transforms.gl_bytes(np.linalg.inv(view_projection)),
-                         camera_position=tuple(camera_position), viewport_size=tuple(float(x) for x in self.target.size))
+        self.program.set(**grid.uniforms(), show=SHOW[view], mip=float(mip),
+                         inverse_view_projection=transforms.gl_bytes(np.linalg.inv(camera.view_projection)),
+                         camera_position=tuple(camera.position), viewport_size=tuple(float(x) for x in self.target.size))
         self.target.draw(self.program)
+        return self.target
 
     def release(self):
         self.target.release()

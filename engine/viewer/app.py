@@ -52,7 +52,7 @@ class Viewer:
             self.ctx = moderngl.create_context(require=450)
             self.renderer = Renderer(*self.window.framebuffer_size, settings=self.settings, ctx=self.ctx,
                                      glsl_root=glsl_root)
-            self.renderer.feedback = True  # bounces=0 converges over frames
+            self.renderer.progressive = True  # bounces=0 converges over frames
             self.renderer.measure = True   # per-pass ms for the overlay
             self.presenter = Presenter(self.ctx)
             self.gui = Gui(self.window)

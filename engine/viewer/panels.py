@@ -5,8 +5,8 @@ returns a new RenderSettings that the viewer validates before using it.
 """
 from imgui_bundle import imgui
 
-from ..constants import GRID_SIZES
-from ..settings import MODES, TONEMAPS, VOXEL_VIEWS
+from ..constants import GRID_SIZES, MAX_INTERLEAVE
+from ..settings import MODES, TONEMAPS
 from . import inspector
 
 MARGIN = 8
@@ -34,18 +34,19 @@ def _half_height(window_size):
 # ---- overlay --------------------------------------------------------------------------------
 
 def draw_overlay(frames, process, renderer, vsync, panels_shown=True):
-    """FPS, ms per frame, CPU %, RAM, draw calls and per-pass ms, in the top-left corner."""
+    """FPS, ms per frame, CPU %, RAM, draw calls, voxel memory, and the ms of each pass the
+    last frame ran (a frame runs only the passes whose inputs changed), in the top-left corner."""
     _place(MARGIN, MARGIN, cond=imgui.Cond_.always)
     imgui.set_next_window_bg_alpha(0.6)
     flags = (imgui.WindowFlags_.no_decoration | imgui.WindowFlags_.always_auto_resize
              | imgui.WindowFlags_.no_saved_settings | imgui.WindowFlags_.no_focus_on_appearing
              | imgui.WindowFlags_.no_nav | imgui.WindowFlags_.no_inputs)
     if imgui.begin("Overlay", None, flags)[0]:
-        s = renderer.settings
+        s = renderer.frame_settings
         cpu = "--" if process.cpu_percent is None else f"{process.cpu_percent:.0f}"
         imgui.text(f"FPS {frames.fps:6.1f}  SPF {frames.ms_per_frame:7.1f} ms")
         imgui.text(f"CPU {cpu:>5} %  RAM {process.ram_mb:7.0f} MB")
-        imgui.text(f"Draw calls {renderer.geometry.draw_calls}")
+        imgui.text(f"Draw calls {renderer.geometry.draw_calls}  voxels {renderer.grid.memory_bytes() / 2 ** 20:.0f} MB")
         imgui.text_colored(DIM, f"{renderer.size[0]}x{renderer.size[1]} {s.mode} grid {s.grid}"
                                 f"{' vsync' if vsync else ''}")
         if renderer.timings:
@@ -53,6 +54,9 @@ def draw_overlay(frames, process, renderer, vsync, panels_shown=True):
             for name, ms in renderer.timings.items():
                 imgui.text(f"{name:<12}{ms:8.1f} ms")
             imgui.text_colored(DIM, f"{'all passes':<12}{sum(renderer.timings.values()):8.1f} ms")
+        if s.shown.uses_voxels and s.bounces == 0:
+            state = "settled" if renderer.bounces.settled else "converging"
+            imgui.text_colored(DIM, f"bounces {state} ({renderer.bounce_iterations} so far)")
         if not panels_shown:
             imgui.text_colored(DIM, "F1: panels")
     imgui.end()
@@ -184,7 +188,7 @@ def draw_renderer_panel(settings, window_size, message=None):
     if imgui.begin("Renderer", None, imgui.WindowFlags_.always_auto_resize)[0]:
         imgui.push_item_width(PANEL_WIDTH - 112)
         _combo("Mode", settings.mode, MODES, changes, "mode")
-        if settings.mode in VOXEL_VIEWS:
+        if settings.shown.stage == "voxel_view":
             changed, mip = imgui.slider_int("Mip level", settings.voxel_mip, 0, settings.grid.bit_length() - 1)
             if changed:
                 changes["voxel_mip"] = mip
@@ -196,7 +200,7 @@ def draw_renderer_panel(settings, window_size, message=None):
         if changed:
             changes["bounces"] = bounces
         if settings.bounces == 0:
-            changed, interleave = imgui.slider_int("Re-gather 1 in", settings.bounce_interleave, 1, 8)
+            changed, interleave = imgui.slider_int("Re-gather 1 in", settings.bounce_interleave, 1, MAX_INTERLEAVE)
             if changed:
                 changes["bounce_interleave"] = interleave
         _slider("Cone step", settings.cone_step, 0.05, 2.0, changes, "cone_step")

@@ -1,7 +1,8 @@
-// Cone marching through the mipmapped voxel radiance (premultiplied rgb, opacity in a).
+// Cone marching through the mipmapped face views of the voxel radiance (premultiplied rgb,
+// coverage in a).
 #include "lib/voxel.glsl"
 
-layout(binding = TEX_VOXEL_DIRECTIONAL) uniform sampler3D voxel_directional[VOXEL_FACES];
+layout(binding = TEX_VOXEL_FACES) uniform sampler3D voxel_faces[VOXEL_FACES];
 uniform float cone_step;      // step length as a fraction of the cone diameter
 uniform float cone_offset;    // start offset along the surface normal, in voxels
 uniform float voxel_max_mip;  // log2(N): the 1^3 level
@@ -22,19 +23,28 @@ float ray_share(float c, float spread) {
     return (c + spread) * (c + spread) / (4.0 * spread);
 }
 
-// The faces of a cell that a cone along w (ray spread s) sees: premultiplied radiance (rgb) and
-// coverage (a) at a mip level. The face met by rays travelling along +axis k is weighted by
-// their share over max_j |w_j|, so a plane crossed at angle theta from its normal covers
-// min(1, cot theta) of a cell, as it does geometrically.
-vec4 sample_faces(vec3 uvw, float mip, vec3 w, float spread) {
+// The faces of a cell that a cone along w (ray spread s) sees: the face met by rays travelling
+// along +axis k (the one looking along -k) is weighted by their share over max_j |w_j|, so a
+// plane crossed at angle theta from its normal covers min(1, cot theta) of a cell, as it does
+// geometrically. The weights are constant along a cone.
+struct FaceWeights { float weight[VOXEL_FACES]; };
+
+FaceWeights face_weights(vec3 w, float spread) {
     float scale = 1.0 / max(max(abs(w.x), abs(w.y)), abs(w.z));
-    vec4 sum = vec4(0.0);
+    FaceWeights f;
     for (int axis = 0; axis < 3; ++axis) {
-        float towards_plus = ray_share(w[axis], spread) * scale;   // meets faces looking along -axis
-        float towards_minus = ray_share(-w[axis], spread) * scale; // meets faces looking along +axis
-        if (towards_plus > 0.0) sum += towards_plus * textureLod(voxel_directional[2 * axis + 1], uvw, mip);
-        if (towards_minus > 0.0) sum += towards_minus * textureLod(voxel_directional[2 * axis], uvw, mip);
+        f.weight[2 * axis + 1] = ray_share(w[axis], spread) * scale;  // rays along +axis meet faces looking along -axis
+        f.weight[2 * axis] = ray_share(-w[axis], spread) * scale;
     }
+    return f;
+}
+
+// Premultiplied radiance (rgb) and coverage (a) of the cell around uvw at a mip level, as seen
+// by a cone with the given face weights.
+vec4 sample_faces(vec3 uvw, float mip, FaceWeights f) {
+    vec4 sum = vec4(0.0);
+    for (int face = 0; face < VOXEL_FACES; ++face)
+        if (f.weight[face] > 0.0) sum += f.weight[face] * textureLod(voxel_faces[face], uvw, mip);
     return sum;
 }
 
@@ -42,7 +52,8 @@ vec4 sample_faces(vec3 uvw, float mip, vec3 w, float spread) {
 // starting one voxel out along the normal and along the cone, one sample per step:
 //   d = max(voxel, 2 tan(a/2) t)                 the cone's diameter at distance t
 //   mip = log2(d / voxel) - 1                    a trilinear lookup averages over a tent two
-//                                                cells wide, so cells of d/2 span d
+//                                                cells wide, so cells of d/2 span d; the
+//                                                nearest level is read
 //   c = min(1, a 2^mip)                          a mip cell 2^mip voxels wide with mean coverage
 //                                                a holds a 2^mip voxel layers of surface across
 //                                                the cone: a plane stays opaque at every level
@@ -53,6 +64,7 @@ vec4 trace_cone(vec3 p, vec3 n, vec3 direction, float tan_half_angle, float max_
     vec3 start = p + n * (cone_offset * voxel_size);
     vec4 gathered = vec4(0.0);
     float spread = tan_half_angle / sqrt(1.0 + tan_half_angle * tan_half_angle);  // sin(half-angle)
+    FaceWeights weights = face_weights(direction, spread);
     float t = voxel_size;  // start one voxel out along the cone
     while (gathered.a < 1.0 && t < max_distance) {
         float diameter = max(voxel_size, 2.0 * tan_half_angle * t);
@@ -61,11 +73,11 @@ vec4 trace_cone(vec3 p, vec3 n, vec3 direction, float tan_half_angle, float max_
         // Stop once the cone's footprint has left [0,1]^3 (outside reads as empty).
         float footprint = 0.5 * diameter / voxel_region_size;
         if (any(lessThan(uvw, vec3(-footprint))) || any(greaterThan(uvw, vec3(1.0 + footprint)))) break;
-        vec4 s = sample_faces(uvw, mip, direction, spread);
+        vec4 s = sample_faces(uvw, round(mip), weights);
         float step_length = cone_step * diameter;
         if (s.a > 0.0) {
             // Covered fraction of the cross-section added by this step, front to back.
-            float coverage = min(1.0, s.a * exp2(mip)) * step_length / diameter;
+            float coverage = min(1.0, s.a * exp2(round(mip))) * step_length / diameter;
             float alpha = min(coverage, 1.0 - gathered.a);
             gathered.rgb += alpha * (s.rgb / s.a);
             gathered.a += alpha;

@@ -15,7 +15,7 @@ struct ShadowView {
 };
 
 layout(std430, binding = SSBO_LIGHTS) readonly buffer LightBuffer { Light lights[]; };
-layout(std430, binding = SSBO_SHADOW_MATRICES) readonly buffer ShadowBuffer { ShadowView shadow_views[]; };
+layout(std430, binding = SSBO_SHADOW_VIEWS) readonly buffer ShadowBuffer { ShadowView shadow_views[]; };
 layout(binding = TEX_SHADOW_ATLAS) uniform sampler2DShadow shadow_atlas;
 uniform int light_count;
 uniform float shadow_normal_offset; // in shadow-map texels
@@ -36,7 +36,7 @@ float shadow_visibility(Light light, vec3 p, vec3 n, vec3 to_light) {
     ShadowView view = shadow_views[view_index];
     // Normal offset: move the lookup off the surface by a few texels (no acne, no peter-panning).
     float texel_world = view.texel.x * (view.view_projection * vec4(p, 1.0)).w;
-    vec3 offset_normal = dot(n, to_light) >= 0.0 ? n : -n;
+    vec3 offset_normal = dot(n, to_light) >= 0.0 ? normalize(n) : -normalize(n);
     vec4 clip = view.view_projection * vec4(p + offset_normal * shadow_normal_offset * texel_world, 1.0);
     vec3 ndc = clip.xyz / clip.w;
     vec2 tile_uv = clamp(ndc.xy * 0.5 + 0.5, vec2(view.texel.y), vec2(1.0 - view.texel.y));
@@ -47,6 +47,7 @@ float shadow_visibility(Light light, vec3 p, vec3 n, vec3 to_light) {
 
 // Irradiance at p from light i on a surface with normal n: E = I cos(theta) / d^2 (point, spot),
 // E = E_perp cos(theta) (directional), times shadow and spot/range windows. l: unit direction to the light.
+// n may be a voxel's mean normal: dot(n, l) is then the mean of its fragments' cosines.
 vec3 light_irradiance(int i, vec3 p, vec3 n, out vec3 l) {
     Light light = lights[i];
     int type = int(light.position_type.w);

@@ -15,6 +15,11 @@ vec3 voxel_center(ivec3 v) {
     return voxel_region_min + (vec3(v) + 0.5) * voxel_size;
 }
 
+// Index of voxel v in the channel-major per-voxel buffers.
+uint voxel_index(ivec3 v) {
+    return uint(v.x) + uint(voxel_grid) * (uint(v.y) + uint(voxel_grid) * uint(v.z));
+}
+
 // Cones read VOXEL_FACES one-sided views of the radiance, one per face direction (+x, -x, +y,
 // -y, +z, -z): view f holds the surfaces that face along f, i.e. those a cone travelling
 // against f can see. Surfaces are one-sided (they face into the room, or out of a solid).
@@ -32,7 +37,7 @@ float face_coverage(vec3 mean_normal, int face) {
     return coherence * projected + (1.0 - coherence);
 }
 
-// Voxel coordinates packed into one uint for the list of covered voxels (N <= 1024).
+// Voxel coordinates packed into one uint for the voxel lists (N <= 1024).
 uint pack_voxel(ivec3 v) {
     return uint(v.x) | (uint(v.y) << 10) | (uint(v.z) << 20);
 }

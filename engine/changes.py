@@ -1,0 +1,136 @@
+"""What a frame is made from, read off the scene itself, and what changed since a stage of the
+frame last ran. GL-free: the renderer decides from this which passes a frame needs.
+
+Meshes are immutable (their arrays are read-only), so a mesh is the same when it is the same
+object; transforms, materials and lights are compared by value.
+"""
+from dataclasses import dataclass
+
+import numpy as np
+
+
+def material_values(material):
+    """Everything about a material the passes read, as a comparable tuple."""
+    return (tuple(float(x) for x in material.albedo), float(material.roughness), float(material.metalness),
+            float(material.specular), tuple(float(x) for x in material.emission))
+
+
+def light_values(light):
+    """A world-space light as a comparable tuple."""
+    return (light.type, tuple(light.position.tolist()), tuple(light.direction.tolist()),
+            tuple(float(x) for x in light.intensity), float(light.range), float(light.inner_angle_deg),
+            float(light.outer_angle_deg), bool(light.cast_shadows))
+
+
+@dataclass(frozen=True, eq=False)
+class Draw:
+    """One mesh instance of a frame: its node, mesh, world matrix, material and world bounds."""
+
+    key: tuple          # (id(node), occurrence): the same instance from frame to frame
+    node: object
+    mesh: object
+    world: np.ndarray
+    material: object
+    material_values: tuple
+    bounds: tuple       # (lo, hi) in world space
+
+    def same_geometry(self, other):
+        return self.mesh is other.mesh and np.array_equal(self.world, other.world)
+
+    def __eq__(self, other):
+        return (isinstance(other, Draw) and self.key == other.key and self.same_geometry(other)
+                and self.material_values == other.material_values)
+
+    __hash__ = None
+
+
+class FrameInputs:
+    """A snapshot of the scene for one frame: draws, world-space lights, bounds, voxel region."""
+
+    def __init__(self, scene, bounds_cache):
+        self.draws = []
+        seen = {}
+        for node, world in scene.drawables():
+            occurrence = seen[id(node)] = seen.get(id(node), -1) + 1
+            world = np.array(world, dtype=np.float64)
+            world.flags.writeable = False
+            self.draws.append(Draw((id(node), occurrence), node, node.mesh, world, node.material,
+                                   material_values(node.material), bounds_cache.bounds(node.mesh, world)))
+        bounds_cache.keep_only(self.draws)
+        self.lights = [light for _, light in scene.lights()]
+        self.light_values = tuple(light_values(light) for light in self.lights)
+        if self.draws:
+            self.bounds = (np.min([d.bounds[0] for d in self.draws], axis=0), np.max([d.bounds[1] for d in self.draws], axis=0))
+        else:
+            self.bounds = (np.zeros(3), np.zeros(3))
+        self.region = scene.region(self.bounds)
+
+    def geometry(self):
+        """What shadow maps depend on besides the lights: every draw's mesh and transform."""
+        return tuple((d.key, id(d.mesh), d.world.tobytes()) for d in self.draws)
+
+
+class BoundsCache:
+    """World bounds per (mesh, transform), computed once: transforming every vertex each frame
+    would cost more than a whole frame on large meshes."""
+
+    def __init__(self):
+        self._bounds = {}
+
+    def bounds(self, mesh, world):
+        key = (id(mesh), world.tobytes())
+        entry = self._bounds.get(key)
+        if entry is None or entry[0] is not mesh:
+            entry = (mesh, *mesh.bounds(world))
+            self._bounds[key] = entry
+        return entry[1], entry[2]
+
+    def keep_only(self, draws):
+        live = {(id(d.mesh), d.world.tobytes()) for d in draws}
+        for key in [k for k in self._bounds if k not in live]:
+            del self._bounds[key]
+
+
+@dataclass
+class VoxelUpdate:
+    """The draws to take out of the grid (as they were) and to put in (as they are). `full`:
+    rebuild every voxel from `added` (all current draws)."""
+
+    full: bool
+    removed: list
+    added: list
+
+    def touched_bounds(self, margin):
+        """World box holding every voxel the removed and added draws cover, grown by `margin`."""
+        boxes = [d.bounds for d in self.removed + self.added]
+        return np.min([b[0] for b in boxes], axis=0) - margin, np.max([b[1] for b in boxes], axis=0) + margin
+
+
+def voxel_update(previous, current):
+    """The update from the draws a grid holds (`previous`, None for an empty grid) to `current`."""
+    if previous is None:
+        return VoxelUpdate(True, [], list(current))
+    before = {d.key: d for d in previous}
+    after = {d.key: d for d in current}
+    removed = [d for key, d in before.items() if after.get(key) != d]
+    added = [d for key, d in after.items() if before.get(key) != d]
+    return VoxelUpdate(False, removed, added)
+
+
+class Stage:
+    """What a stage of the frame last ran on: it runs again when its inputs differ (or always,
+    when change tracking is off). `version` counts its runs, an input of the stages after it."""
+
+    def __init__(self):
+        self.inputs = None
+        self.version = 0
+
+    def stale(self, inputs, tracking=True):
+        return not tracking or self.inputs is None or self.inputs != inputs
+
+    def ran(self, inputs):
+        self.inputs = inputs
+        self.version += 1
+
+    def forget(self):
+        self.inputs = None

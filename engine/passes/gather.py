@@ -1,0 +1,57 @@
+"""The diffuse gather of the voxels: each voxel of a list traces the lecture's 6 cones from its
+surface point through the face views, G = sum_j w_j L(p, w_j). A bounce is a gather followed
+by composing the face views again (passes/faces.py); the image interpolates the gathers per
+pixel (passes/cone_trace.py). Also sorts the covered voxels into interleave classes for the
+progressive bounce, and closes the bounce series by extrapolation."""
+import numpy as np
+
+from ..constants import IMAGE_UNIT, MAX_INTERLEAVE, STORAGE_BINDING, TEXTURE_UNIT
+from ..voxel_grid import bind_image
+
+
+class GatherPass:
+    def __init__(self, ctx, programs):
+        self.ctx = ctx
+        self.program = programs.compute("voxel_gather.comp")
+        self.classes = programs.compute("voxel_classes.comp")
+        self.extrapolate_program = programs.compute("voxel_extrapolate.comp")
+
+    def sort_classes(self, grid, interleave):
+        """Sort the covered voxels into `interleave` classes (unless already sorted so):
+        class c of the list is grid.class_segments[c] = (first, count)."""
+        if grid.classes_for == (grid.version, interleave):
+            return
+        grid.covered.bind("COVERED")
+        grid.class_counts.write(bytes(8 * MAX_INTERLEAVE))
+        grid.class_counts.bind_to_storage_buffer(STORAGE_BINDING["CLASS_COUNTS"])
+        grid.class_list.bind_to_storage_buffer(STORAGE_BINDING["CLASS_LIST"])
+        self.classes.set(**grid.uniforms(), interleave=interleave, scatter=False)
+        grid.dispatch(self.classes, grid.covered.count)
+        counts = np.frombuffer(grid.class_counts.read(4 * interleave), dtype="u4").astype(int)
+        firsts = np.concatenate([[0], np.cumsum(counts)[:-1]])
+        self.classes.set(scatter=True, class_first=tuple(int(f) for f in firsts) + (0,) * (MAX_INTERLEAVE - interleave))
+        grid.dispatch(self.classes, grid.covered.count)
+        grid.class_segments = list(zip(firsts.tolist(), counts.tolist()))
+        grid.classes_for = (grid.version, interleave)
+
+    def run(self, grid, cone_uniforms, out, segment):
+        """Gather the voxels of class-list `segment` (first, count) into volume `out`."""
+        grid.use_surface()
+        grid.use_faces()
+        grid.class_list.bind_to_storage_buffer(STORAGE_BINDING["CLASS_LIST"])
+        bind_image(out, IMAGE_UNIT["GATHERED_OUT"])
+        first, count = segment
+        self.program.set(**grid.uniforms(), **cone_uniforms, first=first, count=count)
+        grid.dispatch(self.program, count)
+
+    def extrapolate(self, grid, latest, older, gain):
+        """older <- latest + (latest - older) * gain, per covered voxel."""
+        latest.use(TEXTURE_UNIT["VOXEL_GATHERED"])
+        bind_image(older, IMAGE_UNIT["GATHERED_OUT"], read=True)
+        grid.covered.bind("COVERED")
+        self.extrapolate_program.set(**grid.uniforms(), gain=tuple(float(g) for g in gain))
+        grid.dispatch(self.extrapolate_program, grid.covered.count)
+
+    def release(self):
+        for handle in (self.program, self.classes, self.extrapolate_program):
+            handle.release()

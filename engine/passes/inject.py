@@ -1,0 +1,21 @@
+"""Light injection: the base radiance of every covered voxel, emission plus the direct light
+its surface receives from every light (with the shadow maps), evaluated per voxel at its
+surface point. Runs when lights, shadows or the voxels change."""
+from ..constants import IMAGE_UNIT
+from ..voxel_grid import bind_image
+
+
+class InjectPass:
+    def __init__(self, ctx, programs):
+        self.program = programs.compute("voxel_inject.comp")
+
+    def run(self, grid, shadow_maps):
+        grid.use_surface()
+        grid.covered.bind("COVERED")
+        shadow_maps.bind(self.program)
+        bind_image(grid.base, IMAGE_UNIT["BASE_OUT"])
+        self.program.set(**grid.uniforms())
+        grid.dispatch(self.program, grid.covered.count)
+
+    def release(self):
+        self.program.release()

@@ -1,0 +1,209 @@
+"""The voxel grid: every GPU resource of the N^3 grid in one object, owned by the renderer and
+passed to the passes that read and write it.
+
+- the voxelizer's fixed-point sums, one storage buffer per channel (lib/voxel_sums.glsl);
+- the resolved surface of each voxel: albedo, mean normal, emission and surface offset;
+- the radiance: `base` (emission + injected direct light), the diffuse `gathered` by each
+  voxel (two volumes, the latest and the one before, for closing the bounce series), and the
+  six one-sided `faces` views cones read, with their mip chain;
+- lists of voxels: `covered` (surface voxels), `touched` (by the last voxelization), the covered
+  cells of every mip level, and the covered voxels sorted by interleave class.
+
+Every volume starts zero and every empty voxel stays zero: passes touch only listed voxels.
+"""
+import math
+
+import numpy as np
+
+from .constants import (GL_IMAGE_FORMAT, GRID_SIZES, IMAGE_UNIT, LIST_GROUP, MAX_INTERLEAVE, STORAGE_BINDING, TEXTURE_UNIT,
+                        VOXEL_FACES, VOXEL_FORMAT, VOXEL_MEMORY_BUDGET, VOXEL_SUM_CHANNELS)
+from .errors import VctError
+
+MAX_LEVELS = 16  # header of the cell-list buffer: one count per level
+TEXEL_BYTES = 8  # RGBA16F
+MIP_CHAIN = 8 / 7  # a full mip chain adds a seventh
+
+
+def voxel_memory_bytes(n):
+    """GPU bytes a grid of n^3 needs: sums, volumes (surface, radiance, faces with mips) and lists."""
+    voxels = n ** 3
+    sums = 4 * len(VOXEL_SUM_CHANNELS)
+    surface = TEXEL_BYTES * (2 * MIP_CHAIN + 1)              # albedo, normal (viewable), emission
+    radiance = TEXEL_BYTES * (MIP_CHAIN + 2)                 # base (viewable), two gathers
+    faces = TEXEL_BYTES * VOXEL_FACES * MIP_CHAIN
+    lists = 4 * 4 + 2 * 4 / 7                                # touched, covered x2, classes; cells, stamps
+    return int(voxels * (sums + surface + radiance + faces + lists))
+
+
+def check_grid(ctx, n, source=None):
+    """Refuse a grid size before anything is allocated."""
+    if n not in GRID_SIZES:
+        raise VctError(f"grid must be a power of two from {GRID_SIZES[0]} to {GRID_SIZES[-1]}, got {n}", source=source, field="grid")
+    max_size = ctx.info.get("GL_MAX_3D_TEXTURE_SIZE", 2048)
+    if n > max_size:
+        raise VctError(f"grid {n} exceeds GL_MAX_3D_TEXTURE_SIZE {max_size}", source=source, field="grid")
+    need = voxel_memory_bytes(n)
+    if need > VOXEL_MEMORY_BUDGET:
+        raise VctError(f"grid {n} needs {need / 2**30:.1f} GiB of voxel memory, over the budget of "
+                       f"{VOXEL_MEMORY_BUDGET / 2**30:.1f} GiB", source=source, field="grid")
+
+
+class VoxelList:
+    """Packed voxel coordinates on the GPU (a count, then the entries); `count` is the host's
+    copy, read back after the pass that appended."""
+
+    def __init__(self, ctx, capacity):
+        self.buffer = ctx.buffer(reserve=4 + 4 * capacity)
+        self.count = 0
+
+    def clear(self):
+        self.buffer.write(bytes(4))
+        self.count = 0
+
+    def read_count(self):
+        self.count = int(np.frombuffer(self.buffer.read(4), dtype="u4")[0])
+        return self.count
+
+    def bind(self, binding):
+        self.buffer.bind_to_storage_buffer(STORAGE_BINDING[binding])
+
+    def release(self):
+        self.buffer.release()
+
+
+class VoxelGrid:
+    def __init__(self, ctx):
+        self.ctx = ctx
+        self.n = 0
+        self.region = None
+        self._resources = []
+        self.version = 0  # bumped whenever the covered voxels change (lists rebuilt)
+
+    # -- allocation ----------------------------------------------------------------------
+
+    def ensure(self, n, region, source=None):
+        """Hold an empty n^3 grid over `region` unless it already does; True when (re)made."""
+        if n == self.n and self.region is not None and _same_region(region, self.region):
+            return False
+        check_grid(self.ctx, n, source)
+        self.release()
+        self._allocate(n)
+        self.region = region
+        return True
+
+    def _allocate(self, n):
+        ctx = self.ctx
+        self.n = n
+        voxels = n ** 3
+        self.sums = [self._keep(ctx.buffer(data=bytes(4 * voxels))) for _ in VOXEL_SUM_CHANNELS]
+        self.albedo, self.normal, self.base = (self._volume(mipmapped=True) for _ in range(3))
+        self.emission = self._volume()
+        self.gathered = [self._volume() for _ in range(2)]
+        self.faces = [self._volume(mipmapped=True) for _ in range(VOXEL_FACES)]
+        for face in self.faces:  # cones read the nearest level of their footprint
+            face.filter = (ctx.LINEAR_MIPMAP_NEAREST, ctx.LINEAR)
+        self.touched, self.covered, self.covered_next = (self._keep(VoxelList(ctx, voxels)) for _ in range(3))
+        # Covered cells of levels 1..log2(n), one segment per level after a count per level.
+        sizes = [(n >> level) ** 3 for level in range(self.mip_count)]
+        self.level_first = [int(sum(sizes[1:level])) for level in range(self.mip_count)]
+        self.level_counts = [0] * self.mip_count
+        self.cells = self._keep(ctx.buffer(data=bytes(4 * (MAX_LEVELS + sum(sizes[1:])))))
+        self.cell_stamps = self._keep(ctx.buffer(data=bytes(4 * sum(sizes[1:]))))
+        self.cell_generation = 0
+        # Covered voxels sorted by interleave class, and per class its count and first entry.
+        self.class_list = self._keep(ctx.buffer(reserve=4 * voxels))
+        self.class_counts = self._keep(ctx.buffer(reserve=8 * MAX_INTERLEAVE))
+        self.class_segments = []  # (first, count) per class
+        self.classes_for = None   # (grid version, interleave) the class list was sorted for
+        self.framebuffer = self._keep(ctx.empty_framebuffer((n, n)))
+
+    def _keep(self, resource):
+        self._resources.append(resource)
+        return resource
+
+    def _volume(self, mipmapped=False):
+        """An n^3 RGBA16F volume of zeros (with a full mip chain if asked)."""
+        n = self.n
+        volume = self.ctx.texture3d((n, n, n), 4, data=bytes(TEXEL_BYTES * n ** 3), dtype=VOXEL_FORMAT)
+        if mipmapped:
+            volume.build_mipmaps()
+        volume.filter = (self.ctx.LINEAR_MIPMAP_LINEAR if mipmapped else self.ctx.LINEAR, self.ctx.LINEAR)
+        volume.repeat_x = volume.repeat_y = volume.repeat_z = False
+        return self._keep(volume)
+
+    @property
+    def mip_count(self):
+        return self.n.bit_length()  # N = 2^k has levels 0..k
+
+    @property
+    def voxel_size(self):
+        return float(self.region.size) / self.n
+
+    def memory_bytes(self):
+        return voxel_memory_bytes(self.n) if self.n else 0
+
+    # -- binding ---------------------------------------------------------------------------
+
+    def uniforms(self):
+        center, size = self.region.center, self.region.size
+        return dict(voxel_region_min=tuple(np.asarray(center, float) - size / 2.0), voxel_region_size=float(size),
+                    voxel_grid=self.n, voxel_size=self.voxel_size, voxel_max_mip=float(self.mip_count - 1))
+
+    def bind_sums(self):
+        for channel, buffer in enumerate(self.sums):
+            buffer.bind_to_storage_buffer(STORAGE_BINDING["VOXEL_SUMS"] + channel)
+
+    def use_surface(self):
+        self.albedo.use(TEXTURE_UNIT["VOXEL_ALBEDO"])
+        self.normal.use(TEXTURE_UNIT["VOXEL_NORMAL"])
+        self.emission.use(TEXTURE_UNIT["VOXEL_EMISSION"])
+
+    def use_faces(self):
+        for face, volume in enumerate(self.faces):
+            volume.use(TEXTURE_UNIT["VOXEL_FACES"] + face)
+
+    def bind_faces(self, level=0):
+        for face, volume in enumerate(self.faces):
+            bind_image(volume, IMAGE_UNIT["FACES_OUT"] + face, level=level)
+
+    def dispatch(self, handle, count):
+        """Run a compute program once per entry of a voxel list (`count` entries), then make its
+        writes visible to the texture fetches, image loads and buffer reads that follow."""
+        if count:
+            handle.program.run(math.ceil(count / LIST_GROUP))
+        self.ctx.memory_barrier(self.ctx.SHADER_IMAGE_ACCESS_BARRIER_BIT | self.ctx.TEXTURE_FETCH_BARRIER_BIT
+                                | self.ctx.SHADER_STORAGE_BARRIER_BIT | self.ctx.TEXTURE_UPDATE_BARRIER_BIT)
+
+    # -- inspection --------------------------------------------------------------------------
+
+    def read_level(self, volume, readback, level=0):
+        """One mip level of a volume as float32 (n, n, n, 4), indexed [z, y, x]."""
+        n = max(1, self.n >> level)
+        if level == 0:
+            return np.frombuffer(volume.read(), dtype="f2").reshape(n, n, n, 4).astype("f4")
+        buffer = self.ctx.buffer(reserve=n ** 3 * 16)
+        try:
+            volume.use(TEXTURE_UNIT["VOXEL_INSPECT"])
+            readback.set(level=level)
+            buffer.bind_to_storage_buffer(STORAGE_BINDING["READBACK"])
+            groups = math.ceil(n / 4)
+            readback.program.run(groups, groups, groups)
+            self.ctx.memory_barrier(self.ctx.SHADER_STORAGE_BARRIER_BIT)
+            return np.frombuffer(buffer.read(), dtype="f4").reshape(n, n, n, 4).copy()
+        finally:
+            buffer.release()
+
+    def release(self):
+        for resource in reversed(self._resources):
+            resource.release()
+        self._resources = []
+        self.n = 0
+        self.region = None
+
+
+def bind_image(volume, unit, level=0, read=False):
+    volume.bind_to_image(unit, read=read, write=True, level=level, format=GL_IMAGE_FORMAT["rgba16f"])
+
+
+def _same_region(a, b):
+    return float(a.size) == float(b.size) and np.array_equal(np.asarray(a.center, float), np.asarray(b.center, float))

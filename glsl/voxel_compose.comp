@@ -1,0 +1,25 @@
+#version 450 core
+// The radiance cones read, over the covered voxels: each voxel sends out its base radiance
+// plus the diffuse light it gathered, L = L_base + k_d sum_j w_j L_in(p, w_j), written into the
+// six one-sided face views premultiplied by how much of the voxel's surface faces each way
+// (coverage in a), level 0; voxel_mipmap.comp builds the coarser levels.
+#include "lib/voxel_surface.glsl"
+
+layout(local_size_x = LIST_GROUP) in;
+layout(binding = TEX_VOXEL_BASE) uniform sampler3D voxel_base;
+layout(binding = TEX_VOXEL_GATHERED) uniform sampler3D voxel_gathered;
+layout(binding = IMG_FACES_OUT, rgba16f) uniform writeonly image3D faces_out[VOXEL_FACES];
+layout(std430, binding = SSBO_COVERED) readonly buffer CoveredVoxels { uint covered_count; uint covered[]; };
+uniform bool include_gathered;  // false before the first bounce
+
+void main() {
+    if (gl_GlobalInvocationID.x >= covered_count) return;
+    ivec3 v = unpack_voxel(covered[gl_GlobalInvocationID.x]);
+    vec3 radiance = texelFetch(voxel_base, v, 0).rgb;
+    vec3 mean_normal = texelFetch(voxel_normal, v, 0).xyz;
+    if (include_gathered) radiance += texelFetch(voxel_albedo, v, 0).rgb * texelFetch(voxel_gathered, v, 0).rgb;
+    for (int f = 0; f < VOXEL_FACES; ++f) {
+        float coverage = face_coverage(mean_normal, f);
+        imageStore(faces_out[f], v, vec4(radiance * coverage, coverage));
+    }
+}

@@ -1,0 +1,26 @@
+#version 450 core
+// Light injection, over the covered voxels: the base radiance each voxel's surface sends out
+// before any bounce, evaluated at its surface point with its mean normal:
+//   L_base = L_e + (1 - m) k_d / pi * sum_lights E_l
+// where dot(mean normal, l) in E_l is the mean of the fragments' cosines. Runs when a light or
+// a shadow map changes, without revoxelizing.
+#include "lib/voxel_surface.glsl"
+#include "lib/lights.glsl"
+
+layout(local_size_x = LIST_GROUP) in;
+layout(binding = IMG_BASE_OUT, rgba16f) uniform writeonly image3D base_out;
+layout(std430, binding = SSBO_COVERED) readonly buffer CoveredVoxels { uint covered_count; uint covered[]; };
+
+void main() {
+    if (gl_GlobalInvocationID.x >= covered_count) return;
+    ivec3 v = unpack_voxel(covered[gl_GlobalInvocationID.x]);
+    VoxelSurface s = voxel_surface(v);
+    vec3 irradiance = vec3(0.0);
+    if (dot(s.mean_normal, s.mean_normal) > 0.0 && any(greaterThan(s.albedo, vec3(0.0)))) {
+        for (int i = 0; i < light_count; ++i) {
+            vec3 l;
+            irradiance += light_irradiance(i, s.position, s.mean_normal, l);
+        }
+    }
+    imageStore(base_out, v, vec4(s.emission + s.albedo / PI * irradiance, 1.0));
+}
