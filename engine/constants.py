@@ -23,21 +23,22 @@ TEXTURE_UNIT = {
     "VOXEL_BASE": 8,        # emission + injected direct light
     "VOXEL_GATHERED": 9,    # the diffuse gather sum_j w_j L(p, w_j) of each voxel
     "VOXEL_GATHERED_PREVIOUS": 10,
-    "VOXEL_FACES": 11,      # VOXEL_FACES consecutive units: the face views cones read (+x, -x, +y, -y, +z, -z)
-    "HDR_INPUT": 17,
-    "DIRECT_LIGHT": 18,
-    "VOXEL_INSPECT": 19,    # the volume a voxel view or a readback reads
+    "VOXEL_FACES": 11,      # the face views cones read (+x, -x, +y, -y, +z, -z), stacked along z
+    "HDR_INPUT": 12,
+    "DIRECT_LIGHT": 13,
+    "VOXEL_INSPECT": 14,    # the volume a voxel view or a readback reads
 }
 
 # Image units. Each program binds at most 8 images, at units 0..7.
 IMAGE_UNIT = {
-    "FACES_OUT": 0,         # VOXEL_FACES consecutive units
+    "FACES_OUT": 0,
     "BASE_OUT": 6,
     "GATHERED_OUT": 7,
     "ALBEDO_OUT": 0,
     "NORMAL_OUT": 1,
     "EMISSION_OUT": 2,
     "INSPECT_OUT": 0,
+    "IMAGE_OUT": 0,         # a screen target a compute pass adds to
 }
 
 # Per-voxel fixed-point sums the voxelizer accumulates with atomics: one storage block per
@@ -58,12 +59,19 @@ STORAGE_BINDING = {
     "CELL_STAMPS": 18,
     "CLASS_LIST": 19,       # covered voxels sorted by interleave class
     "CLASS_COUNTS": 20,
-    "LIGHTS": 21,
-    "SHADOW_VIEWS": 22,
-    "READBACK": 23,
+    "READBACK": 21,
+    "CONE_PIXELS": 22,      # pixels that trace cones of their own: dispatch size, count, pixels
+}
+
+# Uniform block bindings (lights are read by every shaded pixel and voxel: uniform blocks are
+# the fastest constant storage).
+UNIFORM_BLOCK = {
+    "LIGHTS": 0,
+    "SHADOW_VIEWS": 1,
 }
 
 MAX_LIGHTS = 16
+MAX_SHADOW_VIEWS = 6 * MAX_LIGHTS  # a point light casts shadows through six cube faces
 
 LIGHT_TYPE = {"point": 0, "spot": 1, "directional": 2}
 
@@ -80,10 +88,11 @@ VOXEL_MAX_EMISSION = 65504.0
 # GL formats of the voxel volumes and the render targets.
 VOXEL_FORMAT = "f2"  # RGBA16F: HDR radiance without banding (field notes 9)
 HDR_FORMAT = "f4"
-GL_IMAGE_FORMAT = {"rgba16f": 0x881A}
+GL_IMAGE_FORMAT = {"rgba16f": 0x881A, "rgba32f": 0x8814}
 # Voxel memory allowed before a grid is refused (bytes).
 VOXEL_MEMORY_BUDGET = 4 * 2 ** 30
-# One-sided views of the voxel radiance that cones read, one per axis direction (+x, -x, ...).
+# One-sided views of the voxel radiance that cones read, one per axis direction (+x, -x, ...),
+# stacked along z in one volume of n x n x 6n: a cone reads one view per axis with one sampler.
 VOXEL_FACES = 6
 
 GRID_SIZES = (16, 32, 64, 128, 256)
@@ -141,13 +150,14 @@ def diffuse_cones():
 def glsl_header():
     """GLSL source of the virtual include "engine_constants.glsl"."""
     lines = ["// Generated from engine/constants.py: edit there, not here."]
-    for group, prefix in ((TEXTURE_UNIT, "TEX_"), (IMAGE_UNIT, "IMG_"), (STORAGE_BINDING, "SSBO_")):
+    for group, prefix in ((TEXTURE_UNIT, "TEX_"), (IMAGE_UNIT, "IMG_"), (STORAGE_BINDING, "SSBO_"), (UNIFORM_BLOCK, "UBO_")):
         lines += [f"#define {prefix}{name} {value}" for name, value in group.items()]
     lines += [f"#define SUM_{name} {index}" for index, name in enumerate(VOXEL_SUM_CHANNELS)]
     lines += [f"#define LIGHT_{name.upper()} {value}" for name, value in LIGHT_TYPE.items()]
     lines += [
         f"#define VOXEL_SUM_CHANNELS {len(VOXEL_SUM_CHANNELS)}",
         f"#define MAX_LIGHTS {MAX_LIGHTS}",
+        f"#define MAX_SHADOW_VIEWS {MAX_SHADOW_VIEWS}",
         f"#define LIST_GROUP {LIST_GROUP}",
         f"#define VOXEL_FACES {VOXEL_FACES}",
         f"#define VOLUME_GROUP {VOLUME_GROUP}",

@@ -5,7 +5,8 @@ passed to the passes that read and write it.
 - the resolved surface of each voxel: albedo, mean normal, emission and surface offset;
 - the radiance: `base` (emission + injected direct light), the diffuse `gathered` by each
   voxel (two volumes, the latest and the one before, for closing the bounce series), and the
-  six one-sided `faces` views cones read, with their mip chain;
+  six one-sided face views cones read, stacked along z in one volume `faces` (n x n x 6n,
+  view f at z in [f n, (f + 1) n)), with their mip chain;
 - lists of voxels: `covered` (surface voxels), `touched` (by the last voxelization), the covered
   cells of every mip level, and the covered voxels sorted by interleave class.
 
@@ -99,9 +100,8 @@ class VoxelGrid:
         self.albedo, self.normal, self.base = (self._volume(mipmapped=True) for _ in range(3))
         self.emission = self._volume()
         self.gathered = [self._volume() for _ in range(2)]
-        self.faces = [self._volume(mipmapped=True) for _ in range(VOXEL_FACES)]
-        for face in self.faces:  # cones read the nearest level of their footprint
-            face.filter = (ctx.LINEAR_MIPMAP_NEAREST, ctx.LINEAR)
+        self.faces = self._volume(mipmapped=True, views=VOXEL_FACES)
+        self.faces.filter = (ctx.LINEAR_MIPMAP_NEAREST, ctx.LINEAR)  # cones read the nearest level of their footprint
         self.touched, self.covered, self.covered_next = (self._keep(VoxelList(ctx, voxels)) for _ in range(3))
         # Covered cells of levels 1..log2(n), one segment per level after a count per level.
         sizes = [(n >> level) ** 3 for level in range(self.mip_count)]
@@ -121,10 +121,10 @@ class VoxelGrid:
         self._resources.append(resource)
         return resource
 
-    def _volume(self, mipmapped=False):
-        """An n^3 RGBA16F volume of zeros (with a full mip chain if asked)."""
+    def _volume(self, mipmapped=False, views=1):
+        """An n x n x (views n) RGBA16F volume of zeros (with a full mip chain if asked)."""
         n = self.n
-        volume = self.ctx.texture3d((n, n, n), 4, data=bytes(TEXEL_BYTES * n ** 3), dtype=VOXEL_FORMAT)
+        volume = self.ctx.texture3d((n, n, views * n), 4, data=bytes(TEXEL_BYTES * views * n ** 3), dtype=VOXEL_FORMAT)
         if mipmapped:
             volume.build_mipmaps()
         volume.filter = (self.ctx.LINEAR_MIPMAP_LINEAR if mipmapped else self.ctx.LINEAR, self.ctx.LINEAR)
@@ -159,12 +159,10 @@ class VoxelGrid:
         self.emission.use(TEXTURE_UNIT["VOXEL_EMISSION"])
 
     def use_faces(self):
-        for face, volume in enumerate(self.faces):
-            volume.use(TEXTURE_UNIT["VOXEL_FACES"] + face)
+        self.faces.use(TEXTURE_UNIT["VOXEL_FACES"])
 
     def bind_faces(self, level=0):
-        for face, volume in enumerate(self.faces):
-            bind_image(volume, IMAGE_UNIT["FACES_OUT"] + face, level=level)
+        bind_image(self.faces, IMAGE_UNIT["FACES_OUT"], level=level)
 
     def dispatch(self, handle, count):
         """Run a compute program once per entry of a voxel list (`count` entries), then make its

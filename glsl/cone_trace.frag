@@ -3,19 +3,21 @@
 //   diffuse:  Lo = (1 - m) k_d sum_j w_j Lv(p, w_j, a_j), the lecture's 6 cones. They are
 //             traced once per voxel whenever the voxel radiance changes (voxel_gather.comp);
 //             a pixel interpolates the gathers of the voxels around p whose surfaces face its
-//             way, and traces its own cones where none does (a thin surface seen from behind).
+//             way; where none does (a thin surface seen from behind) it traces its own.
 //   specular: Lo = F(w_o . n) Lv(p, w_s, a_s), w_s = 2 (w_o . n) n - w_o, traced per pixel
 //   AO:       1 - sum_j w_j alpha_j within ao_distance, traced per pixel
+// The per-pixel diffuse and specular cones run in cone_pixels.comp over the pixels listed
+// here, so pixels that need none never wait on them.
 #include "lib/gbuffer.glsl"
 #include "lib/voxel_surface.glsl"
 #include "lib/cone.glsl"
 #include "lib/brdf.glsl"
+#include "lib/cone_pixels.glsl"
 
 #define OUTPUT_RADIANCE 0
 #define OUTPUT_AO 1
 layout(binding = TEX_DIRECT_LIGHT) uniform sampler2D direct_light;
 layout(binding = TEX_VOXEL_GATHERED) uniform sampler3D voxel_gathered;
-uniform vec3 camera_position;
 uniform int output_kind;
 uniform bool include_direct;
 uniform bool include_diffuse;
@@ -27,40 +29,40 @@ layout(location = 0) out vec4 out_radiance;
 // times the coherence |mean normal| (voxels of mixed surfaces count less).
 #define FACING_EXPONENT 8.0
 
-// The diffuse gather sum_j w_j Lv(p, w_j) at surface s from the gathers of the 8 voxels whose
-// centres surround p, weighted trilinearly and by facing; false where no voxel faces n.
+// The diffuse gather sum_j w_j Lv(p, w_j) at surface s from the gathers of the voxels around p
+// in the layer across the normal's dominant axis that holds p (the next layer where that one
+// holds no surface facing n): bilinear weights over the four voxel centres around p, times
+// facing. False where no voxel faces n.
 bool interpolated_gather(Surface s, out vec3 gathered) {
-    vec3 c = voxel_uvw(s.position) * float(voxel_grid) - 0.5;
+    vec3 c = voxel_uvw(s.position) * float(voxel_grid) - 0.5;  // in units of voxels, from voxel centres
+    vec3 a = abs(s.normal);
+    int axis = a.x >= a.y ? (a.x >= a.z ? 0 : 2) : (a.y >= a.z ? 1 : 2);
+    int t1 = (axis + 1) % 3, t2 = (axis + 2) % 3;
     ivec3 base = ivec3(floor(c));
     vec3 f = c - vec3(base);
+    int layer = int(floor(c[axis] + 0.5));
+    int other_layer = 2 * base[axis] + 1 - layer;
     vec3 sum = vec3(0.0);
     float total = 0.0;
-    for (int k = 0; k < 8; ++k) {
-        ivec3 corner = ivec3(k & 1, (k >> 1) & 1, k >> 2);
-        ivec3 v = base + corner;
-        if (any(lessThan(v, ivec3(0))) || any(greaterThanEqual(v, ivec3(voxel_grid)))) continue;
-        vec4 g = texelFetch(voxel_gathered, v, 0);
-        if (g.a <= 0.0) continue;  // no surface, or none that reflects diffuse light
-        vec3 n_v = texelFetch(voxel_normal, v, 0).xyz;
-        vec3 trilinear = mix(1.0 - f, f, vec3(corner));
-        float facing = pow(max(dot(s.normal, n_v) / max(length(n_v), 1e-6), 0.0), FACING_EXPONENT) * length(n_v);
-        float weight = trilinear.x * trilinear.y * trilinear.z * facing;
-        sum += weight * g.rgb;
-        total += weight;
+    for (int attempt = 0; attempt < 2 && total <= 1e-4; ++attempt) {
+        base[axis] = attempt == 0 ? layer : other_layer;
+        for (int k = 0; k < 4; ++k) {
+            ivec3 v = base;
+            v[t1] += k & 1;
+            v[t2] += k >> 1;
+            if (any(lessThan(v, ivec3(0))) || any(greaterThanEqual(v, ivec3(voxel_grid)))) continue;
+            vec4 g = texelFetch(voxel_gathered, v, 0);
+            if (g.a <= 0.0) continue;  // no surface, or none that reflects diffuse light
+            vec3 n_v = texelFetch(voxel_normal, v, 0).xyz;
+            float coherence = length(n_v);
+            float facing = pow(max(dot(s.normal, n_v) / max(coherence, 1e-6), 0.0), FACING_EXPONENT) * coherence;
+            float weight = ((k & 1) == 1 ? f[t1] : 1.0 - f[t1]) * ((k >> 1) == 1 ? f[t2] : 1.0 - f[t2]) * facing;
+            sum += weight * g.rgb;
+            total += weight;
+        }
     }
     gathered = total > 1e-4 ? sum / total : vec3(0.0);
     return total > 1e-4;
-}
-
-// Specular cone aperture from the normalized Blinn-Phong lobe of exponent s = 2/r^4 - 2:
-// sigma^2 = c r^4 / (1 - r^4) with c = 2 (the lobe around w_s is twice as wide as around h),
-// sin(a/2) = sigma, tan(a/2) = sqrt(sigma^2 / (1 - sigma^2)); r = 0 gives the one-voxel
-// mirror cone (the marcher floors the diameter at a voxel), r = 1 a hemisphere.
-float specular_tan_half_angle(float roughness) {
-    float r4 = pow(roughness, 4.0);
-    if (r4 >= 1.0) return 1e4;
-    float sigma2 = min(2.0 * r4 / (1.0 - r4), 1.0);
-    return sigma2 >= 1.0 ? 1e4 : sqrt(sigma2 / (1.0 - sigma2));
 }
 
 void main() {
@@ -72,19 +74,21 @@ void main() {
         return;
     }
     vec3 radiance = include_direct ? texelFetch(direct_light, ivec2(gl_FragCoord.xy), 0).rgb : vec3(0.0);
+    // Pixels that need cones of their own are listed for cone_pixels.comp: a specular cone
+    // where the surface reflects specularly, a diffuse gather where no voxel faces its way.
+    uint cones = 0u;
     vec3 diffuse_albedo = (1.0 - s.metalness) * s.albedo;
     if (include_diffuse && any(greaterThan(diffuse_albedo, vec3(0.0)))) {
         vec3 gathered;
-        if (!interpolated_gather(s, gathered)) gathered = trace_diffuse(s.position, s.normal, 1e9).rgb;
-        radiance += diffuse_albedo * gathered;
+        if (interpolated_gather(s, gathered)) radiance += diffuse_albedo * gathered;
+        else cones |= PIXEL_DIFFUSE_CONES;
     }
-    vec3 f0 = specular_f0(s.albedo, s.metalness, s.dielectric_f0);
-    if (include_specular && any(greaterThan(f0, vec3(0.0)))) {
-        vec3 wo = normalize(camera_position - s.position);
-        float cos_o = max(dot(wo, s.normal), 0.0);
-        vec3 ws = 2.0 * cos_o * s.normal - wo;
-        vec4 cone = trace_cone(s.position, s.normal, ws, specular_tan_half_angle(s.roughness), 1e9);
-        radiance += fresnel_schlick(f0, cos_o) * cone.rgb;
+    if (include_specular && any(greaterThan(specular_f0(s.albedo, s.metalness, s.dielectric_f0), vec3(0.0))))
+        cones |= PIXEL_SPECULAR_CONE;
+    if (cones != 0u) {  // the dispatch size of cone_pixels.comp grows by a group every LIST_GROUP pixels
+        uint k = atomicAdd(pixel_count, 1u);
+        if (k % uint(LIST_GROUP) == 0u) atomicAdd(pixel_groups.x, 1u);
+        pixels[k] = uvec2(uint(gl_FragCoord.x) | (uint(gl_FragCoord.y) << 16), cones);
     }
     out_radiance = vec4(radiance, 1.0);
 }

@@ -8,7 +8,7 @@
 layout(local_size_x = LIST_GROUP) in;
 layout(binding = TEX_VOXEL_BASE) uniform sampler3D voxel_base;
 layout(binding = TEX_VOXEL_GATHERED) uniform sampler3D voxel_gathered;
-layout(binding = IMG_FACES_OUT, rgba16f) uniform writeonly image3D faces_out[VOXEL_FACES];
+layout(binding = IMG_FACES_OUT, rgba16f) uniform writeonly image3D faces_out;
 layout(std430, binding = SSBO_COVERED) readonly buffer CoveredVoxels { uint covered_count; uint covered[]; };
 uniform bool include_gathered;  // false before the first bounce
 
@@ -20,6 +20,6 @@ void main() {
     if (include_gathered) radiance += texelFetch(voxel_albedo, v, 0).rgb * texelFetch(voxel_gathered, v, 0).rgb;
     for (int f = 0; f < VOXEL_FACES; ++f) {
         float coverage = face_coverage(mean_normal, f);
-        imageStore(faces_out[f], v, vec4(radiance * coverage, coverage));
+        imageStore(faces_out, face_texel(v, f, voxel_grid), vec4(radiance * coverage, coverage));
     }
 }

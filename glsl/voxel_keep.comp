@@ -6,7 +6,7 @@
 
 layout(local_size_x = LIST_GROUP) in;
 layout(binding = TEX_VOXEL_ALBEDO) uniform sampler3D voxel_albedo;
-layout(binding = IMG_FACES_OUT, rgba16f) uniform writeonly image3D faces_out[VOXEL_FACES];
+layout(binding = IMG_FACES_OUT, rgba16f) uniform writeonly image3D faces_out;
 layout(binding = IMG_BASE_OUT, rgba16f) uniform writeonly image3D base_out;
 layout(std430, binding = SSBO_COVERED) readonly buffer CoveredVoxels { uint covered_count; uint covered[]; };
 layout(std430, binding = SSBO_COVERED_NEXT) buffer NextCovered { uint next_count; uint next_covered[]; };
@@ -20,5 +20,5 @@ void main() {
         return;
     }
     imageStore(base_out, v, vec4(0.0));
-    for (int f = 0; f < VOXEL_FACES; ++f) imageStore(faces_out[f], v, vec4(0.0));
+    for (int f = 0; f < VOXEL_FACES; ++f) imageStore(faces_out, face_texel(v, f, voxel_grid), vec4(0.0));
 }

@@ -1,7 +1,11 @@
 """Cone-tracing pass: the image over the G-buffer. Direct light (with emission) plus the
-diffuse gather of the voxels interpolated per pixel (traced per pixel where no voxel faces the
-pixel's way), plus a specular cone per pixel; or per-pixel AO cones."""
-from ..constants import TEXTURE_UNIT
+diffuse gather of the voxels interpolated per pixel, plus a specular cone per pixel; or
+per-pixel AO cones. Pixels that need cones of their own (specular surfaces, and thin surfaces
+seen from behind, which no voxel faces) are listed and traced by a compute pass, so the other
+pixels never wait on them."""
+import numpy as np
+
+from ..constants import GL_IMAGE_FORMAT, IMAGE_UNIT, STORAGE_BINDING, TEXTURE_UNIT
 from .target import ScreenTarget
 
 OUTPUT_KIND = {"radiance": 0, "ao": 1}
@@ -9,11 +13,18 @@ OUTPUT_KIND = {"radiance": 0, "ao": 1}
 
 class ConeTracePass:
     def __init__(self, ctx, programs, size):
+        self.ctx = ctx
         self.program = programs.program(vertex_shader="fullscreen.vert", fragment_shader="cone_trace.frag")
+        self.pixels_program = programs.compute("cone_pixels.comp")
         self.target = ScreenTarget(ctx, size)
+        self.cone_pixels = None
+        self.resize(size)
 
     def resize(self, size):
         self.target.resize(size)
+        if self.cone_pixels is not None:
+            self.cone_pixels.release()
+        self.cone_pixels = self.ctx.buffer(reserve=16 + 8 * size[0] * size[1])
 
     def render(self, gbuffer, direct, grid, gathered, cone_uniforms, camera_position, terms, ao_distance):
         """`terms`: settings.ImageTerms (which of direct, diffuse, specular, or AO)."""
@@ -22,12 +33,19 @@ class ConeTracePass:
         grid.use_faces()
         gathered.use(TEXTURE_UNIT["VOXEL_GATHERED"])
         direct.texture.use(TEXTURE_UNIT["DIRECT_LIGHT"])
-        self.program.set(**grid.uniforms(), **cone_uniforms, camera_position=tuple(camera_position),
-                         output_kind=OUTPUT_KIND["ao" if terms.ao else "radiance"], include_direct=terms.direct,
+        self.program.set(**grid.uniforms(), **cone_uniforms, output_kind=OUTPUT_KIND["ao" if terms.ao else "radiance"], include_direct=terms.direct,
                          include_diffuse=terms.diffuse, include_specular=terms.specular, ao_distance=float(ao_distance))
+        self.cone_pixels.write(np.array([0, 1, 1, 0], dtype="u4").tobytes())  # no group, no pixel yet
+        self.cone_pixels.bind_to_storage_buffer(STORAGE_BINDING["CONE_PIXELS"])
         self.target.draw(self.program)
+        if terms.diffuse or terms.specular:
+            self.ctx.memory_barrier(self.ctx.SHADER_STORAGE_BARRIER_BIT | self.ctx.COMMAND_BARRIER_BIT)
+            self.target.texture.bind_to_image(IMAGE_UNIT["IMAGE_OUT"], read=True, write=True, format=GL_IMAGE_FORMAT["rgba32f"])
+            self.pixels_program.set(**grid.uniforms(), **cone_uniforms, camera_position=tuple(camera_position))
+            self.pixels_program.program.run_indirect(self.cone_pixels)
+            self.ctx.memory_barrier(self.ctx.SHADER_IMAGE_ACCESS_BARRIER_BIT | self.ctx.TEXTURE_FETCH_BARRIER_BIT)
         return self.target
 
     def release(self):
-        self.target.release()
-        self.program.release()
+        for resource in (self.target, self.program, self.pixels_program, self.cone_pixels):
+            resource.release()

@@ -7,7 +7,7 @@ import math
 import numpy as np
 
 from .. import transforms
-from ..constants import LIGHT_TYPE, MAX_LIGHTS, STORAGE_BINDING, TEXTURE_UNIT
+from ..constants import LIGHT_TYPE, MAX_LIGHTS, MAX_SHADOW_VIEWS, TEXTURE_UNIT, UNIFORM_BLOCK
 from ..errors import VctError
 
 CUBE_FACES = (  # (direction, up) in the order of cube_face() in glsl/lib/lights.glsl
@@ -28,8 +28,8 @@ class ShadowMaps:
         self.tile_size = tile_size
         self.atlas = self.framebuffer = None
         self.columns = 1
-        self.light_buffer = ctx.buffer(reserve=64 * MAX_LIGHTS)
-        self.view_buffer = ctx.buffer(reserve=96 * 6 * MAX_LIGHTS)
+        self.light_buffer = ctx.buffer(reserve=64 * MAX_LIGHTS)  # std140 layouts of glsl/lib/lights.glsl
+        self.view_buffer = ctx.buffer(reserve=96 * MAX_SHADOW_VIEWS)
         self.light_count = 0
 
     def ensure_atlas(self, tiles):
@@ -55,8 +55,8 @@ class ShadowMaps:
     def bind(self, handle):
         """Bind the atlas and buffers, and set the light uniforms of a program that reads them."""
         self.atlas.use(TEXTURE_UNIT["SHADOW_ATLAS"])
-        self.light_buffer.bind_to_storage_buffer(STORAGE_BINDING["LIGHTS"])
-        self.view_buffer.bind_to_storage_buffer(STORAGE_BINDING["SHADOW_VIEWS"])
+        self.light_buffer.bind_to_uniform_block(UNIFORM_BLOCK["LIGHTS"])
+        self.view_buffer.bind_to_uniform_block(UNIFORM_BLOCK["SHADOW_VIEWS"])
         handle.set(light_count=self.light_count, shadow_normal_offset=NORMAL_OFFSET_TEXELS)
 
     def _release_atlas(self):

@@ -2,7 +2,7 @@
 // coverage in a).
 #include "lib/voxel.glsl"
 
-layout(binding = TEX_VOXEL_FACES) uniform sampler3D voxel_faces[VOXEL_FACES];
+layout(binding = TEX_VOXEL_FACES) uniform sampler3D voxel_faces;  // the face views, stacked along z
 uniform float cone_step;      // step length as a fraction of the cone diameter
 uniform float cone_offset;    // start offset along the surface normal, in voxels
 uniform float voxel_max_mip;  // log2(N): the 1^3 level
@@ -23,33 +23,56 @@ float ray_share(float c, float spread) {
     return (c + spread) * (c + spread) / (4.0 * spread);
 }
 
-// The faces of a cell that a cone along w (ray spread s) sees: the face met by rays travelling
-// along +axis k (the one looking along -k) is weighted by their share over max_j |w_j|, so a
-// plane crossed at angle theta from its normal covers min(1, cot theta) of a cell, as it does
-// geometrically. The weights are constant along a cone.
-struct FaceWeights { float weight[VOXEL_FACES]; };
+// The faces of a cell that a cone along w sees. Rays travelling along +k meet the faces looking
+// along -k: per axis, the face looking against w_k (`face`) takes the share of rays going its
+// way, and where |w_k| < spread the face looking along w_k (`back`) takes the rays that diverge
+// the other way; each share is over max_j |w_j|, so a plane crossed at angle theta from its
+// normal covers min(1, cot theta) of a cell, as it does geometrically. The back faces are kept
+// minor axes first: the dominant axis (|w_k| >= 1/sqrt 3) has one only in cones wider than
+// 35.3 degrees. Constant along a cone.
+struct FaceWeights {
+    ivec3 face;
+    vec3 weight;
+    ivec3 back;        // the two minor axes' back faces, then the dominant axis's
+    vec3 back_weight;
+};
 
 FaceWeights face_weights(vec3 w, float spread) {
-    float scale = 1.0 / max(max(abs(w.x), abs(w.y)), abs(w.z));
+    vec3 c = abs(w);
+    int major = c.x >= c.y ? (c.x >= c.z ? 0 : 2) : (c.y >= c.z ? 1 : 2);
+    ivec3 order = ivec3((major + 1) % 3, (major + 2) % 3, major);
+    float scale = 1.0 / c[major];
     FaceWeights f;
-    for (int axis = 0; axis < 3; ++axis) {
-        f.weight[2 * axis + 1] = ray_share(w[axis], spread) * scale;  // rays along +axis meet faces looking along -axis
-        f.weight[2 * axis] = ray_share(-w[axis], spread) * scale;
+    f.face = ivec3(0, 2, 4) + ivec3(greaterThan(w, vec3(0.0)));
+    for (int k = 0; k < 3; ++k) {
+        f.weight[k] = ray_share(c[k], spread) * scale;
+        int axis = order[k];
+        f.back[k] = 2 * axis + int(w[axis] <= 0.0);
+        f.back_weight[k] = ray_share(-c[axis], spread) * scale;
     }
     return f;
 }
 
-// Premultiplied radiance (rgb) and coverage (a) of the cell around uvw at a mip level, as seen
-// by a cone with the given face weights.
-vec4 sample_faces(vec3 uvw, float mip, FaceWeights f) {
-    vec4 sum = vec4(0.0);
-    for (int face = 0; face < VOXEL_FACES; ++face)
-        if (f.weight[face] > 0.0) sum += f.weight[face] * textureLod(voxel_faces[face], uvw, mip);
+// One face view around uvw at an integer mip level, filtered within the view: the depth
+// coordinate is clamped to the view's own texels (the views are stacked along z).
+vec4 face_lod(int face, vec3 uvw, float mip) {
+    float side = float(voxel_grid >> int(mip));
+    float w = clamp(uvw.z, 0.5 / side, 1.0 - 0.5 / side);
+    return textureLod(voxel_faces, vec3(uvw.xy, (float(face) + w) / float(VOXEL_FACES)), mip);
+}
+
+// Premultiplied radiance (rgb) and coverage (a) of the cell around uvw at an integer mip
+// level, as seen by a cone with the given face weights; `wide`: a cone wider than 35.3 degrees.
+vec4 sample_faces(vec3 uvw, float mip, FaceWeights f, bool wide) {
+    vec4 sum = f.weight.x * face_lod(f.face.x, uvw, mip) + f.weight.y * face_lod(f.face.y, uvw, mip)
+             + f.weight.z * face_lod(f.face.z, uvw, mip)
+             + f.back_weight.x * face_lod(f.back.x, uvw, mip) + f.back_weight.y * face_lod(f.back.y, uvw, mip);
+    if (wide) sum += f.back_weight.z * face_lod(f.back.z, uvw, mip);
     return sum;
 }
 
-// Radiance (rgb) and opacity (a) gathered along a cone from surface point p with normal n,
-// starting one voxel out along the normal and along the cone, one sample per step:
+// Radiance (rgb) and opacity (a) gathered along a cone from surface point p with normal n
+// (`wide`: a half-angle over 35.3 degrees), starting one voxel out along the normal and along the cone, one sample per step:
 //   d = max(voxel, 2 tan(a/2) t)                 the cone's diameter at distance t
 //   mip = log2(d / voxel) - 1                    a trilinear lookup averages over a tent two
 //                                                cells wide, so cells of d/2 span d; the
@@ -60,7 +83,7 @@ vec4 sample_faces(vec3 uvw, float mip, FaceWeights f) {
 //   alpha += min(c step / d, 1 - alpha)          the covered fraction, front to back, which
 //                                                makes the result independent of the step
 //   t += step = cone_step * d
-vec4 trace_cone(vec3 p, vec3 n, vec3 direction, float tan_half_angle, float max_distance) {
+vec4 trace_cone(vec3 p, vec3 n, vec3 direction, float tan_half_angle, float max_distance, bool wide) {
     vec3 start = p + n * (cone_offset * voxel_size);
     vec4 gathered = vec4(0.0);
     float spread = tan_half_angle / sqrt(1.0 + tan_half_angle * tan_half_angle);  // sin(half-angle)
@@ -68,16 +91,16 @@ vec4 trace_cone(vec3 p, vec3 n, vec3 direction, float tan_half_angle, float max_
     float t = voxel_size;  // start one voxel out along the cone
     while (gathered.a < 1.0 && t < max_distance) {
         float diameter = max(voxel_size, 2.0 * tan_half_angle * t);
-        float mip = min(max(log2(diameter / voxel_size) - 1.0, 0.0), voxel_max_mip);  // 1^3 spans the region
+        float mip = round(min(max(log2(diameter / voxel_size) - 1.0, 0.0), voxel_max_mip));  // 1^3 spans the region
         vec3 uvw = voxel_uvw(start + direction * t);
         // Stop once the cone's footprint has left [0,1]^3 (outside reads as empty).
         float footprint = 0.5 * diameter / voxel_region_size;
         if (any(lessThan(uvw, vec3(-footprint))) || any(greaterThan(uvw, vec3(1.0 + footprint)))) break;
-        vec4 s = sample_faces(uvw, round(mip), weights);
+        vec4 s = sample_faces(uvw, mip, weights, wide);
         float step_length = cone_step * diameter;
         if (s.a > 0.0) {
             // Covered fraction of the cross-section added by this step, front to back.
-            float coverage = min(1.0, s.a * exp2(round(mip))) * step_length / diameter;
+            float coverage = min(1.0, s.a * exp2(mip)) * step_length / diameter;
             float alpha = min(coverage, 1.0 - gathered.a);
             gathered.rgb += alpha * (s.rgb / s.a);
             gathered.a += alpha;
@@ -94,7 +117,7 @@ vec4 trace_diffuse(vec3 p, vec3 n, float max_distance) {
     float tan_half = tan(DIFFUSE_CONE_HALF_ANGLE);
     vec4 sum = vec4(0.0);
     for (int j = 0; j < DIFFUSE_CONE_COUNT; ++j) {
-        vec4 cone = trace_cone(p, n, frame * DIFFUSE_CONE_DIRECTIONS[j], tan_half, max_distance);
+        vec4 cone = trace_cone(p, n, frame * DIFFUSE_CONE_DIRECTIONS[j], tan_half, max_distance, false);
         sum += DIFFUSE_CONE_WEIGHTS[j] * cone;
     }
     return sum;

@@ -14,8 +14,8 @@ struct ShadowView {
     vec4 texel;            // x: world size of one texel per unit of clip w, y: texel size in tile uv
 };
 
-layout(std430, binding = SSBO_LIGHTS) readonly buffer LightBuffer { Light lights[]; };
-layout(std430, binding = SSBO_SHADOW_VIEWS) readonly buffer ShadowBuffer { ShadowView shadow_views[]; };
+layout(std140, binding = UBO_LIGHTS) uniform LightBuffer { Light lights[MAX_LIGHTS]; };
+layout(std140, binding = UBO_SHADOW_VIEWS) uniform ShadowBuffer { ShadowView shadow_views[MAX_SHADOW_VIEWS]; };
 layout(binding = TEX_SHADOW_ATLAS) uniform sampler2DShadow shadow_atlas;
 uniform int light_count;
 uniform float shadow_normal_offset; // in shadow-map texels

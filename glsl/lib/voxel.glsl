@@ -23,6 +23,11 @@ uint voxel_index(ivec3 v) {
 // Cones read VOXEL_FACES one-sided views of the radiance, one per face direction (+x, -x, +y,
 // -y, +z, -z): view f holds the surfaces that face along f, i.e. those a cone travelling
 // against f can see. Surfaces are one-sided (they face into the room, or out of a solid).
+// The views are stacked along z in one volume: at a mip level whose grid is `side` cells
+// wide, cell v of view f is texel (v.x, v.y, v.z + f side).
+ivec3 face_texel(ivec3 v, int face, int side) {
+    return ivec3(v.xy, v.z + face * side);
+}
 
 // Fraction of a voxel's cross-section, seen against face f, that its surfaces cover. A plane
 // with unit normal n inside a voxel covers |n_k| / max_j |n_j| of the face perpendicular to
