@@ -66,6 +66,20 @@ class JsonReader:
         return np.array(value, float)
 
 
+    def index(self, obj, key, field, array, count, default=...):
+        """A whole number naming an element of the list `array` (`count` long), e.g. a glTF
+        accessor index."""
+        value = self.get(obj, key, field, default)
+        if value is default and default is not ...:
+            return value
+        return self.index_value(value, f"{field}.{key}" if field else key, array, count)
+
+    def index_value(self, value, where, array, count):
+        if isinstance(value, bool) or not isinstance(value, int) or not 0 <= value < count:
+            self.fail(where, f"must be the index of one of the file's {count} {array}, got {value!r}")
+        return value
+
+
 def _kind_name(kind):
     names = {dict: "an object", list: "a list", str: "a string", bool: "true or false"}
     return names.get(kind, kind.__name__ if isinstance(kind, type) else "valid")
@@ -76,14 +90,3 @@ def _finite(value):
         return math.isfinite(value)
     except OverflowError:  # an integer too large for a float
         return False
-
-    def index(self, obj, key, field, array, count, default=...):
-        """A whole number naming an element of the list `array` (`count` long), e.g. a glTF
-        accessor index."""
-        value = self.get(obj, key, field, default)
-        if value is default and default is not ...:
-            return value
-        if isinstance(value, bool) or not isinstance(value, int) or not 0 <= value < count:
-            self.fail(f"{field}.{key}" if field else key,
-                      f"must be the index of one of the file's {count} {array}, got {value!r}")
-        return value

@@ -70,7 +70,7 @@ def euler_deg_from_rotation(r):
     else:  # gimbal lock: Rz Ry(+-90) alone
         x = 0.0
         z = math.atan2(-r[0, 1], r[1, 1])
-    return np.degrees([x, y, z])
+    return np.degrees([x, y, z]) + 0.0  # no -0.0
 
 
 def quaternion_rotation(q):
