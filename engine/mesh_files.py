@@ -80,6 +80,8 @@ def decode_image(data):
             image.load()
     except ValueError:
         raise
+    except Image.UnidentifiedImageError:
+        raise ValueError("cannot decode image (not in a format Pillow reads)") from None
     except Exception as exc:  # Pillow raises many kinds on broken or unknown data
         raise ValueError(f"cannot decode image ({' '.join(str(exc).split()) or type(exc).__name__})") from None
     if image.mode in ("I", "I;16", "I;16B", "I;16L"):  # 16-bit grey: keep the high byte
@@ -447,7 +449,7 @@ class _Gltf:
         material = self.override or self.primitive_material(spec, field)
         normals, texcoords, tangents = found.get("NORMAL"), found.get("TEXCOORD_0"), found.get("TANGENT")
         if material.textures() and texcoords is None:
-            self.fail(field, f'its material "{material.name}" has textures but it has no TEXCOORD_0')
+            self.fail(field, f'material "{material.name}" has textures but the primitive has no TEXCOORD_0')
         if normals is None:
             positions, normals, triangles, texcoords, tangents = flat_normals(positions, triangles, texcoords, tangents)
         if material.normal_texture is not None and tangents is None:
