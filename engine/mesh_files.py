@@ -112,7 +112,7 @@ class _Textures:
             self.images[key] = make()
         return self.images[key]
 
-    def texture(self, key, name, srgb, wrap_s="REPEAT", wrap_t="REPEAT"):
+    def texture(self, key, name, srgb, wrap_s, wrap_t):
         texture_key = (key, srgb, wrap_s, wrap_t)
         if texture_key not in self.textures:
             self.textures[texture_key] = Texture(name, self.images[key], srgb, wrap_s, wrap_t)
@@ -173,7 +173,7 @@ FLOAT = (5126,)
 INDEX_TYPES = (5121, 5123, 5125)
 NORMALIZED_UV_TYPES = (5121, 5123)
 WIDTHS = {"SCALAR": 1, "VEC2": 2, "VEC3": 3, "VEC4": 4}
-WRAP_MODES = {10497: "REPEAT", 33071: "CLAMP_TO_EDGE", 33648: "MIRRORED_REPEAT"}
+GLTF_WRAP_MODES = {10497: "REPEAT", 33071: "CLAMP_TO_EDGE", 33648: "MIRRORED_REPEAT"}
 MODE_NAMES = {0: "POINTS", 1: "LINES", 2: "LINE_LOOP", 3: "LINE_STRIP"}
 GLB_JSON, GLB_BIN = 0x4E4F534A, 0x004E4942
 
@@ -305,9 +305,9 @@ class _Gltf:
 
     # -- accessors
 
-    def accessor(self, obj, key, field, types, components):
-        """The accessor that obj[key] names, as a (count, width) array: float32 where it is
-        float or normalized, else its integer type."""
+    def accessor(self, obj, key, field, types, components, as_float=True):
+        """The accessor that obj[key] names, as a (count, width) array: float32 (integer
+        components must then be normalized), else of its integer type (indices)."""
         index = self.json.index(obj, key, field, "accessors", len(self.list("accessors")))
         where = f"accessors[{index}]"
         spec = self.element("accessors", index)
@@ -326,13 +326,10 @@ class _Gltf:
             values = np.zeros((count, width), dtype)
         if "sparse" in spec:
             self.apply_sparse(spec, where, values)
-        if self.json.get(spec, "normalized", where, False, bool):
-            if dtype.kind == "f":
-                self.fail(f"{where}.normalized", "a float accessor cannot be normalized")
-            values = np.maximum(values / np.iinfo(dtype).max, -1.0).astype(np.float32)
-        elif component in NORMALIZED_UV_TYPES and components == FLOAT + NORMALIZED_UV_TYPES:
-            self.fail(f"{where}.normalized", f"must be true for integer texture coordinates ({field}.{key})")
-        return values
+        normalized = as_float and dtype.kind != "f"
+        if self.json.get(spec, "normalized", where, False, bool) != normalized:
+            self.fail(f"{where}.normalized", f"must be {str(normalized).lower()} for {field}.{key} of componentType {component}")
+        return np.maximum(values / np.iinfo(dtype).max, -1.0).astype(np.float32) if normalized else values
 
     def view_array(self, spec, where, count, width, dtype, strided=False):
         view = self.json.index(spec, "bufferView", where, "bufferViews", len(self.list("bufferViews")))
@@ -371,8 +368,8 @@ class _Gltf:
             roots = self.json.get(spec, "nodes", f"scenes[{index}]", [], list)
             where = f"scenes[{index}].nodes"
         else:
-            children = {c for i in range(len(nodes)) for c in self.element("nodes", i).get("children", [])
-                        if isinstance(c, int)}
+            children = {c for i in range(len(nodes))
+                        for c in self.json.get(self.element("nodes", i), "children", f"nodes[{i}]", [], list)}
             roots = [i for i in range(len(nodes)) if i not in children]
             where = "nodes"
         result = [self.node(self.json.index_value(root, f"{where}[{k}]", "nodes", len(nodes)), ())
@@ -440,7 +437,7 @@ class _Gltf:
                 if len(found[key]) != len(positions):
                     self.fail(f"{where}.{key}", f"has {len(found[key])} elements, POSITION {len(positions)}")
         if "indices" in spec:
-            indices = self.accessor(spec, "indices", field, ("SCALAR",), INDEX_TYPES)[:, 0].astype(np.uint32)
+            indices = self.accessor(spec, "indices", field, ("SCALAR",), INDEX_TYPES, as_float=False)[:, 0].astype(np.uint32)
             if indices.max() >= len(positions):
                 self.fail(f"{field}.indices", f"refers to vertex {int(indices.max())}, the primitive has {len(positions)}")
         else:
@@ -541,17 +538,18 @@ class _Gltf:
             sampler = self.element("samplers", sampler_index)
             for k, axis in enumerate(("wrapS", "wrapT")):
                 mode = read.get(sampler, axis, f"samplers[{sampler_index}]", 10497, int)
-                if mode not in WRAP_MODES:
-                    self.fail(f"samplers[{sampler_index}].{axis}", f"must be one of {', '.join(map(str, WRAP_MODES))}")
-                wrap[k] = WRAP_MODES[mode]
+                if mode not in GLTF_WRAP_MODES:
+                    self.fail(f"samplers[{sampler_index}].{axis}", f"must be one of {', '.join(map(str, GLTF_WRAP_MODES))}")
+                wrap[k] = GLTF_WRAP_MODES[mode]
         image_field = f"images[{source}]"
         image = self.element("images", source)
-        label = f'{image_field} "{_short(image.get("uri") or image.get("name") or "")}"' if image.get("uri") or image.get("name") else image_field
+        described = image.get("uri") or image.get("name")
+        label = f'{image_field} "{_short(described)}"' if isinstance(described, str) else image_field
         try:
-            key_, _ = self.textures.decoded(self.image_bytes(image, image_field))
+            pixels_key, _ = self.textures.decoded(self.image_bytes(image, image_field))
         except ValueError as exc:
             self.fail(where, f"{label}: {exc}")
-        return self.textures.texture(key_, f"{self.json.path}: {label}", srgb, *wrap)
+        return self.textures.texture(pixels_key, f"{self.json.path}: {label}", srgb, *wrap)
 
     def image_bytes(self, image, field):
         if "bufferView" in image:
@@ -571,15 +569,19 @@ def _short(text, limit=60):
 # ---- OBJ + MTL -----------------------------------------------------------------------------
 
 def _statements(text, keyword):
-    """The arguments of every `keyword ...` line, in file order."""
-    return [m.strip() for m in re.findall(rf"^[ \t]*{keyword}[ \t]+([^\r\n]*)", text, re.MULTILINE)]
+    """The arguments of every line `keyword ...`, in file order (a literal prefix, so the
+    search is fast on files of millions of lines)."""
+    return [m.strip() for m in re.findall(rf"\n{keyword}[ \t]+([^\r\n]*)", "\n" + text)]
 
 
 def _load_obj(path, name, material):
     from trimesh.exchange.obj import load_obj
 
     path = Path(path)
-    data = path.read_bytes()
+    try:
+        data = path.read_bytes()
+    except OSError as exc:
+        raise SceneError(f"cannot read ({_os_problem(exc)})", source=name) from None
     text = data.decode("utf-8", errors="replace")
     groups = list(dict.fromkeys(_statements(text, "usemtl")))
     # trimesh groups faces by usemtl but names a group after its material only where it loaded
