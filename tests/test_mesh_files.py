@@ -9,6 +9,7 @@ only where it has none. An OBJ with two material groups gives two nodes with the
 materials and v flipped to glTF's convention. Sponza loads whole. Bad files fail with one line
 naming the scene, the object, the mesh file and the element.
 """
+import copy
 import io
 import json
 import math
@@ -202,6 +203,14 @@ def test_gltf_texture_holds_the_image_top_row_first_and_is_shared_by_materials_u
     assert not data.srgb and data is not color and data.image is color.image
     assert also.base_color_texture is color
     assert "images[0]" in color.name
+
+
+def test_a_copied_material_shares_its_textures(tmp_path):
+    """copy.deepcopy of a material (the inspector's "make unique") keeps the same Texture
+    objects, so the copy uploads nothing new."""
+    painted = parts(load_mesh_file(two_material_gltf().write(tmp_path / "model.glb"), "model"))["Pair: Painted"].material
+    copied = copy.deepcopy(painted)
+    assert copied is not painted and copied.base_color_texture is painted.base_color_texture
 
 
 def test_gltf_texture_coordinates_keep_the_gltf_convention(tmp_path):
