@@ -86,12 +86,13 @@ def build_parser():
     parser = _Parser(prog="vct", description="Voxel cone tracing renderer (OpenGL 4.5 via moderngl).")
     commands = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
 
-    render = commands.add_parser("render", help="render a scene headless to PNG (and linear HDR .npy)",
+    render = commands.add_parser("render", help="render a scene headless to PNG (and linear HDR .npy or .exr)",
                                  description="Render a scene headless (EGL) to a tone-mapped PNG and optionally "
-                                             "linear float32 radiance (H, W, 3), row 0 at the top.")
+                                             "linear float32 radiance (H, W, 3), row 0 at the top, as .npy or OpenEXR.")
     render.add_argument("scene", help="scene JSON file")
     render.add_argument("--out", required=True, help="output PNG path")
-    render.add_argument("--hdr", help="also write linear radiance before tone mapping as .npy")
+    render.add_argument("--hdr", help="also write linear radiance before tone mapping: FILE.npy (numpy float32) "
+                                      "or FILE.exr (OpenEXR, float32 RGB)")
     _add_settings_arguments(render)
 
     view = commands.add_parser("view", help="open the interactive viewer",
@@ -160,7 +161,7 @@ def check_writable(path, flag):
 
 
 def render_command(args):
-    from .output import save_npy, save_png
+    from .output import HDR_WRITERS, save_hdr, save_png
     from .renderer import Renderer
     from .scene_file import load_scene
 
@@ -169,6 +170,8 @@ def render_command(args):
         check_writable(args.hdr, "--hdr")
         if Path(args.hdr).resolve() == Path(args.out).resolve():
             raise VctError("must differ from --out", source=args.hdr, field="--hdr")
+        if Path(args.hdr).suffix.lower() not in HDR_WRITERS:
+            raise VctError(f"must end in {' or '.join(HDR_WRITERS)}", source=args.hdr, field="--hdr")
     settings = settings_from_args(args)
     scene = load_scene(args.scene)
     width = args.width or scene.camera.width
@@ -179,7 +182,7 @@ def render_command(args):
     written = []
     try:  # both outputs or neither
         if args.hdr:
-            save_npy(args.hdr, radiance)
+            save_hdr(args.hdr, radiance)
             written.append(Path(args.hdr))
         save_png(args.out, pixels)
     except VctError:

@@ -9,23 +9,113 @@ import numpy as np
 from . import transforms
 
 
+WRAP_MODES = ("REPEAT", "CLAMP_TO_EDGE", "MIRRORED_REPEAT")
+ALPHA_MODES = ("OPAQUE", "MASK", "BLEND")
+
+
+@dataclass(frozen=True, eq=False)
+class Texture:
+    """An image a material samples. Immutable and compared by identity: materials that use the
+    same image the same way hold the same Texture object (upload it once), and copies of a
+    material (copy.deepcopy) share it too.
+
+    `image` is uint8 (H, W, C) with C = 1 (grey), 2 (grey, alpha), 3 (RGB) or 4 (RGBA), row 0 =
+    the image's top row, read-only. Texture coordinates follow glTF: (0, 0) is the image's
+    top-left corner and v grows downwards, so uploading the rows in this order and sampling at
+    (u, v) shows it the right way up. `srgb`: the values are sRGB-encoded colour (base colour,
+    emission), to be decoded to linear when sampled; otherwise they are linear data
+    (metal-roughness, normals). `wrap_s`/`wrap_t` (along u/v): one of WRAP_MODES, GL's names.
+    `name` says where the image came from, for messages (e.g. `sponza.glb: images[3]`)."""
+
+    name: str
+    image: np.ndarray
+    srgb: bool
+    wrap_s: str = "REPEAT"
+    wrap_t: str = "REPEAT"
+
+    def __post_init__(self):
+        self.image.flags.writeable = False
+
+    def __deepcopy__(self, memo):
+        return self
+
+
 @dataclass
 class Material:
+    """The renderer's material: a base colour `albedo` (linear RGB, at most 1), `roughness`
+    (perceptual, 0..1: Blinn-Phong exponent 2/r^4 - 2), `metalness` (0..1), `specular` (F0, the
+    reflectance at normal incidence of the dielectric part; 0 = Lambertian) and `emission`
+    (radiance W/(m^2 sr), front side), each optionally multiplied by a texture:
+
+    - `base_color_texture` (sRGB): RGB x albedo, and its alpha (where it has one) x `alpha`;
+    - `metallic_roughness_texture` (linear): G x roughness, B x metalness (glTF's channels);
+    - `emissive_texture` (sRGB): RGB x emission;
+    - `normal_texture` (linear): a tangent-space normal map (RGB = 0.5 n + 0.5, +y towards the
+      image's top, as glTF), its x and y multiplied by `normal_scale`; the mesh has tangents.
+
+    `alpha` is the base-colour alpha factor. `alpha_mode`: OPAQUE ignores alpha; MASK cuts out
+    where alpha < `alpha_cutoff`; BLEND (partial transparency) is drawn as MASK as well, and
+    the loaders set its `alpha_cutoff` to 0.5: voxel cone tracing has no order-independent
+    transparency, most blended materials are leaves, fences or hair with soft edges that cut
+    out at 0.5 as they were drawn, and a half-transparent window drawn opaque would block all
+    the light it should let through. `double_sided`: back faces are drawn too (with the normal
+    flipped), as glTF's doubleSided; otherwise they may be culled.
+
+    Materials from glTF files (metallic-roughness), field by field: albedo, alpha =
+    pbrMetallicRoughness.baseColorFactor (RGB, A); base_color_texture = baseColorTexture;
+    metalness, roughness = metallicFactor, roughnessFactor; metallic_roughness_texture =
+    metallicRoughnessTexture; specular = 0.04 (glTF's dielectric F0, IOR 1.5); emission =
+    emissiveFactor x KHR_materials_emissive_strength.emissiveStrength, taken as radiance in
+    W/(m^2 sr); emissive_texture = emissiveTexture; normal_texture, normal_scale =
+    normalTexture and its scale; alpha_mode, alpha_cutoff, double_sided = alphaMode,
+    alphaCutoff (0.5 for BLEND), doubleSided. occlusionTexture is not read: the cone-traced
+    occlusion replaces it. From OBJ/MTL files: see engine/mesh_files.py."""
+
     name: str
     albedo: np.ndarray = field(default_factory=lambda: np.array([0.8, 0.8, 0.8]))
     roughness: float = 1.0
     metalness: float = 0.0
     specular: float = 0.0  # dielectric reflectance at normal incidence (F0); 0 = Lambertian
     emission: np.ndarray = field(default_factory=lambda: np.zeros(3))  # radiance, front side
+    alpha: float = 1.0
+    alpha_mode: str = "OPAQUE"  # one of ALPHA_MODES
+    alpha_cutoff: float = 0.5
+    double_sided: bool = False
+    base_color_texture: Texture = None
+    metallic_roughness_texture: Texture = None
+    emissive_texture: Texture = None
+    normal_texture: Texture = None
+    normal_scale: float = 1.0
+
+    def textures(self):
+        """The textures this material uses, in field order."""
+        return [t for t in (self.base_color_texture, self.metallic_roughness_texture,
+                            self.emissive_texture, self.normal_texture) if t is not None]
 
 
 @dataclass
 class Mesh:
-    """Triangles in the node's local frame: positions (V,3), normals (V,3), indices (T,3)."""
+    """Triangles in the node's local frame: positions (V,3), normals (V,3), indices (T,3), and
+    optionally texcoords (V,2) (glTF's convention: (0, 0) is the image's top-left and v grows
+    downwards; see Texture) and tangents (V,4): xyz along +u, w = +-1 the handedness, so that
+    the bitangent w * cross(normal, tangent.xyz) points towards the image's top (the glTF /
+    MikkTSpace convention that normal maps' green channel follows). Meshes read from files
+    hold float32 vertex data and uint32 indices.
+
+    Every array is made read-only when it is set: the renderer notices a geometry edit by the
+    identity of the arrays, so an edit replaces an array (`mesh.positions = new`) instead of
+    writing into it."""
 
     positions: np.ndarray
     normals: np.ndarray
     indices: np.ndarray
+    texcoords: np.ndarray = None
+    tangents: np.ndarray = None
+
+    def __setattr__(self, name, value):
+        if isinstance(value, np.ndarray):
+            value.flags.writeable = False
+        super().__setattr__(name, value)
 
     def __post_init__(self):
         # Immutable: the renderer knows a mesh is unchanged when it is the same object. To
@@ -128,6 +218,14 @@ class Scene:
                                     direction / norm if norm > 0 else light.direction, light.range,
                                     light.inner_angle_deg, light.outer_angle_deg, light.cast_shadows)))
         return out
+
+    def textures(self):
+        """The distinct textures of the drawn materials, in drawing order."""
+        found = {}
+        for node, _ in self.drawables():
+            if node.material is not None:
+                found.update((id(t), t) for t in node.material.textures())
+        return list(found.values())
 
     def bounds(self):
         lo, hi = np.full(3, np.inf), np.full(3, -np.inf)

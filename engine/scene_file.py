@@ -1,83 +1,17 @@
 """JSON scene files -> scene model. Every malformed value raises SceneError naming the
 file and the field, e.g. `scenes/x.json: objects[6] "Short Box".size: must be positive`."""
 import json
-import math
 from pathlib import Path
 
 import numpy as np
 
 from .errors import SceneError
-from .scene import Camera, Light, Material, Node, Scene, VoxelRegion, box_mesh, quad_mesh, sphere_mesh, Mesh
+from .json_reader import JsonReader
+from .mesh_files import load_mesh_file
+from .scene import Camera, Light, Material, Node, Scene, VoxelRegion, box_mesh, quad_mesh, sphere_mesh
 
 GEOMETRY_TYPES = ("quad", "box", "sphere", "mesh", "group")
 LIGHT_TYPES = ("point", "spot", "directional")
-
-
-class _Reader:
-    def __init__(self, path):
-        self.path = Path(path)
-
-    def fail(self, field, message):
-        raise SceneError(message, source=self.path, field=field)
-
-    def get(self, obj, key, field, default=..., kind=None):
-        if key not in obj:
-            if default is ...:
-                self.fail(f"{field}.{key}" if field else key, "missing")
-            return default
-        value = obj[key]
-        if kind is not None and not isinstance(value, kind):
-            self.fail(f"{field}.{key}" if field else key, f"must be {_kind_name(kind)}")
-        return value
-
-    def number(self, obj, key, field, default=..., positive=False, minimum=None, maximum=None, whole=False):
-        value = self.get(obj, key, field, default)
-        where = f"{field}.{key}" if field else key
-        if isinstance(value, bool) or not isinstance(value, (int, float)):
-            self.fail(where, "must be a number")
-        if not _finite(value):
-            self.fail(where, "must be finite")
-        if whole and value != int(value):
-            self.fail(where, "must be a whole number")
-        if positive and value <= 0:
-            self.fail(where, "must be positive")
-        if minimum is not None and value < minimum:
-            self.fail(where, f"must be at least {minimum}")
-        if maximum is not None and value > maximum:
-            self.fail(where, f"must be at most {maximum}")
-        return float(value)
-
-    def vector(self, obj, key, field, default=..., length=3, positive=False, nonnegative=False):
-        value = self.get(obj, key, field, default)
-        if value is default and default is not ...:
-            return np.array(default, float)
-        return self.vector_value(value, f"{field}.{key}" if field else key, length, positive, nonnegative)
-
-    def vector_value(self, value, where, length=3, positive=False, nonnegative=False):
-        if not isinstance(value, list) or len(value) != length:
-            self.fail(where, f"must be a list of {length} numbers")
-        for i, v in enumerate(value):
-            if isinstance(v, bool) or not isinstance(v, (int, float)) or v is None:
-                self.fail(f"{where}[{i}]", "must be a number")
-            if not _finite(v):
-                self.fail(f"{where}[{i}]", "must be finite (got NaN, infinity or an out-of-range number)")
-            if positive and v <= 0:
-                self.fail(f"{where}[{i}]", "must be positive")
-            if nonnegative and v < 0:
-                self.fail(f"{where}[{i}]", "must not be negative")
-        return np.array(value, float)
-
-
-def _kind_name(kind):
-    names = {dict: "an object", list: "a list", str: "a string", bool: "true or false"}
-    return names.get(kind, kind.__name__ if isinstance(kind, type) else "valid")
-
-
-def _finite(value):
-    try:
-        return math.isfinite(value)
-    except OverflowError:  # an integer too large for a float
-        return False
 
 
 class _Constant:
@@ -108,7 +42,7 @@ def _find_constant(value, where=""):
 def load_scene(path):
     """Load a JSON scene file into a Scene (pure Python/numpy, no GL)."""
     path = Path(path)
-    reader = _Reader(path)
+    reader = JsonReader(path)
     try:
         text = path.read_text(encoding="utf-8")
     except OSError as exc:
@@ -199,17 +133,22 @@ def _node(reader, spec, field, materials, meshes):
     if kind in LIGHT_TYPES:
         node.light = _light(reader, spec, field, kind)
     elif kind != "group":
-        material_name = reader.get(spec, "material", field, kind=str)
-        if material_name not in materials:
-            reader.fail(f"{field}.material", f'unknown material "{material_name}"')
-        node.material = materials[material_name]
-        node.mesh = _mesh(reader, spec, field, kind, node, meshes)
+        if kind != "mesh" or "material" in spec:  # a mesh file without one has its own materials
+            material_name = reader.get(spec, "material", field, kind=str)
+            if material_name not in materials:
+                reader.fail(f"{field}.material", f'unknown material "{material_name}"')
+            node.material = materials[material_name]
+        if kind == "mesh":
+            _load_mesh_file(reader, spec, field, node)
+        else:
+            node.mesh = _mesh(reader, spec, field, kind, node, meshes)
     for i, child in enumerate(reader.get(spec, "children", field, [], list)):
         node.children.append(_node(reader, child, f"{field}.children[{i}]", materials, meshes))
     return node
 
 
 def _mesh(reader, spec, field, kind, node, meshes):
+    """The mesh of a quad, box or sphere; boxes and spheres scale and place `node`."""
     if kind == "quad":
         vertices = reader.get(spec, "vertices", field, kind=list)
         if len(vertices) != 4:
@@ -228,28 +167,31 @@ def _mesh(reader, spec, field, kind, node, meshes):
             node.rotation_deg = node.rotation_deg + np.array([0.0, reader.number(spec, "rotation_y_deg", field), 0.0])
         node.scale = node.scale * reader.vector(spec, "size", field, positive=True)
         return meshes.setdefault("box", box_mesh())
-    if kind == "sphere":
-        if "center" in spec:
-            node.translation = node.translation + reader.vector(spec, "center", field)
-        node.scale = node.scale * reader.number(spec, "radius", field, positive=True)
-        return meshes.setdefault("sphere", sphere_mesh())
-    return _load_mesh_file(reader, spec, field)
+    # sphere
+    if "center" in spec:
+        node.translation = node.translation + reader.vector(spec, "center", field)
+    node.scale = node.scale * reader.number(spec, "radius", field, positive=True)
+    return meshes.setdefault("sphere", sphere_mesh())
 
 
-def _load_mesh_file(reader, spec, field):
-    import trimesh
-
+def _load_mesh_file(reader, spec, field, node):
+    """The file's nodes under `node`, all with `node.material` where it has one; a file that
+    is one part in its own frame (one OBJ material group, a PLY, a glTF node with one
+    primitive) becomes `node`'s own mesh and material instead."""
     relative = reader.get(spec, "file", field, kind=str)
     path = (reader.path.parent / relative).resolve()
     if not path.is_file():
         reader.fail(f"{field}.file", f'mesh file not found: "{relative}"')
     try:
-        mesh = trimesh.load(str(path), force="mesh", process=True)
-    except Exception as exc:  # trimesh raises many kinds on unreadable files
-        reader.fail(f"{field}.file", f'cannot load mesh "{relative}": {" ".join(str(exc).split()) or type(exc).__name__}')
-    if not isinstance(mesh, trimesh.Trimesh) or len(mesh.faces) == 0:
-        reader.fail(f"{field}.file", f'mesh "{relative}" holds no triangles')
-    return Mesh(np.asarray(mesh.vertices, float), np.asarray(mesh.vertex_normals, float), np.asarray(mesh.faces, np.int64))
+        parts = load_mesh_file(path, relative, node.material)
+    except SceneError as exc:
+        reader.fail(f"{field}.file", str(exc))
+    if not any(n.mesh is not None for part in parts for n, _ in part.walk()):
+        reader.fail(f"{field}.file", f'{relative}: holds no triangles')
+    if len(parts) == 1 and not parts[0].children and np.array_equal(parts[0].local_matrix(), np.eye(4)):
+        node.mesh, node.material = parts[0].mesh, parts[0].material
+    else:
+        node.children.extend(parts)
 
 
 def _light(reader, spec, field, kind):

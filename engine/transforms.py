@@ -57,3 +57,40 @@ def normal_matrix(m):
 def gl_bytes(m):
     """Bytes of a matrix in the column-major order GLSL expects."""
     return np.asarray(m, dtype="f4").T.tobytes()
+
+
+def euler_deg_from_rotation(r):
+    """Angles [x, y, z] in degrees with rotate_euler_deg(angles)[:3, :3] == r, for a 3x3 rotation
+    matrix r (R = Rz Ry Rx; y in [-90, 90]; at y = +-90 degrees the x angle is taken as 0)."""
+    r = np.asarray(r, float)
+    y = math.asin(float(np.clip(-r[2, 0], -1.0, 1.0)))
+    if abs(r[2, 0]) < 1.0 - 1e-12:
+        x = math.atan2(r[2, 1], r[2, 2])
+        z = math.atan2(r[1, 0], r[0, 0])
+    else:  # gimbal lock: Rz Ry(+-90) alone
+        x = 0.0
+        z = math.atan2(-r[0, 1], r[1, 1])
+    return np.degrees([x, y, z]) + 0.0  # no -0.0
+
+
+def quaternion_rotation(q):
+    """3x3 rotation matrix of a quaternion [x, y, z, w] (glTF's order), normalized first."""
+    q = np.asarray(q, float)
+    return pyrr.matrix33.create_from_quaternion(q / np.linalg.norm(q))
+
+
+def decompose(m, tolerance=1e-6):
+    """(translation, rotation_deg, scale) with compose(...) == m for a 4x4 matrix T * R * S, or
+    None where m is not one (shear, projection, zero scale). A mirroring matrix gets a
+    negative x scale."""
+    m = np.asarray(m, float)
+    linear = m[:3, :3]
+    scale_xyz = np.linalg.norm(linear, axis=0)
+    if np.any(scale_xyz == 0) or not np.allclose(m[3], [0, 0, 0, 1], atol=tolerance):
+        return None
+    if np.linalg.det(linear) < 0:
+        scale_xyz[0] = -scale_xyz[0]
+    rotation = linear / scale_xyz
+    if not np.allclose(rotation.T @ rotation, np.eye(3), atol=tolerance):
+        return None
+    return m[:3, 3].copy(), euler_deg_from_rotation(rotation), scale_xyz

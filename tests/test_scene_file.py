@@ -232,6 +232,20 @@ def test_objects_of_one_mesh_file_each_land_where_their_own_transform_puts_them(
     np.testing.assert_allclose(world_bounds(scene, "T1")[0], [10, 0, 0])
 
 
+def test_mesh_arrays_are_read_only_so_an_edit_replaces_an_array():
+    """Every mesh's arrays refuse in-place writes (the renderer spots geometry edits by array
+    identity); an array assigned later is made read-only too."""
+    scene = load_scene(CORNELL)
+    for node, _ in scene.drawables():
+        for array in (node.mesh.positions, node.mesh.normals, node.mesh.indices):
+            assert not array.flags.writeable, node.name
+    mesh = scene.root.find("Left Plane").mesh
+    with pytest.raises(ValueError):
+        mesh.positions[0] = [0.0, 0.0, 0.0]
+    mesh.positions = mesh.positions + 1.0
+    assert not mesh.positions.flags.writeable
+
+
 # ---- bad input -------------------------------------------------------------------------------
 
 @dataclass

@@ -1,0 +1,775 @@
+"""Mesh files -> scene-graph nodes with meshes, materials and textures (plain Python/numpy, no GL).
+
+- glTF 2.0 (.gltf with its buffers and images, or .glb): the default scene's node hierarchy
+  (names; translation/rotation/scale or a matrix), one child node per primitive where a mesh has
+  several, each with its material (the mapping is in engine.scene.Material's docstring). NORMAL,
+  TEXCOORD_0 and TANGENT come from the file; a primitive without NORMAL gets flat normals (as
+  the glTF spec says), one whose material has a normal texture but no TANGENT gets tangents
+  from its texture coordinates (Lengyel's per-triangle derivatives, summed per vertex).
+  Triangle lists, strips and fans; sparse accessors; data URIs and external files. Extensions
+  the file uses without requiring them are ignored, as glTF allows.
+- OBJ + MTL: one node per material (usemtl) group, named after its material. MTL, per
+  material: Kd (x map_Kd) -> albedo (Kd defaults to 1 with map_Kd, else 0.8); Ke (x map_Ke) ->
+  emission (Ke defaults to 1 with map_Ke, else 0); Ns -> roughness r = (2 / (Ns + 2))^(1/4),
+  the inverse of the renderer's Blinn-Phong exponent 2/r^4 - 2 (no Ns: r = 1); Ks not black
+  -> specular 0.04 (a dielectric, as glTF's), else 0 (Lambertian); d (or Tr = 1 - d) and
+  map_d -> alpha, with alpha_mode BLEND (drawn as a cut-out at 0.5; map_d's alpha channel, or
+  its grey level where it has none, becomes the alpha of the base-colour texture). Metalness
+  0, one-sided. Texture options other than -clamp are refused; other statements are ignored.
+  Normals from the file (vn), else smooth (angle-weighted) normals. OBJ's texture v grows
+  upwards; it is flipped to glTF's convention (see engine.scene.Texture).
+- Any other format trimesh reads (PLY, STL, OFF, ...): one mesh with smooth normals.
+
+Images are decoded once per file: materials that use the same image (by content) the same way
+share one Texture object. Parts without a material in the file get a grey Lambertian default
+(albedo 0.8, like a scene material with no fields). Bad input raises SceneError naming the
+file and the element, e.g. `sponza.glb: materials[3].pbrMetallicRoughness.baseColorTexture:
+images[5] "bricks.png": file not found`.
+"""
+import base64
+import hashlib
+import io
+import json
+import re
+import struct
+import urllib.parse
+import warnings
+from collections import namedtuple
+from pathlib import Path
+
+import numpy as np
+
+from .errors import SceneError
+from .json_reader import JsonReader
+from .scene import ALPHA_MODES, Material, Mesh, Node, Texture
+from .transforms import decompose, euler_deg_from_rotation, quaternion_rotation
+
+MAX_TEXTURE_SIZE = 16384  # pixels on a side; the GL limit is checked when textures are uploaded
+GLTF_EXTENSIONS = ("KHR_materials_emissive_strength",)  # the ones this reader understands
+
+
+def load_mesh_file(path, name, material=None):
+    """The top-level nodes of the mesh file at `path`; `name` names it in errors (as the scene
+    file writes it). With `material`, every part uses it and the file's materials and textures
+    are not read; otherwise each part has its material from the file."""
+    suffix = Path(path).suffix.lower()
+    if suffix in (".gltf", ".glb"):
+        return _Gltf(path, name, material).nodes()
+    if suffix == ".obj":
+        return _load_obj(path, name, material)
+    return [_load_with_trimesh(path, name, material)]
+
+
+def default_material():
+    return Material(name="default")
+
+
+# ---- images ------------------------------------------------------------------------------------
+
+def decode_image(data):
+    """uint8 (H, W, C), C = 1 (grey), 2 (grey, alpha), 3 (RGB) or 4 (RGBA), row 0 at the top, of
+    an encoded image (PNG, JPEG, or any format Pillow reads); ValueError says what is wrong."""
+    from PIL import Image
+
+    try:
+        with warnings.catch_warnings():  # the size limit is ours, not Pillow's bomb warning
+            warnings.simplefilter("ignore", Image.DecompressionBombWarning)
+            image = Image.open(io.BytesIO(data))
+            if max(image.size) > MAX_TEXTURE_SIZE:
+                raise ValueError(f"{image.size[0]}x{image.size[1]} pixels, more than {MAX_TEXTURE_SIZE} on a side")
+            image.load()
+    except ValueError:
+        raise
+    except Image.UnidentifiedImageError:
+        raise ValueError("cannot decode image (not in a format Pillow reads)") from None
+    except Exception as exc:  # Pillow raises many kinds on broken or unknown data
+        raise ValueError(f"cannot decode image ({' '.join(str(exc).split()) or type(exc).__name__})") from None
+    if image.mode in ("I", "I;16", "I;16B", "I;16L"):  # 16-bit grey: keep the high byte
+        pixels = (np.asarray(image).astype(np.uint32) >> 8).astype(np.uint8)
+    else:
+        if image.mode not in ("L", "LA", "RGB", "RGBA"):
+            image = image.convert("RGBA" if "A" in image.mode or "transparency" in image.info else "RGB")
+        pixels = np.asarray(image, dtype=np.uint8)
+    return np.ascontiguousarray(pixels.reshape(pixels.shape[0], pixels.shape[1], -1))
+
+
+class _Textures:
+    """The images and textures of one file, each made once: `pixels` are keyed by what they were
+    made from (e.g. the digest of the encoded image), textures by their pixels, colour space and
+    wrap modes, so materials that use an image the same way share one Texture."""
+
+    def __init__(self):
+        self.images = {}
+        self.textures = {}
+
+    def decoded(self, data):
+        """(key, pixels) of an encoded image, decoding it on first use."""
+        key = hashlib.sha256(data).digest()
+        return key, self.pixels(key, lambda: decode_image(data))
+
+    def pixels(self, key, make):
+        if key not in self.images:
+            self.images[key] = make()
+        return self.images[key]
+
+    def texture(self, key, name, srgb, wrap_s, wrap_t):
+        texture_key = (key, srgb, wrap_s, wrap_t)
+        if texture_key not in self.textures:
+            self.textures[texture_key] = Texture(name, self.images[key], srgb, wrap_s, wrap_t)
+        return self.textures[texture_key]
+
+
+# ---- geometry helpers ----------------------------------------------------------------------
+
+def _unit(v):
+    length = np.linalg.norm(v, axis=-1, keepdims=True)
+    return np.divide(v, length, out=np.zeros_like(v), where=length > 0)
+
+
+def flat_normals(positions, triangles, *attributes):
+    """Unshared corners with each triangle's own normal: (positions, normals, triangles,
+    attributes...) with every per-vertex array of `attributes` (or None) expanded the same way."""
+    corners = triangles.reshape(-1)
+    p = positions[corners]
+    a, b, c = p[0::3], p[1::3], p[2::3]
+    normals = np.repeat(_unit(np.cross(b - a, c - a)), 3, axis=0).astype(np.float32)
+    expanded = [None if x is None else x[corners] for x in attributes]
+    return (p, normals, np.arange(len(corners), dtype=np.uint32).reshape(-1, 3), *expanded)
+
+
+def generate_tangents(positions, normals, texcoords, triangles):
+    """Tangents (V,4) from texture coordinates (glTF convention, v downwards): each triangle's
+    dP/du and dP/dv (Lengyel's method) summed at its corners, the tangent dP/du made orthogonal to
+    the normal, w = +1 where cross(normal, tangent) points towards the image's top (-dP/dv), else
+    -1. Where the texture coordinates give no direction, any tangent orthogonal to the normal."""
+    p = positions[triangles].astype(np.float64)
+    uv = texcoords[triangles].astype(np.float64)
+    e1, e2 = p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]
+    d1, d2 = uv[:, 1] - uv[:, 0], uv[:, 2] - uv[:, 0]
+    det = d1[:, 0] * d2[:, 1] - d2[:, 0] * d1[:, 1]
+    r = np.divide(1.0, det, out=np.zeros_like(det), where=np.abs(det) > 1e-20)[:, None]
+    du = (e1 * d2[:, 1:] - e2 * d1[:, 1:]) * r
+    dv = (e2 * d1[:, :1] - e1 * d2[:, :1]) * r
+    tangent_sum = np.zeros((len(positions), 3))
+    v_sum = np.zeros((len(positions), 3))
+    for corner in range(3):
+        np.add.at(tangent_sum, triangles[:, corner], du)
+        np.add.at(v_sum, triangles[:, corner], dv)
+    n = _unit(normals.astype(np.float64))
+    t = _unit(tangent_sum - n * np.sum(n * tangent_sum, axis=1, keepdims=True))
+    missing = ~t.any(axis=1)
+    if missing.any():  # any direction orthogonal to the normal
+        m = n[missing]
+        helper = np.where(np.abs(m[:, :1]) < 0.9, [[1.0, 0.0, 0.0]], [[0.0, 1.0, 0.0]])
+        t[missing] = _unit(np.cross(helper, m))
+    w = np.where(np.sum(np.cross(n, t) * -v_sum, axis=1) < 0, -1.0, 1.0)
+    return np.hstack([t, w[:, None]]).astype(np.float32)
+
+
+# ---- glTF ----------------------------------------------------------------------------------
+
+COMPONENT_TYPES = {5120: np.int8, 5121: np.uint8, 5122: np.int16, 5123: np.uint16, 5125: np.uint32, 5126: np.float32}
+FLOAT = (5126,)
+INDEX_TYPES = (5121, 5123, 5125)
+NORMALIZED_UV_TYPES = (5121, 5123)
+WIDTHS = {"SCALAR": 1, "VEC2": 2, "VEC3": 3, "VEC4": 4}
+GLTF_WRAP_MODES = {10497: "REPEAT", 33071: "CLAMP_TO_EDGE", 33648: "MIRRORED_REPEAT"}
+MODE_NAMES = {0: "POINTS", 1: "LINES", 2: "LINE_LOOP", 3: "LINE_STRIP"}
+GLB_JSON, GLB_BIN = 0x4E4F534A, 0x004E4942
+
+
+class _Gltf:
+    """One glTF file: its document, buffers, and what was built from it (meshes, materials and
+    textures, each once)."""
+
+    def __init__(self, path, name, material):
+        self.path = Path(path)
+        self.json = JsonReader(name)
+        self.override = material
+        self.glb_bin = None
+        self.doc = self._document()
+        self.buffers = {}
+        self.meshes = {}
+        self.materials = {}
+        self.default = default_material()
+        self.textures = _Textures()
+        required = self.json.get(self.doc, "extensionsRequired", "", [], list)
+        missing = [str(e) for e in required if e not in GLTF_EXTENSIONS]
+        if missing:
+            self.json.fail("extensionsRequired", f"needs {', '.join(missing)}, which vct does not read "
+                                                 f"(it reads {', '.join(GLTF_EXTENSIONS)})")
+
+    def fail(self, field, message):
+        self.json.fail(field, message)
+
+    def list(self, key):
+        return self.json.get(self.doc, key, "", [], list)
+
+    def element(self, key, index):
+        value = self.list(key)[index]
+        if not isinstance(value, dict):
+            self.fail(f"{key}[{index}]", "must be an object")
+        return value
+
+    # -- container
+
+    def _document(self):
+        try:
+            data = self.path.read_bytes()
+        except OSError as exc:
+            self.fail("", f"cannot read ({exc.strerror or exc})")
+        text = data
+        if data[:4] == b"glTF":
+            text = self._glb_chunks(data)
+        try:
+            doc = json.loads(text)
+        except (ValueError, RecursionError) as exc:
+            self.fail("", f"malformed JSON ({exc})")
+        if not isinstance(doc, dict):
+            self.fail("", "the glTF JSON must be an object")
+        version = str(self.json.get(self.json.get(doc, "asset", "", kind=dict), "version", "asset"))
+        if not version.startswith("2."):
+            self.fail("asset.version", f"glTF {version}: only glTF 2.0 is read")
+        return doc
+
+    def _glb_chunks(self, data):
+        """The JSON chunk of a GLB file; keeps the BIN chunk for buffers[0]."""
+        if len(data) < 20:
+            self.fail("GLB header", "file too short")
+        _, version, length = struct.unpack_from("<4sII", data)
+        if version != 2:
+            self.fail("GLB header", f"GLB version {version}: only version 2 is read")
+        if length > len(data):
+            self.fail("GLB header", f"says {length} bytes, the file has {len(data)}")
+        chunks, offset = [], 12
+        while offset + 8 <= length:
+            size, kind = struct.unpack_from("<II", data, offset)
+            if offset + 8 + size > length:
+                self.fail(f"GLB chunk {len(chunks)}", "reaches past the end of the file")
+            chunks.append((kind, data[offset + 8:offset + 8 + size]))
+            offset += 8 + size + (-size % 4)
+        if not chunks or chunks[0][0] != GLB_JSON:
+            self.fail("GLB chunk 0", "must be the JSON chunk")
+        if len(chunks) > 1 and chunks[1][0] == GLB_BIN:
+            self.glb_bin = chunks[1][1]
+        return chunks[0][1]
+
+    def _uri_bytes(self, uri):
+        """Bytes of a data URI or of a file relative to the glTF file; ValueError says why not."""
+        if uri.startswith("data:"):
+            header, _, payload = uri.partition(",")
+            try:
+                return base64.b64decode(payload, validate=True) if header.endswith(";base64") else urllib.parse.unquote_to_bytes(payload)
+            except ValueError as exc:
+                raise ValueError(f"malformed data URI ({exc})") from None
+        try:
+            return (self.path.parent / urllib.parse.unquote(uri)).read_bytes()
+        except FileNotFoundError:
+            raise ValueError("file not found") from None
+        except OSError as exc:
+            raise ValueError(f"cannot read ({exc.strerror or exc})") from None
+
+    def buffer(self, index):
+        if index not in self.buffers:
+            field = f"buffers[{index}]"
+            spec = self.element("buffers", index)
+            length = int(self.json.number(spec, "byteLength", field, whole=True, minimum=1))
+            if "uri" in spec:
+                uri = self.json.get(spec, "uri", field, kind=str)
+                try:
+                    data = self._uri_bytes(uri)
+                except ValueError as exc:
+                    self.fail(f"{field}.uri", f'"{_short(uri)}": {exc}')
+            elif index == 0 and self.glb_bin is not None:
+                data = self.glb_bin
+            else:
+                self.fail(field, "has no uri and is not the GLB's binary chunk")
+            if len(data) < length:
+                self.fail(field, f"holds {len(data)} bytes, byteLength says {length}")
+            self.buffers[index] = data
+        return self.buffers[index]
+
+    def view_bytes(self, index):
+        """(bytes of the buffer, offset, length, byteStride or None) of bufferViews[index]."""
+        field = f"bufferViews[{index}]"
+        view = self.element("bufferViews", index)
+        data = self.buffer(self.json.index(view, "buffer", field, "buffers", len(self.list("buffers"))))
+        offset = int(self.json.number(view, "byteOffset", field, 0, whole=True, minimum=0))
+        length = int(self.json.number(view, "byteLength", field, whole=True, minimum=1))
+        if offset + length > len(data):
+            self.fail(field, "reaches past the end of its buffer")
+        stride = view.get("byteStride")
+        if stride is not None:
+            stride = int(self.json.number(view, "byteStride", field, whole=True, minimum=4, maximum=252))
+        return data, offset, length, stride
+
+    # -- accessors
+
+    def accessor(self, obj, key, field, types, components, as_float=True):
+        """The accessor that obj[key] names, as a (count, width) array: float32 (integer
+        components must then be normalized), else of its integer type (indices)."""
+        index = self.json.index(obj, key, field, "accessors", len(self.list("accessors")))
+        where = f"accessors[{index}]"
+        spec = self.element("accessors", index)
+        kind = self.json.get(spec, "type", where, kind=str)
+        if kind not in types:
+            self.fail(f"{where}.type", f"is {kind}; {field}.{key} must be {' or '.join(types)}")
+        component = self.json.get(spec, "componentType", where, kind=int)
+        if component not in components:
+            self.fail(f"{where}.componentType", f"is {component}; {field}.{key} must be one of {components}")
+        dtype = np.dtype(COMPONENT_TYPES[component]).newbyteorder("<")
+        width = WIDTHS[kind]
+        count = int(self.json.number(spec, "count", where, whole=True, minimum=1))
+        if "bufferView" in spec:
+            values = self.view_array(spec, where, count, width, dtype, strided=True)
+        else:
+            values = np.zeros((count, width), dtype)
+        if "sparse" in spec:
+            self.apply_sparse(spec, where, values)
+        normalized = as_float and dtype.kind != "f"
+        if self.json.get(spec, "normalized", where, False, bool) != normalized:
+            self.fail(f"{where}.normalized", f"must be {str(normalized).lower()} for {field}.{key} of componentType {component}")
+        return np.maximum(values / np.iinfo(dtype).max, -1.0).astype(np.float32) if normalized else values
+
+    def view_array(self, spec, where, count, width, dtype, strided=False):
+        view = self.json.index(spec, "bufferView", where, "bufferViews", len(self.list("bufferViews")))
+        data, view_offset, view_length, stride = self.view_bytes(view)
+        offset = int(self.json.number(spec, "byteOffset", where, 0, whole=True, minimum=0))
+        element = dtype.itemsize * width
+        stride = stride if strided and stride else element
+        if offset + stride * (count - 1) + element > view_length:
+            self.fail(where, f"{count} elements reach past the end of bufferViews[{view}]")
+        return np.array(np.ndarray((count, width), dtype, buffer=data, offset=view_offset + offset,
+                                   strides=(stride, dtype.itemsize)))
+
+    def apply_sparse(self, spec, where, values):
+        field = f"{where}.sparse"
+        sparse = self.json.get(spec, "sparse", where, kind=dict)
+        count = int(self.json.number(sparse, "count", field, whole=True, minimum=1))
+        indices_spec = self.json.get(sparse, "indices", field, kind=dict)
+        component = self.json.get(indices_spec, "componentType", f"{field}.indices", kind=int)
+        if component not in INDEX_TYPES:
+            self.fail(f"{field}.indices.componentType", f"must be one of {INDEX_TYPES}")
+        indices = self.view_array(indices_spec, f"{field}.indices", count, 1, np.dtype(COMPONENT_TYPES[component]).newbyteorder("<"))
+        if indices.max() >= len(values):
+            self.fail(f"{field}.indices", f"refers to element {int(indices.max())} of {len(values)}")
+        values_spec = self.json.get(sparse, "values", field, kind=dict)
+        values[indices[:, 0]] = self.view_array(values_spec, f"{field}.values", count, values.shape[1], values.dtype)
+
+    # -- nodes and meshes
+
+    def nodes(self):
+        """The default scene's (else the first scene's, else every parentless node's) nodes."""
+        nodes = self.list("nodes")
+        scenes = self.list("scenes")
+        if scenes:
+            index = self.json.index(self.doc, "scene", "", "scenes", len(scenes), 0)
+            spec = self.element("scenes", index)
+            roots = self.json.get(spec, "nodes", f"scenes[{index}]", [], list)
+            where = f"scenes[{index}].nodes"
+        else:
+            children = {c for i in range(len(nodes))
+                        for c in self.json.get(self.element("nodes", i), "children", f"nodes[{i}]", [], list)}
+            roots = [i for i in range(len(nodes)) if i not in children]
+            where = "nodes"
+        result = [self.node(self.json.index_value(root, f"{where}[{k}]", "nodes", len(nodes)), ())
+                  for k, root in enumerate(roots)]
+        self.buffers.clear()
+        return result
+
+    def node(self, index, ancestors):
+        field = f"nodes[{index}]"
+        if index in ancestors:
+            self.fail(field, "is its own ancestor (the node hierarchy has a cycle)")
+        spec = self.element("nodes", index)
+        node = Node(name=self.json.get(spec, "name", field, field, str))
+        if "matrix" in spec:
+            matrix = self.json.vector(spec, "matrix", field, length=16).reshape(4, 4).T  # column-major
+            trs = decompose(matrix)
+            if trs is None:
+                self.fail(f"{field}.matrix", "is not a translation, rotation and scale (glTF requires one)")
+            node.translation, node.rotation_deg, node.scale = trs
+        else:
+            node.translation = self.json.vector(spec, "translation", field, [0.0, 0.0, 0.0])
+            rotation = self.json.vector(spec, "rotation", field, [0.0, 0.0, 0.0, 1.0], length=4)
+            if not np.any(rotation):
+                self.fail(f"{field}.rotation", "must not be zero (a unit quaternion x, y, z, w)")
+            node.rotation_deg = euler_deg_from_rotation(quaternion_rotation(rotation))
+            node.scale = self.json.vector(spec, "scale", field, [1.0, 1.0, 1.0])
+        if "mesh" in spec:
+            parts = self.mesh(self.json.index(spec, "mesh", field, "meshes", len(self.list("meshes"))))
+            if len(parts) == 1:
+                node.mesh, node.material = parts[0]
+            else:
+                node.children += [Node(name=f"{node.name}: {material.name}", mesh=mesh, material=material)
+                                  for mesh, material in parts]
+        children = self.json.get(spec, "children", field, [], list)
+        for k, child in enumerate(children):
+            child = self.json.index_value(child, f"{field}.children[{k}]", "nodes", len(self.list("nodes")))
+            node.children.append(self.node(child, ancestors + (index,)))
+        return node
+
+    def mesh(self, index):
+        """[(Mesh, Material)] for the primitives of meshes[index], made once."""
+        if index not in self.meshes:
+            field = f"meshes[{index}]"
+            primitives = self.json.get(self.element("meshes", index), "primitives", field, kind=list)
+            if not primitives:
+                self.fail(f"{field}.primitives", "must not be empty")
+            self.meshes[index] = [self.primitive(f"{field}.primitives[{k}]", p) for k, p in enumerate(primitives)]
+        return self.meshes[index]
+
+    def primitive(self, field, spec):
+        if not isinstance(spec, dict):
+            self.fail(field, "must be an object")
+        mode = int(self.json.number(spec, "mode", field, 4, whole=True, minimum=0, maximum=6))
+        if mode in MODE_NAMES:
+            self.fail(f"{field}.mode", f"{mode} ({MODE_NAMES[mode]}): only triangles are drawn (modes 4, 5, 6)")
+        attributes = self.json.get(spec, "attributes", field, kind=dict)
+        where = f"{field}.attributes"
+        positions = self.accessor(attributes, "POSITION", where, ("VEC3",), FLOAT)
+        optional = {"NORMAL": (("VEC3",), FLOAT), "TEXCOORD_0": (("VEC2",), FLOAT + NORMALIZED_UV_TYPES),
+                    "TANGENT": (("VEC4",), FLOAT)}
+        found = {}
+        for key, (types, components) in optional.items():
+            if key in attributes:
+                found[key] = self.accessor(attributes, key, where, types, components)
+                if len(found[key]) != len(positions):
+                    self.fail(f"{where}.{key}", f"has {len(found[key])} elements, POSITION {len(positions)}")
+        if "indices" in spec:
+            indices = self.accessor(spec, "indices", field, ("SCALAR",), INDEX_TYPES, as_float=False)[:, 0].astype(np.uint32)
+            if indices.max() >= len(positions):
+                self.fail(f"{field}.indices", f"refers to vertex {int(indices.max())}, the primitive has {len(positions)}")
+        else:
+            indices = np.arange(len(positions), dtype=np.uint32)
+        triangles = self.triangles(indices, mode, field)
+        material = self.override or self.primitive_material(spec, field)
+        normals, texcoords, tangents = found.get("NORMAL"), found.get("TEXCOORD_0"), found.get("TANGENT")
+        if material.textures() and texcoords is None:
+            self.fail(field, f'material "{material.name}" has textures but the primitive has no TEXCOORD_0')
+        if normals is None:
+            positions, normals, triangles, texcoords, tangents = flat_normals(positions, triangles, texcoords, tangents)
+        if material.normal_texture is not None and tangents is None:
+            tangents = generate_tangents(positions, normals, texcoords, triangles)
+        return Mesh(positions, normals, triangles, texcoords, tangents), material
+
+    def triangles(self, indices, mode, field):
+        if mode == 4:
+            if len(indices) % 3:
+                self.fail(field, f"{len(indices)} indices do not make whole triangles")
+            triangles = indices.reshape(-1, 3)
+        elif mode == 5:  # strip: every other triangle swaps two corners to keep the winding
+            k = np.arange(max(len(indices) - 2, 0))
+            odd = k % 2 == 1
+            triangles = np.stack([indices[k + odd], indices[k + 1 - odd], indices[k + 2]], axis=1)
+        else:  # fan
+            k = np.arange(1, max(len(indices) - 1, 1))
+            triangles = np.stack([np.full(len(k), indices[0]), indices[k], indices[k + 1]], axis=1)
+        if len(triangles) == 0:
+            self.fail(field, "holds no triangles")
+        return np.ascontiguousarray(triangles, dtype=np.uint32)
+
+    # -- materials and textures
+
+    def primitive_material(self, spec, field):
+        if "material" not in spec:
+            return self.default
+        return self.material(self.json.index(spec, "material", field, "materials", len(self.list("materials"))))
+
+    def material(self, index):
+        if index in self.materials:
+            return self.materials[index]
+        field = f"materials[{index}]"
+        spec = self.element("materials", index)
+        read = self.json
+        pbr_field = f"{field}.pbrMetallicRoughness"
+        pbr = read.get(spec, "pbrMetallicRoughness", field, {}, dict)
+        base_color = read.vector(pbr, "baseColorFactor", pbr_field, [1.0, 1.0, 1.0, 1.0], length=4, nonnegative=True)
+        emissive = read.vector(spec, "emissiveFactor", field, [0.0, 0.0, 0.0], nonnegative=True)
+        for value, where in ((base_color, f"{pbr_field}.baseColorFactor"), (emissive, f"{field}.emissiveFactor")):
+            if np.any(value > 1.0):
+                self.fail(where, "must be at most 1 per channel")
+        extensions = read.get(spec, "extensions", field, {}, dict)
+        strength_spec = read.get(extensions, "KHR_materials_emissive_strength", f"{field}.extensions", {}, dict)
+        strength = read.number(strength_spec, "emissiveStrength", f"{field}.extensions.KHR_materials_emissive_strength",
+                               1.0, minimum=0.0)
+        alpha_mode = read.get(spec, "alphaMode", field, "OPAQUE", str)
+        if alpha_mode not in ALPHA_MODES:
+            self.fail(f"{field}.alphaMode", f'must be one of {", ".join(ALPHA_MODES)}, got "{alpha_mode}"')
+        normal_texture = self.texture(spec, "normalTexture", field, srgb=False)
+        material = Material(
+            name=read.get(spec, "name", field, field, str),
+            albedo=base_color[:3],
+            alpha=float(base_color[3]),
+            roughness=read.number(pbr, "roughnessFactor", pbr_field, 1.0, minimum=0.0, maximum=1.0),
+            metalness=read.number(pbr, "metallicFactor", pbr_field, 1.0, minimum=0.0, maximum=1.0),
+            specular=0.04,
+            emission=emissive * strength,
+            alpha_mode=alpha_mode,
+            alpha_cutoff=read.number(spec, "alphaCutoff", field, 0.5, minimum=0.0) if alpha_mode == "MASK" else 0.5,
+            double_sided=read.get(spec, "doubleSided", field, False, bool),
+            base_color_texture=self.texture(pbr, "baseColorTexture", pbr_field, srgb=True),
+            metallic_roughness_texture=self.texture(pbr, "metallicRoughnessTexture", pbr_field, srgb=False),
+            emissive_texture=self.texture(spec, "emissiveTexture", field, srgb=True),
+            normal_texture=normal_texture,
+            normal_scale=read.number(spec["normalTexture"], "scale", f"{field}.normalTexture", 1.0) if normal_texture else 1.0,
+        )
+        self.materials[index] = material
+        return material
+
+    def texture(self, obj, key, field, srgb):
+        """The Texture that the textureInfo obj[key] names, or None where there is none."""
+        if key not in obj:
+            return None
+        read = self.json
+        where = f"{field}.{key}"
+        info = read.get(obj, key, field, kind=dict)
+        index = read.index(info, "index", where, "textures", len(self.list("textures")))
+        if read.number(info, "texCoord", where, 0, whole=True, minimum=0) != 0:
+            self.fail(f"{where}.texCoord", "only TEXCOORD_0 is read")
+        texture_field = f"textures[{index}]"
+        spec = self.element("textures", index)
+        if "source" not in spec:
+            self.fail(texture_field, "has no source image (images in extensions, such as KHR_texture_basisu, are not read)")
+        source = read.index(spec, "source", texture_field, "images", len(self.list("images")))
+        wrap = ["REPEAT", "REPEAT"]
+        if "sampler" in spec:
+            sampler_index = read.index(spec, "sampler", texture_field, "samplers", len(self.list("samplers")))
+            sampler = self.element("samplers", sampler_index)
+            for k, axis in enumerate(("wrapS", "wrapT")):
+                mode = read.get(sampler, axis, f"samplers[{sampler_index}]", 10497, int)
+                if mode not in GLTF_WRAP_MODES:
+                    self.fail(f"samplers[{sampler_index}].{axis}", f"must be one of {', '.join(map(str, GLTF_WRAP_MODES))}")
+                wrap[k] = GLTF_WRAP_MODES[mode]
+        image_field = f"images[{source}]"
+        image = self.element("images", source)
+        described = image.get("uri") or image.get("name")
+        label = f'{image_field} "{_short(described)}"' if isinstance(described, str) else image_field
+        try:
+            pixels_key, _ = self.textures.decoded(self.image_bytes(image, image_field))
+        except ValueError as exc:
+            self.fail(where, f"{label}: {exc}")
+        return self.textures.texture(pixels_key, f"{self.json.path}: {label}", srgb, *wrap)
+
+    def image_bytes(self, image, field):
+        if "bufferView" in image:
+            data, offset, length, _ = self.view_bytes(self.json.index(image, "bufferView", field, "bufferViews",
+                                                                      len(self.list("bufferViews"))))
+            return data[offset:offset + length]
+        if "uri" in image:
+            return self._uri_bytes(self.json.get(image, "uri", field, kind=str))
+        self.fail(field, "has neither uri nor bufferView")
+
+
+def _short(text, limit=60):
+    """A URI for messages: data URIs can be megabytes long."""
+    return text if len(text) <= limit else text[:limit] + "..."
+
+
+# ---- OBJ + MTL -----------------------------------------------------------------------------
+
+def _statements(text, keyword):
+    """The arguments of every line `keyword ...`, in file order (a literal prefix, so the
+    search is fast on files of millions of lines)."""
+    return [m.strip() for m in re.findall(rf"\n{keyword}[ \t]+([^\r\n]*)", "\n" + text)]
+
+
+def _load_obj(path, name, material):
+    from trimesh.exchange.obj import load_obj
+
+    path = Path(path)
+    try:
+        data = path.read_bytes()
+    except OSError as exc:
+        raise SceneError(f"cannot read ({_os_problem(exc)})", source=name) from None
+    text = data.decode("utf-8", errors="replace")
+    groups = list(dict.fromkeys(_statements(text, "usemtl")))
+    # trimesh groups faces by usemtl but names a group after its material only where it loaded
+    # that material, so it reads a library of just the names; the real MTL is read here, as
+    # trimesh's MTL reader drops a texture it cannot open without a word and skips map_Ke/map_d.
+    names = "\n".join(f"newmtl {group}" for group in groups).encode()
+    try:
+        loaded = load_obj(io.BytesIO(b"mtllib vct-material-names.mtl\n" + data),
+                          resolver={"vct-material-names.mtl": names}, group_material=True)
+    except Exception as exc:  # trimesh raises many kinds on malformed files
+        raise SceneError(f"cannot load mesh: {' '.join(str(exc).split()) or type(exc).__name__}", source=name) from None
+    library = None if material is not None else _MtlLibrary(path, name, _statements(text, "mtllib"))
+    parts = []
+    for kwargs in loaded.get("geometry", {}).values():
+        visual = kwargs.get("visual")
+        group = getattr(getattr(visual, "material", None), "name", None)
+        group = group if group in groups else None
+        part_material = material or library.material(group)
+        uv = getattr(visual, "uv", None)
+        positions = np.asarray(kwargs["vertices"], np.float32)
+        triangles = np.asarray(kwargs["faces"], np.uint32)
+        if len(triangles) == 0:
+            continue
+        texcoords = None
+        if uv is not None and len(uv) == len(positions):
+            texcoords = np.column_stack([uv[:, 0], 1.0 - uv[:, 1]]).astype(np.float32)
+        if part_material.textures() and texcoords is None:
+            raise SceneError(f'material "{part_material.name}" has textures but its faces have no texture coordinates (vt)',
+                             source=name, field=f'usemtl "{group}"')
+        normals = kwargs.get("vertex_normals")
+        if normals is None:
+            normals = _smooth_normals(positions, triangles)
+        parts.append((groups.index(group) if group is not None else -1,
+                      Node(name=group or path.stem, mesh=Mesh(positions, np.asarray(normals, np.float32), triangles, texcoords),
+                           material=part_material)))
+    return [node for _, node in sorted(parts, key=lambda part: part[0])]
+
+
+def _smooth_normals(positions, triangles):
+    """Angle-weighted vertex normals (trimesh; scipy makes them fast)."""
+    import trimesh
+
+    return trimesh.Trimesh(positions, triangles, process=False).vertex_normals
+
+
+class _MtlLibrary:
+    """The materials of an OBJ's mtllib files, each made on first use (see the module docstring)."""
+
+    def __init__(self, obj_path, obj_name, libraries):
+        self.obj_name = obj_name
+        self.statements = {}  # material name -> (MTL path, MTL name, [(line number, keyword, arguments)])
+        self.made = {None: default_material()}
+        self.textures = _Textures()
+        for library in libraries:
+            for file in library.split():
+                self._read(obj_path.parent / file, str(Path(obj_name).parent / file), file)
+
+    def _read(self, path, name, file):
+        try:
+            text = path.read_text(encoding="utf-8", errors="replace")
+        except OSError as exc:
+            raise SceneError(f"cannot read material library: {_os_problem(exc)}", source=self.obj_name,
+                             field=f'mtllib "{file}"') from None
+        current = None
+        for number, line in enumerate(text.splitlines(), 1):
+            words = line.split("#", 1)[0].split()
+            if words and words[0].lower() == "newmtl":
+                current = " ".join(words[1:])
+                self.statements[current] = (path, name, [])
+            elif words and current is not None:
+                self.statements[current][2].append((number, words[0], words[1:]))
+
+    def material(self, group):
+        if group not in self.made:
+            if group not in self.statements:
+                raise SceneError("no material of that name in the mtllib files", source=self.obj_name,
+                                 field=f'usemtl "{group}"')
+            self.made[group] = self._material(group, *self.statements[group])
+        return self.made[group]
+
+    def _material(self, group, path, name, statements):
+        values, maps = {}, {}
+        for number, keyword, args in statements:
+            where = f"line {number} ({keyword})"
+            key = keyword.lower()
+            if key in ("kd", "ke", "ks"):
+                values[key] = _mtl_numbers(args, name, where, (1, 3), maximum=1.0 if key == "kd" else None) * np.ones(3)
+            elif key in ("ns", "d", "tr"):
+                values[key] = float(_mtl_numbers(args, name, where, (1,), maximum=None if key == "ns" else 1.0)[0])
+            elif key in ("map_kd", "map_ke", "map_d"):
+                maps[key] = self._map(args, path, name, where)
+        alpha = values.get("d", 1.0 - values.get("tr", 0.0))
+        ns = values.get("ns")
+        return Material(
+            name=group,
+            albedo=values.get("kd", np.ones(3) if "map_kd" in maps else np.full(3, 0.8)),
+            roughness=1.0 if ns is None else (2.0 / (ns + 2.0)) ** 0.25,
+            specular=0.04 if np.any(values.get("ks", 0.0) > 0) else 0.0,
+            emission=values.get("ke", np.ones(3) if "map_ke" in maps else np.zeros(3)),
+            alpha=alpha,
+            alpha_mode="BLEND" if alpha < 1.0 or "map_d" in maps else "OPAQUE",
+            base_color_texture=self._base_color(maps.get("map_kd"), maps.get("map_d")),
+            emissive_texture=self._texture(maps.get("map_ke"), srgb=True),
+        )
+
+    def _map(self, args, mtl_path, mtl_name, where):
+        """The image a map statement names (options: -clamp on|off)."""
+        wrap = "REPEAT"
+        while args and args[0].startswith("-"):
+            if args[0] != "-clamp" or len(args) < 2 or args[1] not in ("on", "off"):
+                raise SceneError(f"texture option {args[0]} is not supported (only -clamp on|off)", source=mtl_name, field=where)
+            wrap = "CLAMP_TO_EDGE" if args[1] == "on" else "REPEAT"
+            args = args[2:]
+        file = " ".join(args).replace("\\", "/")
+        if not file:
+            raise SceneError("names no image file", source=mtl_name, field=where)
+        try:
+            data = (mtl_path.parent / file).read_bytes()
+        except OSError as exc:
+            raise SceneError(f'"{file}": {_os_problem(exc)}', source=mtl_name, field=where) from None
+        try:
+            key, pixels = self.textures.decoded(data)
+        except ValueError as exc:
+            raise SceneError(f'"{file}": {exc}', source=mtl_name, field=where) from None
+        return _MapImage(str(Path(mtl_name).parent / file), key, pixels, wrap)
+
+    def _texture(self, image, srgb):
+        return None if image is None else self.textures.texture(image.key, image.name, srgb, image.wrap, image.wrap)
+
+    def _base_color(self, color, alpha):
+        """map_Kd, with map_d's alpha where there is a map_d (the image itself where both name
+        the same image with an alpha channel)."""
+        if alpha is None or (color is not None and color.key == alpha.key and color.pixels.shape[2] in (2, 4)):
+            return self._texture(color, srgb=True)
+        key = (color.key if color else None, alpha.key)
+        self.textures.pixels(key, lambda: _with_alpha(color.pixels if color else None, alpha.pixels))
+        name = f"{color.name if color else 'white'} with the alpha of {alpha.name}"
+        wrap = (color or alpha).wrap
+        return self.textures.texture(key, name, True, wrap, wrap)
+
+
+_MapImage = namedtuple("_MapImage", "name key pixels wrap")
+
+
+def _with_alpha(color, alpha):
+    """RGBA pixels: `color`'s RGB (white where None) with the alpha channel of `alpha`, or its
+    first channel where it has no alpha, resized to `color`'s size."""
+    from PIL import Image
+
+    a = alpha[..., -1] if alpha.shape[2] in (2, 4) else alpha[..., 0]
+    if color is None:
+        rgb = np.full(a.shape + (3,), 255, np.uint8)
+    else:
+        rgb = color[..., :3] if color.shape[2] >= 3 else np.repeat(color[..., :1], 3, axis=2)
+    if a.shape != rgb.shape[:2]:
+        a = np.asarray(Image.fromarray(a).resize((rgb.shape[1], rgb.shape[0]), Image.BILINEAR))
+    return np.ascontiguousarray(np.dstack([rgb, a]))
+
+
+def _mtl_numbers(args, mtl_name, where, counts, maximum=None):
+    try:
+        values = np.array([float(a) for a in args])
+    except ValueError:
+        values = None
+    if values is None or len(values) not in counts or not np.all(np.isfinite(values)):
+        raise SceneError(f"must be {' or '.join(map(str, counts))} finite numbers", source=mtl_name, field=where)
+    if np.any(values < 0) or (maximum is not None and np.any(values > maximum)):
+        raise SceneError(f"must be {'in 0..' + str(maximum) if maximum is not None else 'at least 0'}", source=mtl_name, field=where)
+    return values
+
+
+def _os_problem(exc):
+    return "file not found" if isinstance(exc, FileNotFoundError) else str(exc.strerror or exc)
+
+
+# ---- other formats -------------------------------------------------------------------------
+
+def _load_with_trimesh(path, name, material):
+    """PLY, STL, OFF, ...: one mesh, merged vertices, smooth normals (as before glTF and OBJ
+    were read here)."""
+    import trimesh
+
+    try:
+        mesh = trimesh.load(str(path), force="mesh", process=True)
+    except Exception as exc:  # trimesh raises many kinds on unreadable files
+        raise SceneError(f"cannot load mesh: {' '.join(str(exc).split()) or type(exc).__name__}", source=name) from None
+    if not isinstance(mesh, trimesh.Trimesh) or len(mesh.faces) == 0:
+        raise SceneError("holds no triangles", source=name)
+    return Node(name=Path(path).stem, mesh=Mesh(np.asarray(mesh.vertices, np.float32), np.asarray(mesh.vertex_normals, np.float32),
+                                                 np.asarray(mesh.faces, np.uint32)),
+                material=material or default_material())
