@@ -1,8 +1,8 @@
 """What a frame is made from, read off the scene itself, and what changed since a stage of the
 frame last ran. GL-free: the renderer decides from this which passes a frame needs.
 
-Meshes are immutable (their arrays are read-only), so a mesh is the same when it is the same
-object; transforms, materials and lights are compared by value.
+Mesh arrays are read-only, so a mesh is unchanged while it holds the same array objects;
+transforms, materials and lights are compared by value.
 """
 from dataclasses import dataclass
 
@@ -29,13 +29,15 @@ class Draw:
     key: tuple          # (id(node), occurrence): the same instance from frame to frame
     node: object
     mesh: object
+    mesh_arrays: tuple  # the mesh's arrays this frame (scene.Mesh.arrays)
     world: np.ndarray
     material: object
     material_values: tuple
     bounds: tuple       # (lo, hi) in world space
 
     def same_geometry(self, other):
-        return self.mesh is other.mesh and np.array_equal(self.world, other.world)
+        return (self.mesh is other.mesh and all(a is b for a, b in zip(self.mesh_arrays, other.mesh_arrays))
+                and np.array_equal(self.world, other.world))
 
     def __eq__(self, other):
         return (isinstance(other, Draw) and self.key == other.key and self.same_geometry(other)
@@ -54,7 +56,7 @@ class FrameInputs:
             occurrence = seen[id(node)] = seen.get(id(node), -1) + 1
             world = np.array(world, dtype=np.float64)
             world.flags.writeable = False
-            self.draws.append(Draw((id(node), occurrence), node, node.mesh, world, node.material,
+            self.draws.append(Draw((id(node), occurrence), node, node.mesh, node.mesh.arrays(), world, node.material,
                                    material_values(node.material), bounds_cache.bounds(node.mesh, world)))
         bounds_cache.keep_only(self.draws)
         self.lights = [light for _, light in scene.lights()]
@@ -67,7 +69,7 @@ class FrameInputs:
 
     def geometry(self):
         """What shadow maps depend on besides the lights: every draw's mesh and transform."""
-        return tuple((d.key, id(d.mesh), d.world.tobytes()) for d in self.draws)
+        return tuple((d.key, tuple(map(id, d.mesh_arrays)), d.world.tobytes()) for d in self.draws)
 
 
 class BoundsCache:
@@ -78,15 +80,15 @@ class BoundsCache:
         self._bounds = {}
 
     def bounds(self, mesh, world):
-        key = (id(mesh), world.tobytes())
+        key = (id(mesh.positions), world.tobytes())
         entry = self._bounds.get(key)
-        if entry is None or entry[0] is not mesh:
-            entry = (mesh, *mesh.bounds(world))
+        if entry is None or entry[0] is not mesh.positions:
+            entry = (mesh.positions, *mesh.bounds(world))
             self._bounds[key] = entry
         return entry[1], entry[2]
 
     def keep_only(self, draws):
-        live = {(id(d.mesh), d.world.tobytes()) for d in draws}
+        live = {(id(d.mesh_arrays[0]), d.world.tobytes()) for d in draws}
         for key in [k for k in self._bounds if k not in live]:
             del self._bounds[key]
 

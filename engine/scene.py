@@ -117,13 +117,9 @@ class Mesh:
             value.flags.writeable = False
         super().__setattr__(name, value)
 
-    def __post_init__(self):
-        # Immutable: the renderer knows a mesh is unchanged when it is the same object. To
-        # change geometry, give the node a new Mesh.
-        for name in ("positions", "normals", "indices"):
-            array = np.array(getattr(self, name))
-            array.flags.writeable = False
-            setattr(self, name, array)
+    def arrays(self):
+        """The arrays the mesh is made of: the same objects mean the same geometry."""
+        return (self.positions, self.normals, self.indices, self.texcoords, self.tangents)
 
     def bounds(self, matrix):
         p = transforms.transform_points(matrix, self.positions)

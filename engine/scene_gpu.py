@@ -8,15 +8,19 @@ from . import transforms
 class SceneGeometry:
     def __init__(self, ctx):
         self.ctx = ctx
-        self.buffers = {}  # id(mesh) -> (mesh, vbo, ibo)
+        self.buffers = {}  # id(mesh) -> (the mesh's arrays, vbo, ibo)
         self.vertex_arrays = {}  # handle -> (program, {id(mesh): vao})
         self.draw_calls = 0
 
     def _buffers(self, mesh):
+        """The mesh's buffers, uploaded again when it holds new arrays."""
         entry = self.buffers.get(id(mesh))
-        if entry is None or entry[0] is not mesh:
+        if entry is not None and not all(a is b for a, b in zip(entry[0], mesh.arrays())):
+            self._release_mesh(id(mesh))
+            entry = None
+        if entry is None:
             data = np.hstack([mesh.positions, mesh.normals]).astype("f4")
-            entry = (mesh, self.ctx.buffer(data.tobytes()), self.ctx.buffer(mesh.indices.astype("i4").tobytes()))
+            entry = (mesh.arrays(), self.ctx.buffer(data.tobytes()), self.ctx.buffer(mesh.indices.astype("i4").tobytes()))
             self.buffers[id(mesh)] = entry
         return entry
 
@@ -27,9 +31,9 @@ class SceneGeometry:
                 vao.release()
             program, arrays = handle.program, {}
             self.vertex_arrays[handle] = (program, arrays)
+        _, vbo, ibo = self._buffers(mesh)  # uploaded again, without vertex arrays, if the mesh has new arrays
         vao = arrays.get(id(mesh))
         if vao is None:
-            _, vbo, ibo = self._buffers(mesh)
             if "in_normal" in program:
                 layout = (vbo, "3f 3f", "in_position", "in_normal")
             else:  # the compiler removed the unused normal: skip its 12 bytes
@@ -52,13 +56,16 @@ class SceneGeometry:
         """Release the buffers and vertex arrays of meshes that no draw uses any more."""
         live = {id(d.mesh) for d in draws}
         for key in [k for k in self.buffers if k not in live]:
-            for _, arrays in self.vertex_arrays.values():
-                vao = arrays.pop(key, None)
-                if vao is not None:
-                    vao.release()
-            _, vbo, ibo = self.buffers.pop(key)
-            vbo.release()
-            ibo.release()
+            self._release_mesh(key)
+
+    def _release_mesh(self, key):
+        for _, arrays in self.vertex_arrays.values():
+            vao = arrays.pop(key, None)
+            if vao is not None:
+                vao.release()
+        _, vbo, ibo = self.buffers.pop(key)
+        vbo.release()
+        ibo.release()
 
     def release(self):
         for _, arrays in self.vertex_arrays.values():

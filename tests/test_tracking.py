@@ -114,3 +114,19 @@ def test_objects_leaving_and_joining_the_scene_update_the_voxels(edit):
     with engine.Renderer(64, 64) as fresh:
         assert np.array_equal(fresh.render(scene, grid=32, bounces=1), image)
         assert [fresh.voxels(name).tobytes() for name in ("radiance", "normal", "albedo")] == voxels
+
+
+def test_a_mesh_given_new_vertices_is_drawn_and_voxelized_anew():
+    """Mesh arrays are read-only; giving a mesh a new positions array is an edit the renderer
+    notices: the frame equals a fresh render of the edited scene."""
+    scene = engine.load_scene(SCENES / "cornell_box.json")
+    short_box = scene.root.find("Short Box")
+    short_box.mesh = engine.scene.box_mesh()
+    with engine.Renderer(64, 64) as r:
+        r.render(scene, grid=32, bounces=1)
+        with pytest.raises(ValueError):
+            short_box.mesh.positions[0, 0] = 1.0
+        short_box.mesh.positions = short_box.mesh.positions * [1.0, 1.5, 1.0]
+        edited = r.render(scene, grid=32, bounces=1)
+    with engine.Renderer(64, 64) as fresh:
+        assert np.array_equal(fresh.render(scene, grid=32, bounces=1), edited)
