@@ -1,4 +1,4 @@
-# make render | test | bench | clean. System libraries come from tools/ensure_system_deps.sh,
+# make render | test | bench | bench-peers | clean. System libraries come from tools/ensure_system_deps.sh,
 # Python packages go into .venv (reinstalled when pyproject.toml changes).
 PYTHON ?= python3
 VENV := .venv
@@ -7,7 +7,7 @@ PYTEST_ARGS ?=
 LP_NUM_THREADS ?= $(shell nproc)
 PIP_INSTALL := $(VENV)/bin/python -m pip install -q --disable-pip-version-check
 
-.PHONY: render test bench clean system-deps test-system-deps
+.PHONY: render test bench bench-peers clean system-deps test-system-deps
 
 render: system-deps $(VENV)/.installed
 	@mkdir -p out
@@ -18,6 +18,10 @@ test: test-system-deps $(VENV)/.installed-test
 
 bench: system-deps $(VENV)/.installed
 	LP_NUM_THREADS=$(LP_NUM_THREADS) $(VENV)/bin/vct bench $(SCENE)
+
+# This renderer and Godot 3's GIProbe (../shared/peers/godot-giprobe) in the same run, with the ratio.
+bench-peers: system-deps $(VENV)/.installed
+	LP_NUM_THREADS=$(LP_NUM_THREADS) $(VENV)/bin/python tools/bench_peers.py
 
 clean:
 	rm -rf out $(VENV)

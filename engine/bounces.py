@@ -3,23 +3,51 @@
 
 A bounce gathers light at every voxel with the 6 diffuse cones (passes/gather.py) and composes
 the face views again with it, L = L_base + k_d G (passes/faces.py). The gathers live in two
-volumes: `latest` is the one the image and the face views use.
+volumes: `latest` is the one the image and the face views use, the other keeps an earlier
+gather for closing the series.
 
 - `bounces` K >= 1: K bounces when the base radiance changes; the face views carry K - 1 of
   them and the latest gather the K-th, which the image adds.
-- `bounces` 0, converged within the frame (headless): bounce until the grid's total radiance
-  T_k settles; once its increments shrink by a steady ratio r, add the rest of the geometric
-  series, r / (1 - r) times the last increment, to the gathers in one step.
-- `bounces` 0, progressive (the viewer): one bounce per frame on top of the previous frame's,
-  re-gathering one interleave class of voxels (1 in K) each frame, until the totals stop
-  changing over a whole cycle of classes; then no bounce work until the next change.
+- `bounces` 0, converged within the frame (headless): bounce until the series closes (Series).
+- `bounces` 0, progressive (the viewer): one interleave class of voxels (1 in K) gathers again
+  each frame, on top of the previous frames' gathers; a cycle of K frames gathers every voxel
+  once, and the series closes over cycles as it does over bounces. Then no bounce work until
+  the next change.
 """
 import numpy as np
 
 from .settings import MAX_BOUNCES
 
-CONVERGENCE_TOLERANCE = 2e-3  # relative change of the totals under which bouncing stops
+CONVERGENCE_TOLERANCE = 2e-3  # an increment of the totals under this fraction of them: converged
 RATIO_SETTLED = 0.01          # successive increment ratios this close: close the series
+
+
+class Series:
+    """The grid's total radiance T_k after each bounce (or cycle of bounces). The bounces are a
+    geometric series: once an increment D_k = T_k - T_(k-1) is negligible it has converged;
+    once the increments shrink by a steady ratio r, the remaining bounces add r / (1 - r) times
+    the last increment, which `add` returns as the gain to apply (per colour channel)."""
+
+    CONVERGED = "converged"
+
+    def __init__(self, total):
+        self.totals = [total]
+        self.ratios = []
+
+    def add(self, total):
+        """Series.CONVERGED, a gain (close the series with it), or None (bounce on)."""
+        self.totals.append(total)
+        increment = self.totals[-1] - self.totals[-2]
+        if np.all(increment <= CONVERGENCE_TOLERANCE * self.totals[-1]):
+            return Series.CONVERGED
+        if len(self.totals) >= 3:
+            previous = self.totals[-2] - self.totals[-3]
+            self.ratios.append(np.where(previous > 0, increment / np.maximum(previous, 1e-30), 0.0))
+        if len(self.ratios) >= 2 and np.all(np.abs(self.ratios[-1] - self.ratios[-2]) <= RATIO_SETTLED) \
+                and np.all(self.ratios[-1] < 1):
+            r = np.clip(self.ratios[-1], 0.0, 0.99)
+            return r / (1.0 - r)
+        return None
 
 
 class BounceSchedule:
@@ -28,8 +56,8 @@ class BounceSchedule:
         self.faces = faces
         self.latest = 0
         self.settled = True
+        self.series = None    # progressive: the totals at the start of each cycle
         self.phase = 0        # progressive: the interleave class that gathers next
-        self.totals = []      # progressive: the grid's total radiance after each bounce
         self.iterations = 0   # bounces the last restart ran (or the progressive bounces so far)
 
     def gathered(self, grid):
@@ -37,10 +65,9 @@ class BounceSchedule:
 
     def restart(self, grid, settings, cone_uniforms, progressive, timed):
         """The base radiance or the bounce settings changed."""
-        self.totals = []
         self.iterations = 0
         if settings.bounces == 0 and progressive:  # resume from the previous gathers, from this frame on
-            self.settled = False
+            self.settled, self.series, self.phase = False, None, 0
             return
         self.settled = True
         self._compose(grid, None, timed)
@@ -50,24 +77,30 @@ class BounceSchedule:
             self._converge(grid, cone_uniforms, timed)
 
     def advance(self, grid, settings, cone_uniforms, timed):
-        """Progressive: one bounce for this frame. The face views are composed from the base
-        radiance and the gathers so far (the cones must see the current base radiance); then,
-        unless the totals stopped changing over a whole cycle of classes, the next interleave
-        class gathers again (the image reads the gathers directly)."""
+        """Progressive: this frame's share of the bounces. The face views are composed from the
+        base radiance and the gathers so far (the cones must see the current base radiance);
+        at the start of a cycle the series is checked and the gathers kept; then the next
+        interleave class gathers again (the image reads the gathers directly)."""
         if self.settled:
             return
         interleave = settings.bounce_interleave
         self._compose(grid, self.gathered(grid), timed)
-        self.totals.append(self.faces.totals(grid))
-        recent = np.array(self.totals[-(interleave + 1):])
-        if len(recent) == interleave + 1 and np.all(np.abs(np.diff(recent, axis=0)) <= CONVERGENCE_TOLERANCE * recent[-1]):
-            self.settled = True
-            return
+        if self.phase == 0:
+            total = self.faces.totals(grid)
+            outcome = None if self.series is None else self.series.add(total)
+            if self.series is None:
+                self.series = Series(total)
+            if outcome is not None:
+                if outcome is not Series.CONVERGED:
+                    self._close_series(grid, outcome, timed)
+                self.settled = True
+                return
+            with timed("gather"):  # keep the gathers of this cycle's start, for closing the series
+                self.gather.copy(grid, self.gathered(grid), grid.gathered[1 - self.latest])
         self.gather.sort_classes(grid, interleave)
-        self.phase %= interleave
         with timed("gather"):
             self.gather.run(grid, cone_uniforms, self.gathered(grid), grid.class_segments[self.phase])
-        self.phase += 1
+        self.phase = (self.phase + 1) % interleave
         self.iterations += 1
 
     def _compose(self, grid, gathered, timed):
@@ -76,40 +109,35 @@ class BounceSchedule:
         with timed("mipmap"):
             self.faces.mipmap(grid)
 
-    def _gather_all(self, grid, cone_uniforms, out, timed):
+    def _close_series(self, grid, gain, timed):
+        """latest <- latest + (latest - earlier) * gain; the face views follow."""
+        with timed("gather"):
+            self.gather.extrapolate(grid, self.gathered(grid), grid.gathered[1 - self.latest], gain)
+        self.latest = 1 - self.latest
+        self._compose(grid, self.gathered(grid), timed)
+
+    def _gather_all(self, grid, cone_uniforms, timed):
         self.gather.sort_classes(grid, 1)
         with timed("gather"):
-            self.gather.run(grid, cone_uniforms, grid.gathered[out], grid.class_segments[0])
+            self.gather.run(grid, cone_uniforms, self.gathered(grid), grid.class_segments[0])
 
     def _fixed(self, grid, bounces, cone_uniforms, timed):
         for k in range(1, bounces + 1):
-            self.latest = k % 2
-            self._gather_all(grid, cone_uniforms, self.latest, timed)
+            self._gather_all(grid, cone_uniforms, timed)
             if k < bounces:
                 self._compose(grid, self.gathered(grid), timed)
         self.iterations = bounces
 
     def _converge(self, grid, cone_uniforms, timed):
-        totals = [self.faces.totals(grid)]
-        ratios = []
-        older, newer = 0, 1
+        series = Series(self.faces.totals(grid))
         for iteration in range(1, MAX_BOUNCES + 1):
-            self._gather_all(grid, cone_uniforms, newer, timed)
-            self.latest = newer
+            self.latest = 1 - self.latest  # the other volume holds the previous gather
+            self._gather_all(grid, cone_uniforms, timed)
             self._compose(grid, self.gathered(grid), timed)
             self.iterations = iteration
-            totals.append(self.faces.totals(grid))
-            increment = totals[-1] - totals[-2]
-            if np.all(increment <= CONVERGENCE_TOLERANCE * totals[-1]):
+            outcome = series.add(self.faces.totals(grid))
+            if outcome is Series.CONVERGED:
                 return
-            if len(totals) >= 3:
-                previous = totals[-2] - totals[-3]
-                ratios.append(np.where(previous > 0, increment / np.maximum(previous, 1e-30), 0.0))
-            if len(ratios) >= 2 and np.all(np.abs(ratios[-1] - ratios[-2]) <= RATIO_SETTLED) and np.all(ratios[-1] < 1):
-                r = np.clip(ratios[-1], 0.0, 0.99)
-                with timed("gather"):
-                    self.gather.extrapolate(grid, grid.gathered[newer], grid.gathered[older], r / (1.0 - r))
-                self.latest = older
-                self._compose(grid, self.gathered(grid), timed)
+            if outcome is not None:
+                self._close_series(grid, outcome, timed)
                 return
-            older, newer = newer, older

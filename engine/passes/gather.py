@@ -52,6 +52,10 @@ class GatherPass:
         self.extrapolate_program.set(**grid.uniforms(), gain=tuple(float(g) for g in gain))
         grid.dispatch(self.extrapolate_program, grid.covered.count)
 
+    def copy(self, grid, source, target):
+        """target <- source, per covered voxel: the extrapolation with gain 0."""
+        self.extrapolate(grid, source, target, (0.0, 0.0, 0.0))
+
     def release(self):
         for handle in (self.program, self.classes, self.extrapolate_program):
             handle.release()
