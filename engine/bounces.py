@@ -66,8 +66,8 @@ class BounceSchedule:
     def restart(self, grid, settings, cone_uniforms, progressive, timed):
         """The base radiance or the bounce settings changed."""
         self.iterations = 0
-        if settings.bounces == 0 and progressive:  # resume from the previous gathers, from this frame on
-            self.settled, self.series, self.phase = False, None, 0
+        if settings.bounces == 0 and progressive:  # resume from the previous gathers; a new series from the next cycle
+            self.settled, self.series = False, None
             return
         self.settled = True
         self._compose(grid, None, timed)
@@ -84,6 +84,7 @@ class BounceSchedule:
         if self.settled:
             return
         interleave = settings.bounce_interleave
+        self.phase %= interleave
         self._compose(grid, self.gathered(grid), timed)
         if self.phase == 0:
             total = self.faces.totals(grid)
