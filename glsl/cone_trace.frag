@@ -29,37 +29,27 @@ layout(location = 0) out vec4 out_radiance;
 // times the coherence |mean normal| (voxels of mixed surfaces count less).
 #define FACING_EXPONENT 8.0
 
-// The diffuse gather sum_j w_j Lv(p, w_j) at surface s from the gathers of the voxels around p
-// in the layer across the normal's dominant axis that holds p (the next layer where that one
-// holds no surface facing n): bilinear weights over the four voxel centres around p, times
-// facing. False where no voxel faces n.
+// The diffuse gather sum_j w_j Lv(p, w_j) at surface s from the gathers of the 8 voxels whose
+// centres surround p, weighted trilinearly and by facing; false where no voxel faces n.
 bool interpolated_gather(Surface s, out vec3 gathered) {
     vec3 c = voxel_uvw(s.position) * float(voxel_grid) - 0.5;  // in units of voxels, from voxel centres
-    vec3 a = abs(s.normal);
-    int axis = a.x >= a.y ? (a.x >= a.z ? 0 : 2) : (a.y >= a.z ? 1 : 2);
-    int t1 = (axis + 1) % 3, t2 = (axis + 2) % 3;
     ivec3 base = ivec3(floor(c));
     vec3 f = c - vec3(base);
-    int layer = int(floor(c[axis] + 0.5));
-    int other_layer = 2 * base[axis] + 1 - layer;
     vec3 sum = vec3(0.0);
     float total = 0.0;
-    for (int attempt = 0; attempt < 2 && total <= 1e-4; ++attempt) {
-        base[axis] = attempt == 0 ? layer : other_layer;
-        for (int k = 0; k < 4; ++k) {
-            ivec3 v = base;
-            v[t1] += k & 1;
-            v[t2] += k >> 1;
-            if (any(lessThan(v, ivec3(0))) || any(greaterThanEqual(v, ivec3(voxel_grid)))) continue;
-            vec4 g = texelFetch(voxel_gathered, v, 0);
-            if (g.a <= 0.0) continue;  // no surface, or none that reflects diffuse light
-            vec3 n_v = texelFetch(voxel_normal, v, 0).xyz;
-            float coherence = length(n_v);
-            float facing = pow(max(dot(s.normal, n_v) / max(coherence, 1e-6), 0.0), FACING_EXPONENT) * coherence;
-            float weight = ((k & 1) == 1 ? f[t1] : 1.0 - f[t1]) * ((k >> 1) == 1 ? f[t2] : 1.0 - f[t2]) * facing;
-            sum += weight * g.rgb;
-            total += weight;
-        }
+    for (int k = 0; k < 8; ++k) {
+        ivec3 corner = ivec3(k & 1, (k >> 1) & 1, k >> 2);
+        ivec3 v = base + corner;
+        if (any(lessThan(v, ivec3(0))) || any(greaterThanEqual(v, ivec3(voxel_grid)))) continue;
+        vec4 g = texelFetch(voxel_gathered, v, 0);
+        if (g.a <= 0.0) continue;  // no surface, or none that reflects diffuse light
+        vec3 n_v = texelFetch(voxel_normal, v, 0).xyz;
+        float coherence = length(n_v);
+        float facing = pow(max(dot(s.normal, n_v) / max(coherence, 1e-6), 0.0), FACING_EXPONENT) * coherence;
+        vec3 trilinear = mix(1.0 - f, f, vec3(corner));
+        float weight = trilinear.x * trilinear.y * trilinear.z * facing;
+        sum += weight * g.rgb;
+        total += weight;
     }
     gathered = total > 1e-4 ? sum / total : vec3(0.0);
     return total > 1e-4;
