@@ -57,8 +57,8 @@ STORAGE_BINDING = {
     "COVERED_NEXT": 16,     # the covered list being rebuilt
     "CELLS": 17,            # covered cells of the coarser levels, level after level
     "CELL_STAMPS": 18,
-    "CLASS_LIST": 19,       # covered voxels sorted by interleave class
-    "CLASS_COUNTS": 20,
+    "CLASS_LIST": 19,       # covered voxels sorted by interleave class, then by block
+    "CLASS_BUCKETS": 20,
     "READBACK": 21,
     "CONE_PIXELS": 22,      # pixels that trace cones of their own: dispatch size, count, pixels
 }
@@ -103,6 +103,9 @@ VOLUME_GROUP = 4
 # The progressive bounce re-gathers 1 voxel class in K per frame, K <= MAX_INTERLEAVE: the
 # classes are the positions of a voxel in its 2x2x2 block.
 MAX_INTERLEAVE = 8
+# Within a class the gather list runs block by block of CLASS_BLOCK^3 voxels, so that the
+# invocations running side by side trace neighbouring voxels.
+CLASS_BLOCK = 16
 
 
 def cone_cosine_centroid_tilt(tilt, half_angle, samples=400):
@@ -162,6 +165,7 @@ def glsl_header():
         f"#define VOXEL_FACES {VOXEL_FACES}",
         f"#define VOLUME_GROUP {VOLUME_GROUP}",
         f"#define MAX_INTERLEAVE {MAX_INTERLEAVE}",
+        f"#define CLASS_BLOCK {CLASS_BLOCK}",
         f"#define VOXEL_UNIT_SCALE {VOXEL_UNIT_SCALE:.1f}",
         f"#define VOXEL_MAX_FRAGMENTS {VOXEL_MAX_FRAGMENTS}u",
         f"#define VOXEL_EMISSION_SCALE {VOXEL_EMISSION_SCALE:.1f}",

@@ -16,7 +16,7 @@ import math
 
 import numpy as np
 
-from .constants import (GL_IMAGE_FORMAT, GRID_SIZES, IMAGE_UNIT, LIST_GROUP, MAX_INTERLEAVE, STORAGE_BINDING, TEXTURE_UNIT,
+from .constants import (CLASS_BLOCK, GL_IMAGE_FORMAT, GRID_SIZES, IMAGE_UNIT, LIST_GROUP, MAX_INTERLEAVE, STORAGE_BINDING, TEXTURE_UNIT,
                         VOXEL_FACES, VOXEL_FORMAT, VOXEL_MEMORY_BUDGET, VOXEL_SUM_CHANNELS)
 from .errors import VctError
 
@@ -110,9 +110,10 @@ class VoxelGrid:
         self.cells = self._keep(ctx.buffer(data=bytes(4 * (MAX_LEVELS + sum(sizes[1:])))))
         self.cell_stamps = self._keep(ctx.buffer(data=bytes(4 * sum(sizes[1:]))))
         self.cell_generation = 0
-        # Covered voxels sorted by interleave class, and per class its count and first entry.
+        # Covered voxels sorted by interleave class and block, the buckets of that counting sort,
+        # and per class its first entry and count.
         self.class_list = self._keep(ctx.buffer(reserve=4 * voxels))
-        self.class_counts = self._keep(ctx.buffer(reserve=8 * MAX_INTERLEAVE))
+        self.class_buckets = self._keep(ctx.buffer(reserve=4 * MAX_INTERLEAVE * max(n // CLASS_BLOCK, 1) ** 3))
         self.class_segments = []  # (first, count) per class
         self.classes_for = None   # (grid version, interleave) the class list was sorted for
         self.framebuffer = self._keep(ctx.empty_framebuffer((n, n)))

@@ -5,7 +5,7 @@ pixel (passes/cone_trace.py). Also sorts the covered voxels into interleave clas
 progressive bounce, and closes the bounce series by extrapolation."""
 import numpy as np
 
-from ..constants import IMAGE_UNIT, MAX_INTERLEAVE, STORAGE_BINDING, TEXTURE_UNIT
+from ..constants import CLASS_BLOCK, IMAGE_UNIT, STORAGE_BINDING, TEXTURE_UNIT
 from ..voxel_grid import bind_image
 
 
@@ -17,21 +17,24 @@ class GatherPass:
         self.extrapolate_program = programs.compute("voxel_extrapolate.comp")
 
     def sort_classes(self, grid, interleave):
-        """Sort the covered voxels into `interleave` classes (unless already sorted so):
-        class c of the list is grid.class_segments[c] = (first, count)."""
+        """Sort the covered voxels into `interleave` classes (unless already sorted so), each
+        grouped by block: class c of the list is grid.class_segments[c] = (first, count)."""
         if grid.classes_for == (grid.version, interleave):
             return
+        blocks = max(grid.n // CLASS_BLOCK, 1) ** 3
         grid.covered.bind("COVERED")
-        grid.class_counts.write(bytes(8 * MAX_INTERLEAVE))
-        grid.class_counts.bind_to_storage_buffer(STORAGE_BINDING["CLASS_COUNTS"])
+        grid.class_buckets.write(bytes(4 * blocks * interleave))
+        grid.class_buckets.bind_to_storage_buffer(STORAGE_BINDING["CLASS_BUCKETS"])
         grid.class_list.bind_to_storage_buffer(STORAGE_BINDING["CLASS_LIST"])
         self.classes.set(**grid.uniforms(), interleave=interleave, scatter=False)
         grid.dispatch(self.classes, grid.covered.count)
-        counts = np.frombuffer(grid.class_counts.read(4 * interleave), dtype="u4").astype(int)
+        counts = np.frombuffer(grid.class_buckets.read(4 * blocks * interleave), dtype="u4").astype(np.int64)
         firsts = np.concatenate([[0], np.cumsum(counts)[:-1]])
-        self.classes.set(scatter=True, class_first=tuple(int(f) for f in firsts) + (0,) * (MAX_INTERLEAVE - interleave))
+        grid.class_buckets.write(firsts.astype("u4").tobytes())
+        self.classes.set(scatter=True)
         grid.dispatch(self.classes, grid.covered.count)
-        grid.class_segments = list(zip(firsts.tolist(), counts.tolist()))
+        per_class = counts.reshape(interleave, blocks).sum(axis=1)
+        grid.class_segments = [(int(firsts[c * blocks]), int(per_class[c])) for c in range(interleave)]
         grid.classes_for = (grid.version, interleave)
 
     def run(self, grid, cone_uniforms, out, segment):
