@@ -65,7 +65,7 @@ class RenderSettings:
     indirect_specular: bool = True  # gi: include specular indirect light
     exposure: float = 1.0
     tonemap: str = "aces"
-    shadow_map_size: int = 1024     # texels per side of each shadow view (fixed per renderer)
+    shadow_map_size: int = 512      # texels per side of each shadow view (fixed per renderer)
 
     def validate(self, source="settings"):
         if self.mode not in MODE_TABLE:
