@@ -10,9 +10,19 @@ import numpy as np
 
 
 def material_values(material):
-    """Everything about a material the passes read, as a comparable tuple."""
+    """Everything about a material the passes read, as a comparable tuple (textures compare
+    by identity)."""
     return (tuple(float(x) for x in material.albedo), float(material.roughness), float(material.metalness),
-            float(material.specular), tuple(float(x) for x in material.emission))
+            float(material.specular), tuple(float(x) for x in material.emission), float(material.alpha),
+            material.alpha_mode, float(material.alpha_cutoff), bool(material.double_sided),
+            float(material.normal_scale), tuple(material.textures()))
+
+
+def cutout_values(material):
+    """What of a material shadow maps see: its alpha cut-out, if it has one."""
+    if material.alpha_mode == "OPAQUE":
+        return None
+    return (material.alpha_mode, float(material.alpha_cutoff), float(material.alpha), material.base_color_texture)
 
 
 def light_values(light):
@@ -38,6 +48,11 @@ class Draw:
     def same_geometry(self, other):
         return (self.mesh is other.mesh and all(a is b for a, b in zip(self.mesh_arrays, other.mesh_arrays))
                 and np.array_equal(self.world, other.world))
+
+    def same_caster(self, other):
+        """The same as shadow maps see it: geometry and alpha cut-out."""
+        return self.key == other.key and self.same_geometry(other) and \
+            cutout_values(self.material) == cutout_values(other.material)
 
     def __eq__(self, other):
         return (isinstance(other, Draw) and self.key == other.key and self.same_geometry(other)
@@ -67,9 +82,22 @@ class FrameInputs:
             self.bounds = (np.zeros(3), np.zeros(3))
         self.region = scene.region(self.bounds)
 
-    def geometry(self):
-        """What shadow maps depend on besides the lights: every draw's mesh and transform."""
-        return tuple((d.key, tuple(map(id, d.mesh_arrays)), d.world.tobytes()) for d in self.draws)
+    def casters(self):
+        """What shadow maps depend on besides the lights: every draw's mesh, transform and cut-out."""
+        return Casters(self.draws)
+
+
+class Casters:
+    """The draws as shadow maps see them, compared draw by draw (Draw.same_caster)."""
+
+    def __init__(self, draws):
+        self.draws = draws
+
+    def __eq__(self, other):
+        return isinstance(other, Casters) and len(self.draws) == len(other.draws) and \
+            all(a.same_caster(b) for a, b in zip(self.draws, other.draws))
+
+    __hash__ = None
 
 
 class BoundsCache:

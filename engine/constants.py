@@ -27,6 +27,10 @@ TEXTURE_UNIT = {
     "HDR_INPUT": 12,
     "DIRECT_LIGHT": 13,
     "VOXEL_INSPECT": 14,    # the volume a voxel view or a readback reads
+    "BASE_COLOR_MAP": 20,   # the textures of the material being drawn (glsl/lib/material.glsl)
+    "METAL_ROUGH_MAP": 21,
+    "EMISSIVE_MAP": 22,
+    "NORMAL_MAP": 23,
 }
 
 # Image units. Each program binds at most 8 images, at units 0..7.

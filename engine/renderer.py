@@ -208,7 +208,7 @@ class Renderer:
         """Shadow maps: the tiles of the lights that changed; all of them when a shadow caster
         moved, the scene bounds changed or lights came or went."""
         stage = self.stages["shadows"]
-        inputs = (frame.geometry(), _bytes(frame.bounds), frame.light_values)
+        inputs = (frame.casters(), _bytes(frame.bounds), frame.light_values)
         if stage.stale(inputs, self.track_changes):
             redraw = None
             if self.track_changes and stage.inputs is not None and stage.inputs[:2] == inputs[:2] \

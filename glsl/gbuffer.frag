@@ -1,22 +1,24 @@
 #version 450 core
-// G-buffer: position, normal + roughness, albedo + metalness, emission + dielectric F0.
+// G-buffer: position, shading normal + roughness, albedo + metalness, emission + dielectric F0,
+// from the material's factors and textures; alpha-tested materials are cut out.
+#include "lib/material.glsl"
+
 in vec3 world_position;
 in vec3 world_normal;
-uniform vec3 albedo;
-uniform float roughness;
-uniform float metalness;
-uniform float dielectric_f0;
-uniform vec3 emission;
+in vec4 world_tangent;
+in vec2 texcoord;
 layout(location = 0) out vec4 out_position;
 layout(location = 1) out vec4 out_normal;
 layout(location = 2) out vec4 out_albedo;
 layout(location = 3) out vec4 out_emission;
 
 void main() {
-    vec3 n = normalize(world_normal);
-    // Surfaces are one-sided emitters but two-sided reflectors: shade the side we see.
+    MaterialSample m = sample_material(texcoord);
+    if (cut_out(m.alpha)) discard;
+    // Surfaces are one-sided emitters; a double-sided one reflects on the side we see.
+    vec3 n = normalize(world_normal) * (gl_FrontFacing ? 1.0 : -1.0);
     out_position = vec4(world_position, 1.0);
-    out_normal = vec4(gl_FrontFacing ? n : -n, roughness);
-    out_albedo = vec4(albedo, metalness);
-    out_emission = vec4(gl_FrontFacing ? emission : vec3(0.0), dielectric_f0);
+    out_normal = vec4(shading_normal(n, world_tangent, texcoord), m.roughness);
+    out_albedo = vec4(m.albedo, m.metalness);
+    out_emission = vec4(gl_FrontFacing ? m.emission : vec3(0.0), dielectric_f0);
 }

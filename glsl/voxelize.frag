@@ -1,6 +1,7 @@
 #version 450 core
 // Voxelization, fragment stage: one fragment = one surface sample in one voxel. Its diffuse
-// albedo, unit normal, offset along the normal from the voxel centre and emission are added to
+// albedo and emission (the material's factors times its textures, sampled at the mip level of
+// a voxel's footprint), unit normal, offset along the normal from the voxel centre are added to
 // the voxel's fixed-point sums with atomics, with a fragment count (lib/voxel_sums.glsl). The
 // first fragment in a voxel flags it and lists it as touched. An update of part of the scene
 // runs in two passes: `mark_only` flags the voxels the changed objects cover (before and
@@ -8,13 +9,12 @@
 // alone; a full voxelization runs neither restriction.
 #include "lib/voxel.glsl"
 #include "lib/voxel_sums.glsl"
+#include "lib/material.glsl"
 
 in vec3 gs_position;
 in vec3 gs_normal;
+in vec2 gs_texcoord;
 flat in vec4 gs_pixel_bounds;
-uniform vec3 albedo;
-uniform float metalness;
-uniform vec3 emission;
 uniform bool mark_only;
 uniform bool touched_only;
 layout(std430, binding = SSBO_TOUCHED) buffer TouchedVoxels { uint touched_count; uint touched[]; };
@@ -32,6 +32,8 @@ void add_emission(uint i, uint low_channel, uint carry_channel, float radiance) 
 }
 
 void main() {
+    MaterialSample m = sample_material(gs_texcoord);  // before any discard: derivatives need the neighbours
+    if (cut_out(m.alpha)) discard;
     // Dilation grows the triangle at acute corners; clip it to its own bounding box.
     vec2 pixel = gl_FragCoord.xy;
     if (any(lessThan(pixel, gs_pixel_bounds.xy)) || any(greaterThan(pixel, gs_pixel_bounds.zw))) discard;
@@ -50,7 +52,7 @@ void main() {
     if (earlier_fragments >= VOXEL_MAX_FRAGMENTS) return;  // headroom of the signed sums
 
     vec3 n = normalize(gs_normal);
-    vec3 diffuse_albedo = (1.0 - metalness) * albedo;
+    vec3 diffuse_albedo = (1.0 - m.metalness) * m.albedo;
     float offset = dot(gs_position - voxel_center(voxel), n) / voxel_size;  // in [-0.87, 0.87]
     atomicAdd(voxel_sums[SUM_ALBEDO_R].value[i], unit_fixed(diffuse_albedo.r));
     atomicAdd(voxel_sums[SUM_ALBEDO_G].value[i], unit_fixed(diffuse_albedo.g));
@@ -59,7 +61,7 @@ void main() {
     atomicAdd(voxel_sums[SUM_NORMAL_Y].value[i], unit_fixed(n.y));
     atomicAdd(voxel_sums[SUM_NORMAL_Z].value[i], unit_fixed(n.z));
     atomicAdd(voxel_sums[SUM_OFFSET].value[i], unit_fixed(offset));
-    add_emission(i, SUM_EMISSION_R, SUM_EMISSION_CARRY_R, emission.r);
-    add_emission(i, SUM_EMISSION_G, SUM_EMISSION_CARRY_G, emission.g);
-    add_emission(i, SUM_EMISSION_B, SUM_EMISSION_CARRY_B, emission.b);
+    add_emission(i, SUM_EMISSION_R, SUM_EMISSION_CARRY_R, m.emission.r);
+    add_emission(i, SUM_EMISSION_G, SUM_EMISSION_CARRY_G, m.emission.g);
+    add_emission(i, SUM_EMISSION_B, SUM_EMISSION_CARRY_B, m.emission.b);
 }

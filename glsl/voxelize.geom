@@ -9,8 +9,10 @@ layout(triangles) in;
 layout(triangle_strip, max_vertices = 3) out;
 in vec3 vs_position[];
 in vec3 vs_normal[];
+in vec2 vs_texcoord[];
 out vec3 gs_position;
 out vec3 gs_normal;
+out vec2 gs_texcoord;
 flat out vec4 gs_pixel_bounds;  // the undilated triangle's bounding box in pixels, grown by half a pixel
 
 // Voxel-space coordinates swizzled so the dominant axis becomes depth.
@@ -60,6 +62,7 @@ void main() {
         vec3 w = to_barycentric * vec3(dilated, 1.0);
         gs_position = w.x * vs_position[0] + w.y * vs_position[1] + w.z * vs_position[2];
         gs_normal = w.x * vs_normal[0] + w.y * vs_normal[1] + w.z * vs_normal[2];
+        gs_texcoord = w.x * vs_texcoord[0] + w.y * vs_texcoord[1] + w.z * vs_texcoord[2];
         gs_pixel_bounds = bounds;
         gl_Position = vec4(dilated, w.x * depth[0] + w.y * depth[1] + w.z * depth[2], 1.0);
         EmitVertex();

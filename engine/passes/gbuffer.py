@@ -1,5 +1,6 @@
-"""G-buffer pass: rasterizes the draws from the camera into position, normal + roughness,
-albedo + metalness and emission + dielectric F0 targets, with a depth buffer. Returns the
+"""G-buffer pass: rasterizes the draws from the camera into position, shading normal +
+roughness, albedo + metalness and emission + dielectric F0 targets (material factors times
+textures), with a depth buffer; back faces of single-sided materials are culled. Returns the
 GBuffer the screen passes read."""
 from .. import transforms
 from ..constants import HDR_FORMAT, TEXTURE_UNIT
@@ -46,13 +47,7 @@ class GBufferPass:
         gbuffer.framebuffer.clear(0.0, 0.0, 0.0, 0.0, depth=1.0)
         self.ctx.enable_only(self.ctx.DEPTH_TEST)
         self.program.set(view_projection=transforms.gl_bytes(view_projection))
-
-        def material(draw):
-            m = draw.material
-            self.program.set(albedo=tuple(m.albedo), roughness=m.roughness, metalness=m.metalness,
-                             dielectric_f0=m.specular, emission=tuple(m.emission))
-
-        self.geometry.draw(self.program, draws, material)
+        self.geometry.draw(self.program, draws, materials=True, cull_single_sided=True)
         return gbuffer
 
     def release(self):

@@ -49,12 +49,7 @@ class VoxelizePass:
         grid.framebuffer.use()
         self.ctx.viewport = (0, 0, grid.n, grid.n)
         self.ctx.disable(self.ctx.DEPTH_TEST | self.ctx.CULL_FACE | self.ctx.BLEND)
-
-        def material(draw):
-            m = draw.material
-            self.program.set(albedo=tuple(m.albedo), metalness=m.metalness, emission=tuple(m.emission))
-
-        self.geometry.draw(self.program, draws, material)
+        self.geometry.draw(self.program, draws, materials=True)
         self.ctx.memory_barrier(self.ctx.SHADER_STORAGE_BARRIER_BIT)
 
     def _resolve_and_relist(self, grid):

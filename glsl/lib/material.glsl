@@ -1,0 +1,55 @@
+// The material of the surface being drawn (engine.scene.Material): its factors times its
+// textures at the surface's texture coordinates. A material without a texture has a white one
+// bound (a flat normal for the normal map), so every factor is sampled the same way.
+#include "engine_constants.glsl"
+
+layout(binding = TEX_BASE_COLOR_MAP) uniform sampler2D base_color_map;    // sRGB, decoded by the sampler
+layout(binding = TEX_METAL_ROUGH_MAP) uniform sampler2D metal_rough_map;  // G roughness, B metalness
+layout(binding = TEX_EMISSIVE_MAP) uniform sampler2D emissive_map;        // sRGB
+layout(binding = TEX_NORMAL_MAP) uniform sampler2D normal_map;            // tangent space, 0.5 n + 0.5
+uniform vec3 albedo;
+uniform float alpha;
+uniform float roughness;
+uniform float metalness;
+uniform float dielectric_f0;
+uniform vec3 emission;
+uniform float normal_scale;
+uniform bool has_normal_map;
+uniform float alpha_cutoff;  // cut out where alpha < alpha_cutoff; negative: opaque
+
+struct MaterialSample {
+    vec3 albedo;
+    float alpha;
+    float roughness;
+    float metalness;
+    vec3 emission;
+};
+
+// The material at uv, filtered over the fragment's footprint (a pixel of the image, a voxel, a
+// shadow texel): trilinear, at the level of detail of the footprint's longest side.
+MaterialSample sample_material(vec2 uv) {
+    MaterialSample m;
+    vec4 base = texture(base_color_map, uv);
+    vec4 metal_rough = texture(metal_rough_map, uv);
+    m.albedo = albedo * base.rgb;
+    m.alpha = alpha * base.a;
+    m.roughness = roughness * metal_rough.g;
+    m.metalness = metalness * metal_rough.b;
+    m.emission = emission * texture(emissive_map, uv).rgb;
+    return m;
+}
+
+// True where an alpha-tested material is cut out.
+bool cut_out(float material_alpha) {
+    return alpha_cutoff >= 0.0 && material_alpha < alpha_cutoff;
+}
+
+// The shading normal: the surface normal n, or the normal map's normal in the tangent frame
+// (tangent.xyz, bitangent tangent.w cross(n, tangent)), its x and y scaled by normal_scale.
+vec3 shading_normal(vec3 n, vec4 tangent, vec2 uv) {
+    if (!has_normal_map || dot(tangent.xyz, tangent.xyz) == 0.0) return n;
+    vec3 t = normalize(tangent.xyz - n * dot(n, tangent.xyz));
+    vec3 b = tangent.w * cross(n, t);
+    vec3 m = texture(normal_map, uv).xyz * 2.0 - 1.0;
+    return normalize(t * (m.x * normal_scale) + b * (m.y * normal_scale) + n * m.z);
+}
