@@ -149,18 +149,23 @@ def shader_root(args):
 
 def check_writable(path, flag):
     """Refuse an output path that cannot be written, before rendering anything."""
+    from .output import check_target
+
     path = Path(path)
-    parent = path.parent if str(path.parent) else Path(".")
-    if path.is_dir():
-        raise VctError("is a directory", source=path, field=flag)
-    if not parent.is_dir():
+    try:
+        check_target(path)
+    except IsADirectoryError:
+        raise VctError("is a directory", source=path, field=flag) from None
+    except OSError as exc:  # e.g. a name too long for the file system
+        raise VctError(f"cannot write ({exc.strerror or exc})", source=path, field=flag) from None
+    if not path.parent.is_dir():
         raise VctError("directory does not exist", source=path, field=flag)
-    if not os.access(parent, os.W_OK) or (path.exists() and not os.access(path, os.W_OK)):
+    if not os.access(path.parent, os.W_OK) or (path.exists() and not os.access(path, os.W_OK)):
         raise VctError("not writable", source=path, field=flag)
 
 
 def render_command(args):
-    from .output import save_npy, save_png
+    from .output import npy_writer, png_writer, write_files
     from .renderer import Renderer
     from .scene_file import load_scene
 
@@ -176,16 +181,10 @@ def render_command(args):
     with Renderer(width, height, settings, glsl_root=shader_root(args)) as renderer:
         radiance = renderer.render(scene)
         pixels = renderer.tonemapped()
-    written = []
-    try:  # both outputs or neither
-        if args.hdr:
-            save_npy(args.hdr, radiance)
-            written.append(Path(args.hdr))
-        save_png(args.out, pixels)
-    except VctError:
-        for path in written:
-            path.unlink(missing_ok=True)
-        raise
+    outputs = [(args.out, png_writer(pixels))]
+    if args.hdr:
+        outputs.insert(0, (args.hdr, npy_writer(radiance)))
+    write_files(outputs)  # both or neither
     print(f"wrote {args.out}" + (f" and {args.hdr}" if args.hdr else "") + f" ({width}x{height}, mode {settings.mode})")
     return 0
 
@@ -216,7 +215,7 @@ def bench_command(args):
 
     from .bench import benchmark, format_table
     from .gl import renderer_name
-    from .output import write_atomically
+    from .output import write_files
     from .renderer import Renderer
     from .scene_file import load_scene
 
@@ -248,7 +247,7 @@ def bench_command(args):
     if args.json:
         report = {"scene": scene.source, "width": width, "height": height, "device": device,
                   "frames": args.frames, "warmup": args.warmup, "results": rows}
-        write_atomically(args.json, lambda f: f.write(json.dumps(report, indent=2).encode()))
+        write_files([(args.json, lambda f: f.write(json.dumps(report, indent=2).encode()))])
         print(f"wrote {args.json}")
     return 0
 

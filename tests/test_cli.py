@@ -176,10 +176,103 @@ def test_hdr_and_png_on_the_same_path_exits_2(out_dir):
 @pytest.mark.skipif(not Path("/proc").is_dir(), reason="needs /proc, a directory not even root can create files in")
 def test_png_that_fails_to_write_after_rendering_leaves_no_hdr_behind(out_dir):
     """/proc passes the up-front check for root but refuses the file: the failure comes after
-    the render, when the .npy may already be written, and must take it away again."""
+    the render, and the .npy must not be written either."""
     result = vct("render", CORNELL, "--out", "/proc/vct-test.png", "--hdr", out_dir / "x.npy", *SMALL)
     assert_one_line_error(result, "/proc/vct-test.png")
     assert list(out_dir.iterdir()) == []
+
+
+@pytest.mark.skipif(not Path("/proc").is_dir(), reason="needs /proc, a directory not even root can create files in")
+def test_png_that_fails_to_write_after_rendering_leaves_the_existing_hdr_file_as_it_was(out_dir):
+    """A failed render never deletes nor changes a file that was there before."""
+    hdr = out_dir / "k.npy"
+    hdr.write_bytes(b"the previous render")
+    result = vct("render", CORNELL, "--out", "/proc/vct-test.png", "--hdr", hdr, *SMALL)
+    assert_one_line_error(result, "/proc/vct-test.png")
+    assert hdr.read_bytes() == b"the previous render"
+    assert list(out_dir.iterdir()) == [hdr]
+
+
+def test_output_name_too_long_for_the_file_system_exits_2_and_leaves_the_existing_hdr_file_as_it_was(out_dir):
+    hdr = out_dir / "k.npy"
+    hdr.write_bytes(b"the previous render")
+    png = out_dir / ("x" * 300 + ".png")
+    result = vct("render", CORNELL, "--out", png, "--hdr", hdr, *SMALL)
+    assert_one_line_error(result, "--out", "too long")
+    assert hdr.read_bytes() == b"the previous render"
+    assert list(out_dir.iterdir()) == [hdr]
+
+
+def test_concurrent_renders_to_the_same_outputs_all_succeed_and_leave_both_files(out_dir):
+    """Four processes writing the same --out and --hdr at once each write their own temporary
+    files and move them into place: every one succeeds, and both files are there, complete."""
+    png, npy = out_dir / "same.png", out_dir / "same.npy"
+    command = [sys.executable, "-m", "engine.cli", "render", str(CORNELL), "--out", str(png), "--hdr", str(npy), *SMALL]
+    processes = [subprocess.Popen(command, cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+                 for _ in range(4)]
+    results = [process.communicate(timeout=120) + (process.returncode,) for process in processes]
+    assert [code for _, _, code in results] == [0, 0, 0, 0], [err for _, err, _ in results]
+    assert np.load(npy).shape == (32, 32, 3)
+    with Image.open(png) as image:
+        assert image.size == (32, 32)
+    assert sorted(p.name for p in out_dir.iterdir()) == ["same.npy", "same.png"]
+
+
+# ---- writing outputs (engine.output.write_files) ---------------------------------------------
+
+def test_write_files_writes_all_or_nothing_and_keeps_the_files_that_were_there(tmp_path):
+    """The second output cannot be written (its directory is missing): the first file keeps its
+    old content and no temporary file is left."""
+    from engine.errors import VctError
+    from engine.output import write_files
+
+    first = tmp_path / "first.npy"
+    first.write_bytes(b"old")
+    with pytest.raises(VctError, match="second.png"):
+        write_files([(first, lambda f: f.write(b"new")), (tmp_path / "missing" / "second.png", lambda f: f.write(b"new"))])
+    assert first.read_bytes() == b"old"
+    assert list(tmp_path.iterdir()) == [first]
+
+
+def test_write_files_removes_its_temporaries_whatever_a_writer_raises(tmp_path):
+    from engine.output import write_files
+
+    def broken(f):
+        f.write(b"half")
+        raise ValueError("encoder failed")
+
+    target = tmp_path / "x.png"
+    target.write_bytes(b"old")
+    with pytest.raises(ValueError):
+        write_files([(target, broken)])
+    assert target.read_bytes() == b"old"
+    assert list(tmp_path.iterdir()) == [target]
+
+
+def test_write_files_to_the_same_path_at_the_same_time_both_succeed(tmp_path):
+    """Another writer of the same path finishes while this one is writing: each has its own
+    temporary file, so neither fails nor removes the other's result; the last move wins."""
+    from engine.output import write_files
+
+    target = tmp_path / "same.npy"
+
+    def slow(f):
+        write_files([(target, lambda g: g.write(b"fast"))])
+        f.write(b"slow")
+
+    write_files([(target, slow)])
+    assert target.read_bytes() == b"slow"
+    assert list(tmp_path.iterdir()) == [target]
+
+
+def test_write_files_takes_names_as_long_as_the_file_system_allows(tmp_path):
+    """Temporary names do not grow with the target's name."""
+    from engine.output import write_files
+
+    longest = tmp_path / ("x" * 255)
+    write_files([(longest, lambda f: f.write(b"data"))])
+    assert longest.read_bytes() == b"data"
+    assert list(tmp_path.iterdir()) == [longest]
 
 
 def test_shaders_directory_that_does_not_exist_exits_2_naming_it(out_dir):
