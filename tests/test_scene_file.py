@@ -8,6 +8,7 @@ and the field. BAD_SCENES is shared with tests/test_cli.py, which feeds the same
 """
 import json
 import math
+import os
 import shutil
 from dataclasses import dataclass
 from pathlib import Path
@@ -275,6 +276,14 @@ def _add_object(spec):
     return _edit(lambda data: data["objects"].append(spec))
 
 
+def _nested_groups(levels):
+    """Groups nested `levels` deep around one box."""
+    node = {"name": "Deepest", "type": "box", "material": "white", "size": [0.1, 0.1, 0.1]}
+    for level in range(levels):
+        node = {"name": f"Level {level}", "type": "group", "children": [node]}
+    return node
+
+
 def _malformed_line():
     return 1 + next(i for i, line in enumerate(CORNELL.read_text().splitlines()) if '"width"' in line)
 
@@ -317,6 +326,27 @@ BAD_SCENES = [
     BadScene("negative-albedo", _set(["materials", "red", "albedo"], [0.65, -0.05, 0.05]), "materials.red.albedo[1]", "negative"),
     BadScene("fractional-image-width", _set(["camera", "width"], 0.5), "camera.width", "whole number"),
     BadScene("negative-light-intensity", _set(["lights", 0, "intensity"], [3, -3, 3]), 'lights[0] "Omni Light".intensity[1]', "negative"),
+    # Values that would not give finite float32 radiance, or transforms that are not invertible.
+    BadScene("emission-1e308", _set(["materials", "white", "emission"], [1e308, 0, 0]), "materials.white.emission[0]", "at most"),
+    BadScene("emission-beyond-half-floats", _set(["materials", "white", "emission"], [0, 70000, 0]),
+             "materials.white.emission[1]", "at most 65504"),
+    BadScene("light-intensity-1e308", _set(["lights", 0, "intensity"], [1e308, 3, 3]), 'lights[0] "Omni Light".intensity[0]', "at most"),
+    BadScene("translation-1e308", _set(["objects", 6, "translation"], [1e308, 0, 0]), f"{SHORT_BOX}.translation[0]", "at most"),
+    BadScene("group-places-its-child-beyond-the-limit",
+             _add_object({"name": "Far", "type": "group", "translation": [9e5, 0, 0], "children": [
+                 {"name": "Farther", "type": "box", "material": "white", "translation": [9e5, 0, 0], "size": [1, 1, 1]}]}),
+             'objects[8] "Far".children[0] "Farther"', "beyond"),
+    BadScene("scale-underflowing-to-a-singular-transform",
+             _edit(lambda data: data["objects"][7].update(scale=[1e-200, 1, 1], size=[1e-200, 1.2, 0.6])),
+             'objects[7] "Tall Box".scale', "world transform"),
+    BadScene("nested-scales-compounding-below-the-limit",
+             _add_object({"name": "Small", "type": "group", "scale": [1e-4, 1e-4, 1e-4], "children": [
+                 {"name": "Smaller", "type": "sphere", "material": "white", "radius": 1e-4}]}),
+             'objects[8] "Small".children[0] "Smaller".scale', "world transform"),
+    BadScene("voxel-region-of-1e-300", _edit(lambda data: data.update(voxel_region={"center": [0, 0, 0], "size": 1e-300})),
+             "voxel_region.size", "at least"),
+    BadScene("field-of-view-of-1e-300", _set(["camera", "vertical_fov_deg"], 1e-300), "camera.vertical_fov_deg", "at least"),
+    BadScene("children-nested-too-deeply", _add_object(_nested_groups(40)), 'objects[8] "Level 39"', "nest more than"),
 ]
 
 
@@ -365,3 +395,32 @@ def test_the_unedited_base_of_the_bad_input_table_loads(tmp_path):
     """Guards BAD_SCENES: each case fails because of its one edit, not because of the helpers."""
     scene = load_scene(write_scene(tmp_path, cornell_data()))
     assert scene.root.name == "Cornell Box" and len(scene.root.children) == 9
+
+
+@pytest.mark.parametrize("device", ["/dev/zero", "fifo"])
+def test_scene_path_that_is_not_a_regular_file_is_refused_without_reading_it(tmp_path, device):
+    """/dev/zero would be read until memory runs out, a pipe would block: neither is read."""
+    if device == "fifo":
+        device = tmp_path / "scene.json"
+        os.mkfifo(device)
+    with pytest.raises(SceneError, match="not a regular file") as info:
+        load_scene(device)
+    assert str(device) in str(info.value)
+
+
+def test_scene_file_larger_than_the_limit_is_refused(tmp_path):
+    from engine.scene_file import MAX_SCENE_BYTES
+
+    path = tmp_path / "huge.json"
+    with open(path, "wb") as f:
+        f.truncate(MAX_SCENE_BYTES + 1)  # sparse: nothing is written to disk
+    with pytest.raises(SceneError, match="larger than"):
+        load_scene(path)
+
+
+def test_nan_nested_as_deep_as_json_allows_is_named_without_a_recursion_error(tmp_path):
+    depth = 900
+    path = write_scene(tmp_path, CORNELL.read_text().replace('"name": "cornell_box"',
+                                                             '"name": "cornell_box", "note": ' + "[" * depth + "NaN" + "]" * depth))
+    with pytest.raises(SceneError, match=r"note(\[0\]){900}: .*NaN"):
+        load_scene(path)
