@@ -1,5 +1,6 @@
 """JSON scene files -> scene model. Every malformed value raises SceneError naming the
 file and the field, e.g. `scenes/x.json: objects[6] "Short Box".size: must be positive`."""
+import io
 import json
 import math
 import os
@@ -23,8 +24,9 @@ MIN_SCALE = 1e-6
 MAX_EMISSION = float(np.finfo(np.float16).max)  # 65504
 MIN_FOV_DEG = 0.01
 MAX_DEPTH = 32  # levels of nested children
-# Scene files are read whole, up to this size (a device such as /dev/zero is not read at all).
+# Files are read whole, up to these sizes (a device such as /dev/zero is not read at all).
 MAX_SCENE_BYTES = 4 * 2 ** 20
+MAX_MESH_BYTES = 256 * 2 ** 20
 
 
 class _Reader:
@@ -297,23 +299,60 @@ def _mesh(reader, spec, field, kind, node, meshes):
             node.translation = node.translation + reader.vector(spec, "center", field)
         node.scale = node.scale * reader.number(spec, "radius", field, positive=True)
         return meshes.setdefault("sphere", sphere_mesh())
-    return _load_mesh_file(reader, spec, field)
+    return _load_mesh_file(reader, spec, field, meshes)
 
 
-def _load_mesh_file(reader, spec, field):
+def _load_mesh_file(reader, spec, field, meshes):
+    """A mesh file, read once however many objects use it. Its materials are not used (the
+    object's material is), so an OBJ file's `usemtl`/`mtllib` lines are dropped before parsing:
+    trimesh makes a mesh per material and names them in quadratic time."""
     import trimesh
 
     relative = reader.get(spec, "file", field, kind=str)
+    where = f"{field}.file"
     path = (reader.path.parent / relative).resolve()
-    if not path.is_file():
-        reader.fail(f"{field}.file", f'mesh file not found: "{relative}"')
+    if path in meshes:
+        return meshes[path]
     try:
-        mesh = trimesh.load(str(path), force="mesh", process=True)
+        data = read_regular_file(path, MAX_MESH_BYTES)
+    except FileNotFoundError:
+        reader.fail(where, f'mesh file not found: "{relative}"')
+    except OSError as exc:
+        reader.fail(where, f'cannot read mesh "{relative}" ({exc.strerror or exc})')
+    file_type = path.suffix.lstrip(".").lower()
+    if file_type == "obj":
+        lines = data.decode("utf-8", errors="replace").splitlines()
+        data = "\n".join(line for line in lines if line.split(maxsplit=1)[:1] not in (["usemtl"], ["mtllib"])).encode()
+    try:
+        mesh = trimesh.load(io.BytesIO(data), file_type=file_type, force="mesh", process=True,
+                            resolver=trimesh.resolvers.FilePathResolver(str(path)))
+    except ImportError:  # trimesh guesses the encoding of text that is not UTF-8 with an optional module
+        reader.fail(where, f'cannot load mesh "{relative}": neither a binary {file_type.upper()} file nor UTF-8 text')
     except Exception as exc:  # trimesh raises many kinds on unreadable files
-        reader.fail(f"{field}.file", f'cannot load mesh "{relative}": {" ".join(str(exc).split()) or type(exc).__name__}')
+        reader.fail(where, f'cannot load mesh "{relative}": {" ".join(str(exc).split()) or type(exc).__name__}')
+    if isinstance(mesh, trimesh.Trimesh):
+        mesh.update_faces(mesh.nondegenerate_faces())
+        mesh.remove_unreferenced_vertices()
     if not isinstance(mesh, trimesh.Trimesh) or len(mesh.faces) == 0:
-        reader.fail(f"{field}.file", f'mesh "{relative}" holds no triangles')
-    return Mesh(np.asarray(mesh.vertices, float), np.asarray(mesh.vertex_normals, float), np.asarray(mesh.faces, np.int64))
+        reader.fail(where, f'mesh "{relative}" holds no triangles')
+    meshes[path] = _smooth_mesh(np.asarray(mesh.vertices, float), np.asarray(mesh.faces, np.int64))
+    return meshes[path]
+
+
+def _smooth_mesh(positions, indices):
+    """A Mesh with area-weighted vertex normals (numpy only: trimesh's own path needs scipy and
+    prints a traceback without it); flat normals where faces facing apart share a vertex."""
+    corners = positions[indices]
+    face_normals = np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])  # length: 2 x area
+    face_areas = np.linalg.norm(face_normals, axis=1, keepdims=True)
+    normals, areas = np.zeros_like(positions), np.zeros((len(positions), 1))
+    np.add.at(normals, indices.ravel(), np.repeat(face_normals, 3, axis=0))
+    np.add.at(areas, indices.ravel(), np.repeat(face_areas, 3, axis=0))
+    lengths = np.linalg.norm(normals, axis=1, keepdims=True)
+    if np.all(lengths > 1e-6 * areas):
+        return Mesh(positions, normals / lengths, indices)
+    flat = np.repeat(face_normals / face_areas, 3, axis=0)
+    return Mesh(corners.reshape(-1, 3), flat, np.arange(3 * len(indices)).reshape(-1, 3))
 
 
 def _light(reader, spec, field, kind):

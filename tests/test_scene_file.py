@@ -424,3 +424,67 @@ def test_nan_nested_as_deep_as_json_allows_is_named_without_a_recursion_error(tm
                                                              '"name": "cornell_box", "note": ' + "[" * depth + "NaN" + "]" * depth))
     with pytest.raises(SceneError, match=r"note(\[0\]){900}: .*NaN"):
         load_scene(path)
+
+
+# ---- hostile mesh files ----------------------------------------------------------------------
+
+def mesh_scene(directory, file):
+    return write_scene(directory, small_scene([{"name": "M", "type": "mesh", "material": "white", "file": file}]))
+
+
+@pytest.mark.parametrize("suffix", ["obj", "ply", "glb", "stl"])
+def test_noise_as_a_mesh_file_is_one_line_naming_the_field(tmp_path, suffix):
+    """Random bytes: an error naming the file and field, not an import error of a text decoder."""
+    (tmp_path / f"noise.{suffix}").write_bytes(np.random.default_rng(11).integers(0, 256, 20000, np.uint8).tobytes())
+    path = mesh_scene(tmp_path, f"noise.{suffix}")
+    with pytest.raises(SceneError) as info:
+        load_scene(path)
+    message = str(info.value)
+    assert message.startswith(f'{path}: objects[0] "M".file: ') and f"noise.{suffix}" in message, message
+    assert "\n" not in message and "module" not in message, message
+
+
+def test_obj_materials_are_ignored_so_a_section_per_material_still_loads_as_one_mesh(tmp_path):
+    """trimesh makes one mesh per `usemtl` section and names them in quadratic time; the scene's
+    material applies anyway, so those lines are dropped and 2000 sections load like one."""
+    sections = 2000
+    lines = ["mtllib nowhere.mtl"]
+    for i in range(sections):
+        lines += [f"usemtl m{i}", f"v {i} 0 0", f"v {i} 1 0", f"v {i} 0 1", f"f {3 * i + 1} {3 * i + 2} {3 * i + 3}"]
+    (tmp_path / "sections.obj").write_text("\n".join(lines) + "\n")
+    mesh = load_scene(mesh_scene(tmp_path, "sections.obj")).root.find("M").mesh
+    assert len(mesh.indices) == sections
+
+
+def test_a_mesh_file_used_by_several_objects_is_loaded_once(tmp_path):
+    objects = [{"name": f"T{i}", "type": "mesh", "material": "white", "file": "meshes/tetrahedron.obj"} for i in range(3)]
+    scene = load_scene(write_scene(tmp_path, small_scene(objects)))
+    assert scene.root.find("T0").mesh is scene.root.find("T1").mesh is scene.root.find("T2").mesh
+
+
+def test_mesh_faces_facing_apart_on_shared_vertices_get_flat_unit_normals(tmp_path):
+    """A two-sided triangle: its vertex normals would cancel to zero (NaN in the shaders)."""
+    (tmp_path / "two_sided.obj").write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 1 3 2\n")
+    mesh = load_scene(mesh_scene(tmp_path, "two_sided.obj")).root.find("M").mesh
+    np.testing.assert_allclose(np.linalg.norm(mesh.normals, axis=1), 1.0)
+    np.testing.assert_allclose(np.abs(mesh.normals[:, 2]), 1.0)
+
+
+def test_mesh_file_triangles_with_vertices_that_are_not_finite_are_dropped(tmp_path):
+    (tmp_path / "nan.obj").write_text("v 0 0 0\nv 1 0 0\nv 0 nan 0\nv 0 1 0\nf 1 2 3\nf 1 2 4\n")
+    mesh = load_scene(mesh_scene(tmp_path, "nan.obj")).root.find("M").mesh
+    assert len(mesh.indices) == 1
+    assert np.all(np.isfinite(mesh.positions)) and np.all(np.isfinite(mesh.normals))
+
+
+def test_loading_a_mesh_file_prints_nothing(tmp_path, capfd):
+    """Vertex normals are computed without trimesh's sparse-matrix path, which logs a traceback
+    to stderr when scipy is missing."""
+    load_scene(mesh_scene(tmp_path, "meshes/tetrahedron.obj"))
+    assert capfd.readouterr() == ("", "")
+
+
+def test_mesh_file_whose_triangles_all_have_zero_area_holds_no_triangles(tmp_path):
+    (tmp_path / "flat.obj").write_text("v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n")
+    with pytest.raises(SceneError, match='objects\\[0\\] "M".file: mesh "flat.obj" holds no triangles'):
+        load_scene(mesh_scene(tmp_path, "flat.obj"))
