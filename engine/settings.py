@@ -5,6 +5,9 @@ from dataclasses import dataclass, fields
 from .constants import GRID_SIZES
 from .errors import VctError
 
+# Most diffuse bounces one frame may run (converging, bounces 0, stops after as many).
+MAX_BOUNCES = 64
+
 # Modes that show radiance (tone-mapped for display) and modes that show encoded data.
 RADIANCE_MODES = ("gi", "direct", "indirect", "specular", "ao", "voxels")
 DATA_MODES = ("albedo", "normal", "depth", "voxel-normals", "voxel-albedo")
@@ -37,8 +40,8 @@ class RenderSettings:
             raise VctError(f'unknown mode "{self.mode}" (expected one of {", ".join(MODES)})', field="mode")
         if self.grid not in GRID_SIZES:
             raise VctError(f"grid must be a power of two from 16 to 256, got {self.grid}", field="grid")
-        if self.bounces < 0:
-            raise VctError("must be 0 (converge) or a positive count", field="bounces")
+        if not 0 <= self.bounces <= MAX_BOUNCES:
+            raise VctError(f"must be 0 (converge) or a count up to {MAX_BOUNCES}, got {self.bounces}", field="bounces")
         if not 1 <= self.bounce_interleave <= 8:
             raise VctError("must be in 1..8", field="bounce_interleave")
         if not 0 <= self.voxel_mip <= self.grid.bit_length() - 1:

@@ -76,6 +76,28 @@ def test_help_exits_0_and_mentions_every_option(command, options):
         assert option in result.stdout, f"`vct {' '.join(command)} --help` does not mention {option}"
 
 
+@pytest.mark.parametrize("command, bounds", [
+    ("render", ["--bounces", "at most 64"]),
+    ("view", ["--frames", "at most 10000", "--bounces", "at most 64"]),
+    ("bench", ["--frames", "at most 1000", "--warmup", "grid sizes, each at most once"]),
+])
+def test_help_states_the_upper_bound_of_every_count(command, bounds):
+    """Every loop a command line controls is bounded, and --help says how far."""
+    text = " ".join(vct(command, "--help").stdout.split())
+    for bound in bounds:
+        assert bound in text, bound
+
+
+@pytest.mark.parametrize("args, option", [
+    (["view", CORNELL, "--frames", "10001"], "--frames"),
+    (["bench", CORNELL, "--frames", "1001"], "--frames"),
+    (["bench", CORNELL, "--warmup", "1001"], "--warmup"),
+    (["bench", CORNELL, "--grids", "16,16"], "--grids"),
+], ids=lambda v: " ".join(map(str, v[2:])) if isinstance(v, list) else None)
+def test_counts_beyond_their_bound_exit_2_naming_the_option(args, option):
+    assert_one_line_error(vct(*args), option)
+
+
 def test_render_help_lists_every_mode_and_tone_mapper():
     from engine.settings import MODES, TONEMAPS
 
@@ -134,6 +156,7 @@ def test_missing_scene_file_exits_2_naming_it(out_dir):
     (["--width", "0"], "--width"), (["--height", "-3"], "--height"), (["--width", "wide"], "--width"),
     (["--exposure", "nan"], "--exposure"), (["--exposure", "0"], "exposure"),
     (["--mip", "9", "--grid", "16"], "mip"), (["--bounces", "-1"], "--bounces"),
+    (["--bounces", "100000"], "bounces"), (["--bounces", "65"], "bounces"),
     (["--mode", "raytraced"], "--mode"), (["--tonemap", "filmic"], "--tonemap"),
 ], ids=lambda v: " ".join(v) if isinstance(v, list) else None)
 def test_impossible_setting_exits_2_with_one_line_naming_the_option(out_dir, args, field):
@@ -323,3 +346,88 @@ def test_image_larger_than_the_driver_allows_exits_2(out_dir):
     result = vct("render", CORNELL, "--out", out_dir / "x.png", "--mode", "direct", "--width", "100000", "--height", "16")
     assert_one_line_error(result, "size")
     assert list(out_dir.iterdir()) == []
+
+
+# ---- hostile inputs: one line, exit 2, nothing written ---------------------------------------
+
+def run_main(capsys, *args):
+    """`vct ARGS` in this process: (exit code, stdout, stderr lines)."""
+    from engine.cli import main
+
+    try:
+        code = main([str(a) for a in args])
+    except SystemExit as exit:  # argparse
+        code = exit.code
+    out, err = capsys.readouterr()
+    return code, out, err.splitlines()
+
+
+def test_scene_path_that_is_a_device_exits_2_without_reading_it(out_dir):
+    result = vct("render", "/dev/zero", "--out", out_dir / "x.png", *SMALL)
+    assert_one_line_error(result, "/dev/zero", "not a regular file")
+    assert list(out_dir.iterdir()) == []
+
+
+def _reference_files(directory):
+    """Reference files `bench --reference` must refuse, by name."""
+    good = np.ones((32, 32, 3), np.float32)
+    files = {"npz-archive.npz": lambda p: np.savez(p, radiance=good),
+             "object-array.npy": lambda p: np.save(p, np.array([{"radiance": 1}], dtype=object), allow_pickle=True),
+             "wrong-shape.npy": lambda p: np.save(p, good[:16]),
+             "nan.npy": lambda p: np.save(p, np.where(np.eye(32)[..., None] > 0, np.nan, good)),
+             "all-black.npy": lambda p: np.save(p, 0 * good),
+             "text.npy": lambda p: p.write_text("not an array")}
+    for name, write in files.items():
+        write(directory / name)
+    return sorted(directory / name for name in files)
+
+
+def test_bench_reference_that_is_not_a_matching_radiance_array_exits_2_naming_it(tmp_path, capsys):
+    """An .npz archive ended in AttributeError; every unusable reference is one line."""
+    for reference in _reference_files(tmp_path):
+        code, out, err = run_main(capsys, "bench", CORNELL, "--reference", reference, "--frames", 1, "--warmup", 0,
+                                  "--grids", 16, *SMALL)
+        assert code == 2 and len(err) == 1, (reference.name, err)
+        assert err[0].startswith(f"vct: error: {reference}: --reference: "), err[0]
+
+
+def test_bench_reference_npz_exits_2_without_traceback_end_to_end(tmp_path):
+    reference = tmp_path / "reference.npz"
+    np.savez(reference, radiance=np.ones((32, 32, 3), np.float32))
+    result = vct("bench", CORNELL, "--reference", reference, "--frames", 1, "--warmup", 0, "--grids", 16, *SMALL)
+    assert_one_line_error(result, reference, "--reference")
+
+
+def test_render_targets_the_driver_cannot_create_exit_2_naming_the_size(out_dir, capsys, monkeypatch):
+    """A size under the driver's limit that it still cannot allocate (llvmpipe: 16384x16384
+    fails with 'the framebuffer is not complete') is a size error, not a traceback."""
+    import moderngl
+
+    import engine.renderer
+
+    def failing_renderer(*args, **kwargs):
+        raise moderngl.Error("the framebuffer is not complete (INCOMPLETE_ATTACHMENT)")
+
+    monkeypatch.setattr(engine.renderer, "Renderer", failing_renderer)
+    code, out, err = run_main(capsys, "render", CORNELL, "--out", out_dir / "x.png", "--mode", "direct",
+                              "--width", 16384, "--height", 16384)
+    assert code == 2 and len(err) == 1, err
+    assert err[0].startswith("vct: error: size: cannot create the 16384x16384 render targets"), err[0]
+    assert list(out_dir.iterdir()) == []
+
+
+def test_radiance_with_nan_or_infinity_is_never_written(tmp_path, out_dir):
+    """A lighting shader that overflows float32: the render is refused before anything is
+    written, and the files that were there stay as they were."""
+    glsl = tmp_path / "glsl"
+    shutil.copytree(ROOT / "glsl", glsl)
+    lighting = glsl / "lighting.frag"
+    lighting.write_text(lighting.read_text().replace("out_radiance = vec4(radiance, 1.0);",
+                                                     "out_radiance = vec4(radiance * 1e30 * 1e30, 1.0);"))
+    png, npy = out_dir / "x.png", out_dir / "x.npy"
+    png.write_bytes(b"old png")
+    npy.write_bytes(b"old npy")
+    result = vct("render", CORNELL, "--out", png, "--hdr", npy, "--shaders", glsl, *SMALL)
+    assert_one_line_error(result, CORNELL, "radiance", "NaN or infinite")
+    assert png.read_bytes() == b"old png" and npy.read_bytes() == b"old npy"
+    assert sorted(p.name for p in out_dir.iterdir()) == ["x.npy", "x.png"]
