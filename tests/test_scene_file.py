@@ -17,12 +17,13 @@ from typing import Callable
 import numpy as np
 import pytest
 
+from conftest import REFERENCE, REQUIRE_REFERENCES, reference_file  # tests/ is on sys.path under pytest
 from engine import SceneError, load_scene
 from engine.transforms import normal_matrix, transform_points
 
 ROOT = Path(__file__).resolve().parent.parent
 CORNELL = ROOT / "scenes" / "cornell_box.json"
-REFERENCE_CORNELL = ROOT.parent / "shared" / "reference" / "cornell_box.json"
+REFERENCE_CORNELL = REFERENCE / "cornell_box.json"
 DATA = Path(__file__).resolve().parent / "data"
 
 CORNELL_NAMES = ["Left Plane", "Right Plane", "Bottom Plane", "Top Plane", "Near Plane", "Far Plane",
@@ -68,9 +69,8 @@ def ry(deg):
 
 # ---- the Cornell box -------------------------------------------------------------------------
 
-@pytest.mark.skipif(not REFERENCE_CORNELL.is_file(), reason="../shared/reference/cornell_box.json is not present")
 def test_scenes_cornell_box_is_the_reference_file_unchanged():
-    assert CORNELL.read_bytes() == REFERENCE_CORNELL.read_bytes()
+    assert CORNELL.read_bytes() == reference_file(REFERENCE_CORNELL).read_bytes()
 
 
 def test_cornell_box_loads_objects_and_light_as_children_of_a_cornell_box_node_in_file_order():
@@ -488,3 +488,22 @@ def test_mesh_file_whose_triangles_all_have_zero_area_holds_no_triangles(tmp_pat
     (tmp_path / "flat.obj").write_text("v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n")
     with pytest.raises(SceneError, match='objects\\[0\\] "M".file: mesh "flat.obj" holds no triangles'):
         load_scene(mesh_scene(tmp_path, "flat.obj"))
+
+
+# ---- the references in ../shared/reference ---------------------------------------------------
+
+def test_a_missing_reference_skips_with_the_reason_in_a_users_clone(tmp_path, monkeypatch):
+    monkeypatch.delenv(REQUIRE_REFERENCES, raising=False)
+    with pytest.raises(pytest.skip.Exception, match="missing.npy is not available"):
+        reference_file(tmp_path / "missing.npy")
+
+
+def test_a_missing_reference_fails_where_references_are_required(tmp_path, monkeypatch):
+    monkeypatch.setenv(REQUIRE_REFERENCES, "1")
+    with pytest.raises(pytest.fail.Exception, match="missing.npy is not available, and VCT_REQUIRE_REFERENCES=1 requires it"):
+        reference_file(tmp_path / "missing.npy")
+
+
+def test_ci_requires_the_references():
+    """.ci/run turns a missing reference into a failure, not a skip."""
+    assert f"export {REQUIRE_REFERENCES}=1" in (ROOT / ".ci" / "run").read_text()
