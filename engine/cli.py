@@ -7,7 +7,7 @@ from contextlib import contextmanager
 from pathlib import Path
 
 from .errors import VctError
-from .settings import MAX_BOUNCES, MODES, TONEMAPS, RenderSettings
+from .settings import MAX_BOUNCES, MAX_EXPOSURE, MODES, TONEMAPS, RenderSettings
 
 
 class _Parser(argparse.ArgumentParser):
@@ -75,7 +75,7 @@ def _add_settings_arguments(parser, default_mode="gi"):
     parser.add_argument("--no-direct", action="store_true", help="gi: leave out direct light and emission")
     parser.add_argument("--no-diffuse", action="store_true", help="gi: leave out diffuse indirect light")
     parser.add_argument("--no-specular", action="store_true", help="gi: leave out specular indirect light")
-    parser.add_argument("--exposure", type=_finite_float, default=d.exposure, help=f"exposure multiplier before tone mapping (default {d.exposure})")
+    parser.add_argument("--exposure", type=_finite_float, default=d.exposure, help=f"exposure multiplier before tone mapping, at most {MAX_EXPOSURE:g} (default {d.exposure})")
     parser.add_argument("--shaders", help="GLSL directory to use instead of the project's glsl/ (for shader work)")
     parser.add_argument("--tonemap", choices=TONEMAPS, default=d.tonemap, help=f"tone curve for the PNG (default {d.tonemap})")
 

@@ -7,6 +7,9 @@ from .errors import VctError
 
 # Most diffuse bounces one frame may run (converging, bounces 0, stops after as many).
 MAX_BOUNCES = 64
+# Largest exposure: the ACES curve overflows float32 once exposure x radiance passes ~1e19 and
+# then shows the brightest pixels black.
+MAX_EXPOSURE = 1e6
 
 # Modes that show radiance (tone-mapped for display) and modes that show encoded data.
 RADIANCE_MODES = ("gi", "direct", "indirect", "specular", "ao", "voxels")
@@ -57,8 +60,8 @@ class RenderSettings:
             raise VctError("must not be negative", field="cone_offset")
         if self.tonemap not in TONEMAPS:
             raise VctError(f'unknown tone mapper "{self.tonemap}"', field="tonemap")
-        if self.exposure <= 0:
-            raise VctError("must be positive", field="exposure")
+        if not 0 < self.exposure <= MAX_EXPOSURE:
+            raise VctError(f"must be positive and at most {MAX_EXPOSURE:g}", field="exposure")
         return self
 
     def replace(self, **changes):

@@ -1,4 +1,5 @@
-"""The `vct` command line (engine.cli), run as a real process (`python -m engine.cli`).
+"""The `vct` command line (engine.cli), run as a real process (`python -m engine.cli`), or in
+this process (engine.cli.main) where a failure of the driver is simulated or many cases run.
 
 Facts: every command's --help is complete; `vct render` writes the PNG and the float32 HDR it
 was asked for and says where; every bad input (a broken scene, an impossible setting, an
@@ -154,7 +155,7 @@ def test_missing_scene_file_exits_2_naming_it(out_dir):
 @pytest.mark.parametrize("args, field", [
     (["--grid", "48"], "grid"), (["--grid", "512"], "grid"), (["--grid", "8"], "grid"),
     (["--width", "0"], "--width"), (["--height", "-3"], "--height"), (["--width", "wide"], "--width"),
-    (["--exposure", "nan"], "--exposure"), (["--exposure", "0"], "exposure"),
+    (["--exposure", "nan"], "--exposure"), (["--exposure", "0"], "exposure"), (["--exposure", "1e30"], "exposure"),
     (["--mip", "9", "--grid", "16"], "mip"), (["--bounces", "-1"], "--bounces"),
     (["--bounces", "100000"], "bounces"), (["--bounces", "65"], "bounces"),
     (["--mode", "raytraced"], "--mode"), (["--tonemap", "filmic"], "--tonemap"),
