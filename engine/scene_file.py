@@ -310,15 +310,15 @@ def _load_mesh_file(reader, spec, field, meshes):
 
     relative = reader.get(spec, "file", field, kind=str)
     where = f"{field}.file"
-    path = (reader.path.parent / relative).resolve()
-    if path in meshes:
-        return meshes[path]
     try:
+        path = (reader.path.parent / relative).resolve()
+        if path in meshes:
+            return meshes[path]
         data = read_regular_file(path, MAX_MESH_BYTES)
     except FileNotFoundError:
         reader.fail(where, f'mesh file not found: "{relative}"')
-    except OSError as exc:
-        reader.fail(where, f'cannot read mesh "{relative}" ({exc.strerror or exc})')
+    except (OSError, ValueError) as exc:  # ValueError: a NUL character in the name
+        reader.fail(where, f'cannot read mesh "{relative}" ({getattr(exc, "strerror", None) or exc})')
     file_type = path.suffix.lstrip(".").lower()
     if file_type == "obj":
         lines = data.decode("utf-8", errors="replace").splitlines()

@@ -74,7 +74,8 @@ NUMBERS = st.one_of(st.sampled_from(EDGE_NUMBERS), st.floats(-2, 2), st.floats(a
 NOT_NUMBERS = st.sampled_from([float("nan"), float("inf"), float("-inf")])  # written as NaN/Infinity tokens
 STRINGS = st.one_of(st.text(max_size=4), st.sampled_from(
     ["white", "gold", "box", "group", "sphere", "point", "spot", "directional", "mesh",
-     "meshes/box.glb", "meshes/pyramid.ply", "meshes/broken.ply", "meshes/not_a_mesh.obj", "meshes", "/dev/zero"]))
+     "meshes/box.glb", "meshes/pyramid.ply", "meshes/broken.ply", "meshes/not_a_mesh.obj", "meshes", "/dev/zero",
+     "meshes/\x00.obj", "x" * 300]))
 VALUES = st.one_of(NUMBERS, NOT_NUMBERS, st.lists(NUMBERS, max_size=4), STRINGS, st.none(), st.booleans(),
                    st.dictionaries(st.sampled_from(["type", "name", "size", "x"]), NUMBERS, max_size=2))
 
