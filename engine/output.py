@@ -41,13 +41,17 @@ def save_npy(path, array):
 
 
 def check_target(path):
-    """Raise OSError where a file could not be moved to `path`: a directory is in the way, or
-    the name is too long for the file system (or a path component is not a directory)."""
+    """Raise OSError where a file should not be moved to `path`: a directory or a device such
+    as /dev/null is there, or the name is too long for the file system (or a component of the
+    path is not a directory)."""
     try:
-        if stat.S_ISDIR(os.stat(path).st_mode):
-            raise IsADirectoryError(errno.EISDIR, os.strerror(errno.EISDIR), str(path))
+        mode = os.stat(path).st_mode
     except FileNotFoundError:
-        pass
+        return
+    if stat.S_ISDIR(mode):
+        raise IsADirectoryError(errno.EISDIR, os.strerror(errno.EISDIR), str(path))
+    if not stat.S_ISREG(mode):
+        raise OSError("not a regular file")
 
 
 def write_files(outputs):

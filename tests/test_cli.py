@@ -191,6 +191,15 @@ def test_output_that_is_a_directory_exits_2_naming_path_and_flag(out_dir, flag):
     assert [p.name for p in out_dir.iterdir()] == ["taken"] and list(taken.iterdir()) == []
 
 
+@pytest.mark.parametrize("flag", ["--out", "--hdr"])
+def test_output_that_is_a_device_exits_2_and_leaves_the_device_alone(out_dir, flag):
+    """/dev/null is writable, but replacing it with a file would break the system."""
+    paths = {"--out": out_dir / "x.png", "--hdr": out_dir / "x.npy", flag: "/dev/null"}
+    result = vct("render", CORNELL, "--out", paths["--out"], "--hdr", paths["--hdr"], *SMALL)
+    assert_one_line_error(result, "/dev/null", flag, "not a regular file")
+    assert Path("/dev/null").is_char_device() and list(out_dir.iterdir()) == []
+
+
 def test_hdr_and_png_on_the_same_path_exits_2(out_dir):
     result = vct("render", CORNELL, "--out", out_dir / "x.png", "--hdr", out_dir / "x.png", *SMALL)
     assert_one_line_error(result, "--hdr")
