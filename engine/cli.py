@@ -3,10 +3,11 @@ import argparse
 import math
 import os
 import sys
+from contextlib import contextmanager
 from pathlib import Path
 
 from .errors import VctError
-from .settings import MODES, TONEMAPS, RenderSettings
+from .settings import MAX_BOUNCES, MAX_EXPOSURE, MODES, TONEMAPS, RenderSettings
 
 
 class _Parser(argparse.ArgumentParser):
@@ -26,8 +27,8 @@ def _finite_float(text):
     return value
 
 
-def _whole_number(minimum):
-    """argparse type: an int of at least `minimum`."""
+def _whole_number(minimum, maximum=None):
+    """argparse type: an int of at least `minimum` (and at most `maximum`)."""
     def parse(text):
         try:
             value = int(text)
@@ -35,12 +36,17 @@ def _whole_number(minimum):
             raise argparse.ArgumentTypeError(f"expected a whole number, got {text!r}") from None
         if value < minimum:
             raise argparse.ArgumentTypeError(f"must be at least {minimum}, got {value}")
+        if maximum is not None and value > maximum:
+            raise argparse.ArgumentTypeError(f"must be at most {maximum}, got {value}")
         return value
     return parse
 
 
 _positive_int = _whole_number(1)
 _nonnegative_int = _whole_number(0)
+# Upper bounds of the frame counts: every loop a command line controls is bounded.
+MAX_VIEW_FRAMES = 10000
+MAX_BENCH_FRAMES = 1000
 
 
 def _add_settings_arguments(parser, default_mode="gi"):
@@ -53,8 +59,9 @@ def _add_settings_arguments(parser, default_mode="gi"):
                              "voxels/voxel-normals/voxel-albedo (the voxel grid at --mip)")
     parser.add_argument("--grid", type=int, default=d.grid, help=f"voxels per side: 16, 32, 64, 128 or 256 (default {d.grid})")
     parser.add_argument("--bounces", type=_nonnegative_int, default=d.bounces,
-                        help="diffuse bounces: 1 = direct + one indirect bounce, K = K bounces, "
-                             "0 = iterate until converged (default 0)")
+                        help=f"diffuse bounces: 1 = direct + one indirect bounce, K = K bounces (at most {MAX_BOUNCES}), "
+                             "0 = iterate until converged, which also stops after at most "
+                             f"{MAX_BOUNCES} (default 0)")
     parser.add_argument("--bounce-interleave", type=_positive_int, default=d.bounce_interleave,
                         help="viewer and bench with --bounces 0: each frame 1 in K covered voxels gathers light "
                              f"again, the others reuse their last gather (default {d.bounce_interleave}; 1 = all)")
@@ -68,7 +75,7 @@ def _add_settings_arguments(parser, default_mode="gi"):
     parser.add_argument("--no-direct", action="store_true", help="gi: leave out direct light and emission")
     parser.add_argument("--no-diffuse", action="store_true", help="gi: leave out diffuse indirect light")
     parser.add_argument("--no-specular", action="store_true", help="gi: leave out specular indirect light")
-    parser.add_argument("--exposure", type=_finite_float, default=d.exposure, help=f"exposure multiplier before tone mapping (default {d.exposure})")
+    parser.add_argument("--exposure", type=_finite_float, default=d.exposure, help=f"exposure multiplier before tone mapping, at most {MAX_EXPOSURE:g} (default {d.exposure})")
     parser.add_argument("--shaders", help="GLSL directory to use instead of the project's glsl/ (for shader work)")
     parser.add_argument("--tonemap", choices=TONEMAPS, default=d.tonemap, help=f"tone curve for the PNG (default {d.tonemap})")
 
@@ -100,7 +107,8 @@ def build_parser():
                                            "GLSL hot reload. Keys: WASD/QE move, drag to look, scroll for speed, "
                                            "R reset camera, V vsync, F12/PrtScrn screenshot, Esc quit.")
     view.add_argument("scene", help="scene JSON file")
-    view.add_argument("--frames", type=_positive_int, help="render this many frames, then exit")
+    view.add_argument("--frames", type=_whole_number(1, MAX_VIEW_FRAMES),
+                      help=f"render this many frames (at most {MAX_VIEW_FRAMES}), then exit")
     view.add_argument("--screenshot", help="with --frames: save the last frame (without panels) to this PNG")
     view.add_argument("--no-panels", action="store_true", help="start with the panels hidden")
     _add_settings_arguments(view)
@@ -111,9 +119,12 @@ def build_parser():
                                             "renders them once the bounces settled: static (the camera moves), light "
                                             "(the scene's first light moves), object (its smallest object moves).")
     bench.add_argument("scene", help="scene JSON file")
-    bench.add_argument("--frames", type=_positive_int, default=10, help="timed frames per kind and grid (default 10)")
-    bench.add_argument("--warmup", type=_nonnegative_int, default=3, help="untimed frames first (default 3)")
-    bench.add_argument("--grids", default="16,32,64,128,256", help="comma-separated grid sizes (default 16,32,64,128,256)")
+    bench.add_argument("--frames", type=_whole_number(1, MAX_BENCH_FRAMES), default=10,
+                       help=f"timed frames per kind and grid, at most {MAX_BENCH_FRAMES} (default 10)")
+    bench.add_argument("--warmup", type=_whole_number(0, MAX_BENCH_FRAMES), default=3,
+                       help=f"untimed frames first, at most {MAX_BENCH_FRAMES} (default 3)")
+    bench.add_argument("--grids", default="16,32,64,128,256",
+                       help="comma-separated grid sizes, each at most once (default 16,32,64,128,256)")
     bench.add_argument("--json", help="also write the records as a JSON list to this file")
     bench.add_argument("--reference", help="a reference radiance .npy to report the error of each grid's converged image against")
     _add_settings_arguments(bench)
@@ -143,26 +154,59 @@ def shader_root(args):
     if not args.shaders:
         return GLSL_ROOT
     root = Path(args.shaders)
-    if not root.is_dir():
+    if not os.path.isdir(root):
         raise VctError("not a directory", source=root, field="--shaders")
     return root
 
 
 def check_writable(path, flag):
     """Refuse an output path that cannot be written, before rendering anything."""
+    from .output import check_target
+
     path = Path(path)
-    parent = path.parent if str(path.parent) else Path(".")
-    if path.is_dir():
-        raise VctError("is a directory", source=path, field=flag)
-    if not parent.is_dir():
+    try:
+        check_target(path)
+    except IsADirectoryError:
+        raise VctError("is a directory", source=path, field=flag) from None
+    except OSError as exc:  # e.g. a name too long for the file system
+        raise VctError(f"cannot write ({exc.strerror or exc})", source=path, field=flag) from None
+    if not path.parent.is_dir():
         raise VctError("directory does not exist", source=path, field=flag)
-    if not os.access(parent, os.W_OK) or (path.exists() and not os.access(path, os.W_OK)):
+    if not os.access(path.parent, os.W_OK) or (path.exists() and not os.access(path, os.W_OK)):
         raise VctError("not writable", source=path, field=flag)
 
 
-def render_command(args):
-    from .output import HDR_WRITERS, save_hdr, save_png
+@contextmanager
+def creating_render_targets(width, height):
+    """Around creating a renderer: render targets of a size the driver allows but cannot
+    create (memory) are a size error."""
+    import moderngl
+
+    try:
+        yield
+    except (moderngl.Error, MemoryError) as exc:
+        raise VctError(f"cannot create the {width}x{height} render targets ({exc})", field="size") from None
+
+
+def open_renderer(width, height, settings, args):
     from .renderer import Renderer
+
+    with creating_render_targets(width, height):
+        return Renderer(width, height, settings, glsl_root=shader_root(args))
+
+
+def check_finite(radiance, scene):
+    """Refuse to write an image holding NaN or infinite values."""
+    import numpy as np
+
+    bad = int(np.count_nonzero(~np.isfinite(radiance)))
+    if bad:
+        raise VctError(f"the render holds {bad} NaN or infinite values (of {radiance.size}); nothing written",
+                       source=scene, field="radiance")
+
+
+def render_command(args):
+    from .output import HDR_WRITERS, hdr_writer, png_writer, write_files
     from .scene_file import load_scene
 
     check_writable(args.out, "--out")
@@ -176,19 +220,14 @@ def render_command(args):
     scene = load_scene(args.scene)
     width = args.width or scene.camera.width
     height = args.height or scene.camera.height
-    with Renderer(width, height, settings, glsl_root=shader_root(args)) as renderer:
+    with open_renderer(width, height, settings, args) as renderer:
         radiance = renderer.render(scene)
         pixels = renderer.tonemapped()
-    written = []
-    try:  # both outputs or neither
-        if args.hdr:
-            save_hdr(args.hdr, radiance)
-            written.append(Path(args.hdr))
-        save_png(args.out, pixels)
-    except VctError:
-        for path in written:
-            path.unlink(missing_ok=True)
-        raise
+    check_finite(radiance, args.scene)
+    outputs = [(args.out, png_writer(pixels))]
+    if args.hdr:
+        outputs.insert(0, (args.hdr, hdr_writer(args.hdr, radiance)))
+    write_files(outputs)  # both or neither
     print(f"wrote {args.out}" + (f" and {args.hdr}" if args.hdr else "") + f" ({width}x{height}, mode {settings.mode})")
     return 0
 
@@ -202,8 +241,10 @@ def view_command(args):
     settings = settings_from_args(args)
     scene = load_scene(args.scene)
     size = (args.width or scene.camera.width, args.height or scene.camera.height)
-    with Viewer(scene, settings, size, glsl_root=shader_root(args), show_panels=not args.no_panels,
-                vsync=args.frames is None) as viewer:
+    with creating_render_targets(*size):
+        viewer = Viewer(scene, settings, size, glsl_root=shader_root(args), show_panels=not args.no_panels,
+                        vsync=args.frames is None)
+    with viewer:
         viewer.run(args.frames)
         if args.screenshot:
             path = viewer.save_screenshot(args.screenshot)
@@ -212,37 +253,61 @@ def view_command(args):
     return 0
 
 
+def load_reference(path, shape):
+    """A reference radiance .npy of the given shape, as float64; anything else (an .npz archive,
+    another shape, NaN) is an error naming --reference."""
+    import numpy as np
+
+    def fail(message):
+        raise VctError(message, source=path, field="--reference")
+
+    try:  # memory-mapped: the shape is checked before any data is read
+        data = np.load(path, mmap_mode="r", allow_pickle=False)
+    except (OSError, ValueError, EOFError) as exc:
+        fail(f"cannot read reference ({exc})")
+    if not isinstance(data, np.ndarray):
+        data.close()
+        fail("not a .npy array (an .npz archive?)")
+    if data.shape != shape:
+        fail(f"shape {data.shape} does not match the image {shape}")
+    if data.dtype.kind not in "fiu":
+        fail(f"must hold numbers, not {data.dtype}")
+    reference = np.asarray(data, np.float64)
+    if not np.all(np.isfinite(reference)):
+        fail("holds NaN or infinite values")
+    if reference.sum() <= 0:
+        fail("holds no light (errors are relative to its sum)")
+    return reference
+
+
+def parse_grids(text):
+    try:
+        grids = [int(g) for g in text.split(",") if g.strip()]
+    except ValueError:
+        raise VctError(f"expected comma-separated whole numbers, got {text!r}", field="--grids") from None
+    if not grids or len(set(grids)) != len(grids):
+        raise VctError(f"expected each grid size once, got {text!r}", field="--grids")
+    return grids
+
+
 def bench_command(args):
     import json
 
-    import numpy as np
-
     from .bench import benchmark, format_table
     from .gl import renderer_name
-    from .output import write_atomically
-    from .renderer import Renderer
+    from .output import write_files
     from .scene_file import load_scene
 
-    try:
-        grids = [int(g) for g in args.grids.split(",") if g.strip()]
-    except ValueError:
-        raise VctError(f"expected comma-separated whole numbers, got {args.grids!r}", field="--grids") from None
+    grids = parse_grids(args.grids)
     settings = settings_from_args(args)
     for grid in grids:
         settings.replace(grid=grid).validate()
     if args.json:
         check_writable(args.json, "--json")
-    reference = None
-    if args.reference:
-        try:
-            reference = np.load(args.reference).astype(np.float64)
-        except (OSError, ValueError) as exc:
-            raise VctError(f"cannot read reference ({exc})", source=args.reference, field="--reference") from None
     scene = load_scene(args.scene)
     width, height = args.width or scene.camera.width, args.height or scene.camera.height
-    with Renderer(width, height, settings, glsl_root=shader_root(args)) as renderer:
-        if reference is not None and reference.shape != (height, width, 3):
-            raise VctError(f"shape {reference.shape} does not match the image {height}x{width}", source=args.reference, field="--reference")
+    reference = load_reference(args.reference, (height, width, 3)) if args.reference else None
+    with open_renderer(width, height, settings, args) as renderer:
         device = renderer_name(renderer.ctx)
         print(f"{scene.name}: {width}x{height}, mode {settings.mode}, median of {args.frames} frames after "
               f"{args.warmup} warm-up per kind, on {device}", flush=True)
@@ -253,9 +318,10 @@ def bench_command(args):
     if args.json:
         for row in rows:
             row["device"] = device
-        write_atomically(args.json, lambda f: f.write(json.dumps(rows, indent=2).encode()))
+        write_files([(args.json, lambda f: f.write(json.dumps(rows, indent=2).encode()))])
         print(f"wrote {args.json}")
     return 0
+
 
 if __name__ == "__main__":
     sys.exit(main())

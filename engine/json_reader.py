@@ -8,6 +8,10 @@ import numpy as np
 
 from .errors import SceneError
 
+# Every number read is within +-MAX_MAGNITUDE unless a tighter bound is given: scenes are metres,
+# degrees, W/sr and W/m^2, and larger values would overflow float32 on the GPU.
+MAX_MAGNITUDE = 1e6
+
 
 class JsonReader:
     """Typed, range-checked reads from parsed JSON; `path` names the file in errors."""
@@ -28,7 +32,7 @@ class JsonReader:
             self.fail(f"{field}.{key}" if field else key, f"must be {_kind_name(kind)}")
         return value
 
-    def number(self, obj, key, field, default=..., positive=False, minimum=None, maximum=None, whole=False):
+    def number(self, obj, key, field, default=..., positive=False, minimum=None, maximum=MAX_MAGNITUDE, whole=False):
         value = self.get(obj, key, field, default)
         where = f"{field}.{key}" if field else key
         if isinstance(value, bool) or not isinstance(value, (int, float)):
@@ -40,18 +44,20 @@ class JsonReader:
         if positive and value <= 0:
             self.fail(where, "must be positive")
         if minimum is not None and value < minimum:
-            self.fail(where, f"must be at least {minimum}")
-        if maximum is not None and value > maximum:
-            self.fail(where, f"must be at most {maximum}")
+            self.fail(where, f"must be at least {minimum:g}")
+        if value > maximum:
+            self.fail(where, f"must be at most {maximum:g}")
+        if value < -MAX_MAGNITUDE:
+            self.fail(where, f"must be at least {-MAX_MAGNITUDE:g}")
         return float(value)
 
-    def vector(self, obj, key, field, default=..., length=3, positive=False, nonnegative=False):
+    def vector(self, obj, key, field, default=..., length=3, positive=False, nonnegative=False, maximum=MAX_MAGNITUDE):
         value = self.get(obj, key, field, default)
         if value is default and default is not ...:
             return np.array(default, float)
-        return self.vector_value(value, f"{field}.{key}" if field else key, length, positive, nonnegative)
+        return self.vector_value(value, f"{field}.{key}" if field else key, length, positive, nonnegative, maximum)
 
-    def vector_value(self, value, where, length=3, positive=False, nonnegative=False):
+    def vector_value(self, value, where, length=3, positive=False, nonnegative=False, maximum=MAX_MAGNITUDE):
         if not isinstance(value, list) or len(value) != length:
             self.fail(where, f"must be a list of {length} numbers")
         for i, v in enumerate(value):
@@ -63,8 +69,11 @@ class JsonReader:
                 self.fail(f"{where}[{i}]", "must be positive")
             if nonnegative and v < 0:
                 self.fail(f"{where}[{i}]", "must not be negative")
+            if v > maximum:
+                self.fail(f"{where}[{i}]", f"must be at most {maximum:g}")
+            if v < -MAX_MAGNITUDE:
+                self.fail(f"{where}[{i}]", f"must be at least {-MAX_MAGNITUDE:g}")
         return np.array(value, float)
-
 
     def index(self, obj, key, field, array, count, default=...):
         """A whole number naming an element of the list `array` (`count` long), e.g. a glTF

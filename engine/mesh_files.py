@@ -29,6 +29,7 @@ images[5] "bricks.png": file not found`.
 import base64
 import hashlib
 import io
+import math
 import json
 import re
 import struct
@@ -135,6 +136,33 @@ def flat_normals(positions, triangles, *attributes):
     normals = np.repeat(_unit(np.cross(b - a, c - a)), 3, axis=0).astype(np.float32)
     expanded = [None if x is None else x[corners] for x in attributes]
     return (p, normals, np.arange(len(corners), dtype=np.uint32).reshape(-1, 3), *expanded)
+
+
+def surface_mesh(positions, triangles, normals=None, texcoords=None):
+    """A Mesh of the triangles with finite vertices and non-zero area (None if none is left):
+    its normals (given, else smooth: area-weighted per vertex; flat where faces facing apart
+    share vertices and their normals would cancel)."""
+    corners = positions[triangles]
+    face_normals = np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])
+    keep = np.all(np.isfinite(corners), axis=(1, 2)) & (np.linalg.norm(face_normals, axis=1) > 0)
+    triangles, face_normals = triangles[keep], face_normals[keep]
+    if len(triangles) == 0:
+        return None
+    used, triangles = np.unique(triangles, return_inverse=True)  # drop the vertices no triangle uses
+    triangles = triangles.reshape(-1, 3)
+    positions = positions[used]
+    normals = None if normals is None else np.asarray(normals)[used]
+    texcoords = None if texcoords is None else texcoords[used]
+    if normals is None:
+        normals = np.zeros_like(positions, dtype=np.float64)
+        np.add.at(normals, triangles.reshape(-1), np.repeat(face_normals, 3, axis=0))
+        lengths = np.linalg.norm(normals[triangles.reshape(-1)], axis=1)
+        areas = np.repeat(np.linalg.norm(face_normals, axis=1), 3)
+        if not np.all(lengths > 1e-6 * areas):
+            positions, normals, triangles, texcoords = flat_normals(positions, triangles, texcoords)
+            return Mesh(positions.astype(np.float32), normals, triangles, texcoords)
+        normals = _unit(normals)
+    return Mesh(np.asarray(positions, np.float32), np.asarray(normals, np.float32), triangles.astype(np.uint32), texcoords)
 
 
 def generate_tangents(positions, normals, texcoords, triangles):
@@ -273,7 +301,7 @@ class _Gltf:
         if index not in self.buffers:
             field = f"buffers[{index}]"
             spec = self.element("buffers", index)
-            length = int(self.json.number(spec, "byteLength", field, whole=True, minimum=1))
+            length = int(self.json.number(spec, "byteLength", field, whole=True, minimum=1, maximum=math.inf))
             if "uri" in spec:
                 uri = self.json.get(spec, "uri", field, kind=str)
                 try:
@@ -294,8 +322,8 @@ class _Gltf:
         field = f"bufferViews[{index}]"
         view = self.element("bufferViews", index)
         data = self.buffer(self.json.index(view, "buffer", field, "buffers", len(self.list("buffers"))))
-        offset = int(self.json.number(view, "byteOffset", field, 0, whole=True, minimum=0))
-        length = int(self.json.number(view, "byteLength", field, whole=True, minimum=1))
+        offset = int(self.json.number(view, "byteOffset", field, 0, whole=True, minimum=0, maximum=math.inf))
+        length = int(self.json.number(view, "byteLength", field, whole=True, minimum=1, maximum=math.inf))
         if offset + length > len(data):
             self.fail(field, "reaches past the end of its buffer")
         stride = view.get("byteStride")
@@ -319,7 +347,7 @@ class _Gltf:
             self.fail(f"{where}.componentType", f"is {component}; {field}.{key} must be one of {components}")
         dtype = np.dtype(COMPONENT_TYPES[component]).newbyteorder("<")
         width = WIDTHS[kind]
-        count = int(self.json.number(spec, "count", where, whole=True, minimum=1))
+        count = int(self.json.number(spec, "count", where, whole=True, minimum=1, maximum=math.inf))
         if "bufferView" in spec:
             values = self.view_array(spec, where, count, width, dtype, strided=True)
         else:
@@ -334,7 +362,7 @@ class _Gltf:
     def view_array(self, spec, where, count, width, dtype, strided=False):
         view = self.json.index(spec, "bufferView", where, "bufferViews", len(self.list("bufferViews")))
         data, view_offset, view_length, stride = self.view_bytes(view)
-        offset = int(self.json.number(spec, "byteOffset", where, 0, whole=True, minimum=0))
+        offset = int(self.json.number(spec, "byteOffset", where, 0, whole=True, minimum=0, maximum=math.inf))
         element = dtype.itemsize * width
         stride = stride if strided and stride else element
         if offset + stride * (count - 1) + element > view_length:
@@ -345,7 +373,7 @@ class _Gltf:
     def apply_sparse(self, spec, where, values):
         field = f"{where}.sparse"
         sparse = self.json.get(spec, "sparse", where, kind=dict)
-        count = int(self.json.number(sparse, "count", field, whole=True, minimum=1))
+        count = int(self.json.number(sparse, "count", field, whole=True, minimum=1, maximum=math.inf))
         indices_spec = self.json.get(sparse, "indices", field, kind=dict)
         component = self.json.get(indices_spec, "componentType", f"{field}.indices", kind=int)
         if component not in INDEX_TYPES:
@@ -583,6 +611,10 @@ def _load_obj(path, name, material):
     except OSError as exc:
         raise SceneError(f"cannot read ({_os_problem(exc)})", source=name) from None
     text = data.decode("utf-8", errors="replace")
+    if material is not None:  # one material for the file: its groups do not matter (trimesh names groups in quadratic time)
+        data = "\n".join(line for line in text.splitlines()
+                         if line.split(maxsplit=1)[:1] not in (["usemtl"], ["mtllib"])).encode()
+        text = data.decode()
     groups = list(dict.fromkeys(_statements(text, "usemtl")))
     # trimesh groups faces by usemtl but names a group after its material only where it loaded
     # that material, so it reads a library of just the names; the real MTL is read here, as
@@ -592,7 +624,7 @@ def _load_obj(path, name, material):
         loaded = load_obj(io.BytesIO(b"mtllib vct-material-names.mtl\n" + data),
                           resolver={"vct-material-names.mtl": names}, group_material=True)
     except Exception as exc:  # trimesh raises many kinds on malformed files
-        raise SceneError(f"cannot load mesh: {' '.join(str(exc).split()) or type(exc).__name__}", source=name) from None
+        raise _unloadable(name, "OBJ", exc) from None
     library = None if material is not None else _MtlLibrary(path, name, _statements(text, "mtllib"))
     parts = []
     for kwargs in loaded.get("geometry", {}).values():
@@ -611,20 +643,11 @@ def _load_obj(path, name, material):
         if part_material.textures() and texcoords is None:
             raise SceneError(f'material "{part_material.name}" has textures but its faces have no texture coordinates (vt)',
                              source=name, field=f'usemtl "{group}"')
-        normals = kwargs.get("vertex_normals")
-        if normals is None:
-            normals = _smooth_normals(positions, triangles)
-        parts.append((groups.index(group) if group is not None else -1,
-                      Node(name=group or path.stem, mesh=Mesh(positions, np.asarray(normals, np.float32), triangles, texcoords),
-                           material=part_material)))
+        mesh = surface_mesh(positions, triangles, kwargs.get("vertex_normals"), texcoords)
+        if mesh is not None:
+            parts.append((groups.index(group) if group is not None else -1,
+                          Node(name=group or path.stem, mesh=mesh, material=part_material)))
     return [node for _, node in sorted(parts, key=lambda part: part[0])]
-
-
-def _smooth_normals(positions, triangles):
-    """Angle-weighted vertex normals (trimesh; scipy makes them fast)."""
-    import trimesh
-
-    return trimesh.Trimesh(positions, triangles, process=False).vertex_normals
 
 
 class _MtlLibrary:
@@ -765,11 +788,19 @@ def _load_with_trimesh(path, name, material):
     import trimesh
 
     try:
-        mesh = trimesh.load(str(path), force="mesh", process=True)
+        loaded = trimesh.load(str(path), force="mesh", process=True)
     except Exception as exc:  # trimesh raises many kinds on unreadable files
-        raise SceneError(f"cannot load mesh: {' '.join(str(exc).split()) or type(exc).__name__}", source=name) from None
-    if not isinstance(mesh, trimesh.Trimesh) or len(mesh.faces) == 0:
+        raise _unloadable(name, Path(path).suffix.lstrip(".").upper(), exc) from None
+    mesh = None
+    if isinstance(loaded, trimesh.Trimesh) and len(loaded.faces):
+        mesh = surface_mesh(np.asarray(loaded.vertices, np.float64), np.asarray(loaded.faces, np.int64))
+    if mesh is None:
         raise SceneError("holds no triangles", source=name)
-    return Node(name=Path(path).stem, mesh=Mesh(np.asarray(mesh.vertices, np.float32), np.asarray(mesh.vertex_normals, np.float32),
-                                                 np.asarray(mesh.faces, np.uint32)),
-                material=material or default_material())
+    return Node(name=Path(path).stem, mesh=mesh, material=material or default_material())
+
+
+def _unloadable(name, kind, exc):
+    """The error of a mesh file trimesh could not read."""
+    if isinstance(exc, ImportError):  # trimesh guesses the encoding of text that is not UTF-8 with an optional module
+        return SceneError(f"cannot load mesh: neither a binary {kind} file nor UTF-8 text", source=name)
+    return SceneError(f"cannot load mesh: {' '.join(str(exc).split()) or type(exc).__name__}", source=name)

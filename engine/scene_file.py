@@ -1,17 +1,32 @@
 """JSON scene files -> scene model. Every malformed value raises SceneError naming the
 file and the field, e.g. `scenes/x.json: objects[6] "Short Box".size: must be positive`."""
+import dataclasses
 import json
+import os
+import stat
 from pathlib import Path
 
 import numpy as np
 
 from .errors import SceneError
-from .json_reader import JsonReader
+from .json_reader import MAX_MAGNITUDE, JsonReader
 from .mesh_files import load_mesh_file
 from .scene import Camera, Light, Material, Node, Scene, VoxelRegion, box_mesh, quad_mesh, sphere_mesh
 
 GEOMETRY_TYPES = ("quad", "box", "sphere", "mesh", "group")
 LIGHT_TYPES = ("point", "spot", "directional")
+
+# Limits that keep what the GPU computes from a scene finite in float32 and its transforms
+# invertible: every number within +-MAX_MAGNITUDE (json_reader: metres, degrees, W/sr, W/m^2),
+# world positions too, and every world transform scaling by MIN_SCALE..MAX_MAGNITUDE. Emission
+# is held in half floats (the G-buffer): at most MAX_EMISSION.
+MIN_SCALE = 1e-6
+MAX_EMISSION = float(np.finfo(np.float16).max)  # 65504
+MIN_FOV_DEG = 0.01
+MAX_DEPTH = 32  # levels of nested children
+# Files are read whole, up to these sizes (a device such as /dev/zero is not read at all).
+MAX_SCENE_BYTES = 4 * 2 ** 20
+MAX_MESH_BYTES = 256 * 2 ** 20
 
 
 class _Constant:
@@ -22,21 +37,34 @@ class _Constant:
         self.text = text
 
 
-def _find_constant(value, where=""):
-    """(field, token) of the first NaN/Infinity token in the parsed document, or None."""
-    if isinstance(value, _Constant):
-        return where, value.text
-    if isinstance(value, dict):
-        items = ((f"{where}.{key}" if where else key, item) for key, item in value.items())
-    elif isinstance(value, list):
-        items = ((f"{where}[{i}]", item) for i, item in enumerate(value))
-    else:
-        return None
-    for field, item in items:
-        found = _find_constant(item, field)
-        if found:
-            return found
-    return None
+def _find_constant(document):
+    """(field, token) of the first NaN/Infinity token in a parsed document that holds one.
+    Walks with its own stack: a document may nest as deep as the JSON parser allows."""
+    stack = [("", document)]
+    while stack:
+        where, value = stack.pop()
+        if isinstance(value, _Constant):
+            return where, value.text
+        if isinstance(value, dict):
+            items = [(f"{where}.{key}" if where else key, item) for key, item in value.items()]
+        elif isinstance(value, list):
+            items = [(f"{where}[{i}]", item) for i, item in enumerate(value)]
+        else:
+            continue
+        stack.extend(reversed(items))
+
+
+def read_regular_file(path, limit):
+    """The bytes of `path`, which must be a regular file of at most `limit` bytes: never reads
+    a device such as /dev/zero, nor blocks on a pipe. Raises OSError saying what is wrong."""
+    descriptor = os.open(path, os.O_RDONLY | os.O_NONBLOCK)
+    with os.fdopen(descriptor, "rb") as f:
+        if not stat.S_ISREG(os.fstat(descriptor).st_mode):
+            raise OSError("not a regular file")
+        data = f.read(limit + 1)
+    if len(data) > limit:
+        raise OSError(f"larger than {limit // 2 ** 20} MiB")
+    return data
 
 
 def load_scene(path):
@@ -44,22 +72,28 @@ def load_scene(path):
     path = Path(path)
     reader = JsonReader(path)
     try:
-        text = path.read_text(encoding="utf-8")
+        text = read_regular_file(path, MAX_SCENE_BYTES).decode("utf-8")
     except OSError as exc:
         raise SceneError(f"cannot read scene file ({exc.strerror or exc})", source=path) from None
     except UnicodeDecodeError as exc:
         raise SceneError(f"not UTF-8 text (byte {exc.start})", source=path) from None
+    constants = []  # the NaN/Infinity tokens met while parsing
+
+    def constant(token):
+        constants.append(_Constant(token))
+        return constants[-1]
+
     try:
-        data = json.loads(text, parse_constant=_Constant)
+        data = json.loads(text, parse_constant=constant)
     except json.JSONDecodeError as exc:
         raise SceneError(f"malformed JSON: {exc.msg}", source=path, field=f"line {exc.lineno} column {exc.colno}") from None
     except ValueError as exc:
         raise SceneError(f"malformed JSON: {exc}", source=path) from None
     except RecursionError:
         raise SceneError("malformed JSON: nested too deeply", source=path) from None
-    constant = _find_constant(data)
-    if constant:
-        reader.fail(constant[0], f"malformed JSON: {constant[1]} is not a JSON number (JSON has no NaN or Infinity)")
+    if constants:
+        field, token = _find_constant(data)
+        reader.fail(field, f"malformed JSON: {token} is not a JSON number (JSON has no NaN or Infinity)")
     if not isinstance(data, dict):
         reader.fail("", "the scene must be a JSON object")
 
@@ -74,7 +108,7 @@ def load_scene(path):
             roughness=reader.number(spec, "roughness", field, 1.0, minimum=0.0, maximum=1.0),
             metalness=reader.number(spec, "metalness", field, 0.0, minimum=0.0, maximum=1.0),
             specular=reader.number(spec, "specular", field, 0.0, minimum=0.0, maximum=1.0),
-            emission=reader.vector(spec, "emission", field, [0.0, 0.0, 0.0], nonnegative=True),
+            emission=reader.vector(spec, "emission", field, [0.0, 0.0, 0.0], nonnegative=True, maximum=MAX_EMISSION),
         )
         if np.any(materials[key].albedo > 1.0):
             reader.fail(f"{field}.albedo", "must be at most 1 per channel (energy conservation)")
@@ -84,7 +118,7 @@ def load_scene(path):
         position=reader.vector(camera_spec, "position", "camera"),
         look_at=reader.vector(camera_spec, "look_at", "camera"),
         up=reader.vector(camera_spec, "up", "camera", [0.0, 1.0, 0.0]),
-        vertical_fov_deg=reader.number(camera_spec, "vertical_fov_deg", "camera", 60.0, positive=True, maximum=179.0),
+        vertical_fov_deg=reader.number(camera_spec, "vertical_fov_deg", "camera", 60.0, minimum=MIN_FOV_DEG, maximum=179.0),
         width=int(reader.number(camera_spec, "width", "camera", 256, positive=True, whole=True)),
         height=int(reader.number(camera_spec, "height", "camera", 256, positive=True, whole=True)),
     )
@@ -98,17 +132,17 @@ def load_scene(path):
     root = Node(name=_title(name))
     meshes = {}
     for i, spec in enumerate(reader.get(data, "objects", "", [], list)):
-        root.children.append(_node(reader, spec, f"objects[{i}]", materials, meshes))
+        root.children.append(_node(reader, spec, f"objects[{i}]", materials, meshes, np.eye(4), 1))
     for i, spec in enumerate(reader.get(data, "lights", "", [], list)):
         if not isinstance(spec, dict) or spec.get("type") not in LIGHT_TYPES:
             reader.fail(f"lights[{i}].type", f"must be one of {', '.join(LIGHT_TYPES)}")
-        root.children.append(_node(reader, spec, f"lights[{i}]", materials, meshes))
+        root.children.append(_node(reader, spec, f"lights[{i}]", materials, meshes, np.eye(4), 1))
 
     region = None
     if "voxel_region" in data:
         spec = reader.get(data, "voxel_region", "", kind=dict)
         region = VoxelRegion(reader.vector(spec, "center", "voxel_region"),
-                             reader.number(spec, "size", "voxel_region", positive=True))
+                             reader.number(spec, "size", "voxel_region", minimum=MIN_SCALE))
     return Scene(name=name, root=root, camera=camera, materials=materials, voxel_region=region, source=str(path))
 
 
@@ -116,9 +150,13 @@ def _title(name):
     return " ".join(word.capitalize() for word in name.replace("_", " ").split()) or "Scene"
 
 
-def _node(reader, spec, field, materials, meshes):
+def _node(reader, spec, field, materials, meshes, parent_world, depth):
+    """The node of `spec` with its children; `parent_world` places it, `depth` counts the
+    levels down to it (1: a top-level object or light)."""
     if not isinstance(spec, dict):
         reader.fail(field, "must be an object")
+    if depth > MAX_DEPTH:
+        reader.fail(field, f"children nest more than {MAX_DEPTH} levels deep")
     kind = reader.get(spec, "type", field, kind=str)
     name = reader.get(spec, "name", field, f"{kind} {field}", str)
     field = f'{field} "{name}"' if "name" in spec else field
@@ -139,12 +177,33 @@ def _node(reader, spec, field, materials, meshes):
                 reader.fail(f"{field}.material", f'unknown material "{material_name}"')
             node.material = materials[material_name]
         if kind == "mesh":
-            _load_mesh_file(reader, spec, field, node)
+            _load_mesh_file(reader, spec, field, node, meshes)
         else:
             node.mesh = _mesh(reader, spec, field, kind, node, meshes)
+    world = parent_world @ node.local_matrix()
+    _check_placement(reader, node, world, field)
     for i, child in enumerate(reader.get(spec, "children", field, [], list)):
-        node.children.append(_node(reader, child, f"{field}.children[{i}]", materials, meshes))
+        node.children.append(_node(reader, child, f"{field}.children[{i}]", materials, meshes, world, depth + 1))
     return node
+
+
+def _check_placement(reader, node, world, field):
+    """The node's world transform must be invertible within float32, and what it places (the
+    mesh, the light) must lie within +-MAX_MAGNITUDE of the origin."""
+    scales = np.linalg.svd(world[:3, :3], compute_uv=False)
+    if not MIN_SCALE <= scales.min() <= scales.max() <= MAX_MAGNITUDE:
+        reader.fail(f"{field}.scale", f"its world transform (its parents', its own, its size) scales by {scales.min():.3g}.."
+                                      f"{scales.max():.3g}; each must be within {MIN_SCALE:g}..{MAX_MAGNITUDE:g}")
+    if node.mesh is not None:
+        lo, hi = node.mesh.bounds(world)
+        reach, where = max(np.abs(lo).max(), np.abs(hi).max()), field
+    elif node.light is not None:
+        position = world[:3, :3] @ node.light.position + world[:3, 3]
+        reach, where = np.abs(position).max(), f"{field}.position"
+    else:
+        reach, where = np.abs(world[:3, 3]).max(), f"{field}.translation"
+    if reach > MAX_MAGNITUDE:
+        reader.fail(where, f"reaches {reach:.3g} m from the origin along an axis in the world, beyond {MAX_MAGNITUDE:g}")
 
 
 def _mesh(reader, spec, field, kind, node, meshes):
@@ -174,24 +233,45 @@ def _mesh(reader, spec, field, kind, node, meshes):
     return meshes.setdefault("sphere", sphere_mesh())
 
 
-def _load_mesh_file(reader, spec, field, node):
+def _load_mesh_file(reader, spec, field, node, meshes):
     """The file's nodes under `node`, all with `node.material` where it has one; a file that
     is one part in its own frame (one OBJ material group, a PLY, a glTF node with one
-    primitive) becomes `node`'s own mesh and material instead."""
+    primitive) becomes `node`'s own mesh and material instead. A file is read once however
+    many objects use it with the same material: they share its meshes and materials."""
     relative = reader.get(spec, "file", field, kind=str)
-    path = (reader.path.parent / relative).resolve()
-    if not path.is_file():
-        reader.fail(f"{field}.file", f'mesh file not found: "{relative}"')
+    where = f"{field}.file"
     try:
-        parts = load_mesh_file(path, relative, node.material)
-    except SceneError as exc:
-        reader.fail(f"{field}.file", str(exc))
+        path = (reader.path.parent / relative).resolve()
+        info = os.stat(path)
+    except FileNotFoundError:
+        reader.fail(where, f'mesh file not found: "{relative}"')
+    except (OSError, ValueError) as exc:  # ValueError: a NUL character in the name
+        reader.fail(where, f'cannot read mesh "{relative}" ({getattr(exc, "strerror", None) or exc})')
+    if not stat.S_ISREG(info.st_mode):
+        reader.fail(where, f'cannot read mesh "{relative}" (not a regular file)')
+    if info.st_size > MAX_MESH_BYTES:
+        reader.fail(where, f'cannot read mesh "{relative}" (larger than {MAX_MESH_BYTES // 2 ** 20} MiB)')
+    key = (path, id(node.material))
+    if key not in meshes:
+        try:
+            meshes[key] = load_mesh_file(path, relative, node.material)
+        except SceneError as exc:
+            reader.fail(where, str(exc))
+    parts = [_copy_tree(part) for part in meshes[key]]
     if not any(n.mesh is not None for part in parts for n, _ in part.walk()):
-        reader.fail(f"{field}.file", f'{relative}: holds no triangles')
+        reader.fail(where, f'{relative}: holds no triangles')
     if len(parts) == 1 and not parts[0].children and np.array_equal(parts[0].local_matrix(), np.eye(4)):
         node.mesh, node.material = parts[0].mesh, parts[0].material
     else:
         node.children.extend(parts)
+
+
+def _copy_tree(node):
+    """A copy of the nodes (their own transforms), sharing meshes, materials and lights."""
+    copy = dataclasses.replace(node, translation=node.translation.copy(), rotation_deg=node.rotation_deg.copy(),
+                               scale=node.scale.copy(), children=[])
+    copy.children = [_copy_tree(child) for child in node.children]
+    return copy
 
 
 def _light(reader, spec, field, kind):

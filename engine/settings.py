@@ -5,7 +5,11 @@ from dataclasses import dataclass, fields
 from .constants import GRID_SIZES, MAX_INTERLEAVE
 from .errors import VctError
 
-MAX_BOUNCES = 64  # the most bounces one change of the scene costs
+# Most diffuse bounces one change of the scene costs (converging, bounces 0, stops after as many).
+MAX_BOUNCES = 64
+# Largest exposure: the ACES curve overflows float32 once exposure x radiance passes ~1e19 and
+# then shows the brightest pixels black.
+MAX_EXPOSURE = 1e6
 
 
 @dataclass(frozen=True)
@@ -73,7 +77,7 @@ class RenderSettings:
         if self.grid not in GRID_SIZES:
             raise VctError(f"grid must be a power of two from 16 to 256, got {self.grid}", field="grid")
         if not 0 <= self.bounces <= MAX_BOUNCES:
-            raise VctError(f"must be 0 (converge) or a count up to {MAX_BOUNCES}", field="bounces")
+            raise VctError(f"must be 0 (converge) or a count up to {MAX_BOUNCES}, got {self.bounces}", field="bounces")
         if not 1 <= self.bounce_interleave <= MAX_INTERLEAVE:
             raise VctError(f"must be in 1..{MAX_INTERLEAVE}", field="bounce_interleave")
         if not 0 <= self.voxel_mip <= self.grid.bit_length() - 1:
@@ -89,8 +93,8 @@ class RenderSettings:
             raise VctError("must not be negative", field="cone_offset")
         if self.tonemap not in TONEMAPS:
             raise VctError(f'unknown tone mapper "{self.tonemap}"', field="tonemap")
-        if self.exposure <= 0:
-            raise VctError("must be positive", field="exposure")
+        if not 0 < self.exposure <= MAX_EXPOSURE:
+            raise VctError(f"must be positive and at most {MAX_EXPOSURE:g}", field="exposure")
         return self
 
     @property

@@ -64,11 +64,24 @@ def _display(path, root):
         return str(path)
 
 
-def preprocess(name, defines=None, root=GLSL_ROOT):
-    """Read glsl/<name>, expand includes (relative to glsl/), inject `defines` after #version."""
+def _read(path, where):
+    """The text of a GLSL file; a missing or unreadable one is a ShaderError worded like a
+    compiler message, `where` first (`glsl/a.frag:4: error: #include "lib/b.glsl"`)."""
+    try:
+        return Path(path).read_text(encoding="utf-8")
+    except FileNotFoundError:
+        raise ShaderError(f"{where}: no such file") from None
+    except (OSError, UnicodeDecodeError) as exc:
+        raise ShaderError(f"{where}: cannot read ({getattr(exc, 'strerror', None) or exc})") from None
+
+
+def preprocess(name, defines=None, root=GLSL_ROOT, read_paths=None):
+    """Read glsl/<name>, expand includes (relative to glsl/), inject `defines` after #version.
+    `read_paths`, a set, collects every file looked for, found or not (to watch for changes)."""
     root = Path(root)
     files = []
     seen = set()
+    read_paths = set() if read_paths is None else read_paths
 
     def expand(path, text, stack):
         index = len(files)
@@ -79,7 +92,7 @@ def preprocess(name, defines=None, root=GLSL_ROOT):
             if m:
                 target = m.group(1)
                 if target in stack:
-                    raise ShaderError(f"include cycle through {target}", source=_display(path, root) if path != CONSTANTS_INCLUDE else path, field=f"line {number}")
+                    raise ShaderError(f"{files[index]}:{number}: error: include cycle through {target}")
                 if target in seen:
                     out.append(f"// {target} already included")
                     continue
@@ -89,9 +102,8 @@ def preprocess(name, defines=None, root=GLSL_ROOT):
                     sub_path = CONSTANTS_INCLUDE
                 else:
                     sub_path = root / target
-                    if not sub_path.is_file():
-                        raise ShaderError(f'#include "{target}": no such file', source=_display(path, root), field=f"line {number}")
-                    sub_text = sub_path.read_text()
+                    read_paths.add(sub_path)
+                    sub_text = _read(sub_path, f'{files[index]}:{number}: error: #include "{target}"')
                 out.extend(expand(sub_path, sub_text, stack | {target}))
                 out.append(f"#line {_line(index, number + 1)} {index}")
             elif index == 0 and _VERSION.match(line):
@@ -104,9 +116,8 @@ def preprocess(name, defines=None, root=GLSL_ROOT):
         return out
 
     path = root / name
-    if not path.is_file():
-        raise ShaderError("no such shader file", source=_display(path, root))
-    lines = expand(path, path.read_text(), frozenset())
+    read_paths.add(path)
+    lines = expand(path, _read(path, f"{_display(path, root)}: error"), frozenset())
     return Source("\n".join(lines) + "\n", files)
 
 
@@ -143,6 +154,14 @@ def _shader_error(exc, sources):
     return error
 
 
+def _mtime(path):
+    """Modification time in ns, None for a file that is missing."""
+    try:
+        return path.stat().st_mtime_ns
+    except OSError:
+        return None
+
+
 class ProgramHandle:
     """A program that can be rebuilt when its files change. `program` always holds the last
     good build; `error` holds the last failure (None once a rebuild succeeds)."""
@@ -158,25 +177,26 @@ class ProgramHandle:
         self.build()
 
     def build(self):
-        """Compile; on success replace the program, on failure keep the old one and raise."""
+        """Preprocess and compile; on success replace the program, on failure (a missing or
+        broken file, a compile error) keep the old one, record the error and raise it. Either
+        way the files read or looked for are watched for the next change."""
         ctx, root = self.library.ctx, self.library.root
-        sources = {stage: preprocess(name, self.defines, root) for stage, name in self.stages.items()}
-        files = set().union(*(source.files for source in sources.values()))
-        paths = [Path(root) / Path(f).relative_to("glsl") for f in files if f.startswith("glsl/")]
-        mtimes = {p: p.stat().st_mtime_ns for p in paths if p.exists()}
+        paths = set()
         try:
+            sources = {stage: preprocess(name, self.defines, root, paths) for stage, name in self.stages.items()}
             program = compile_sources(ctx, sources)
         except ShaderError as exc:
             self.error = exc
-            self._mtimes = mtimes
             raise
+        finally:
+            self._mtimes = {p: _mtime(p) for p in paths}
         if self.program is not None:
             self.program.release()
-        self.program, self.error, self._mtimes, self.files = program, None, mtimes, tuple(sorted(map(str, paths)))
+        self.program, self.error, self.files = program, None, tuple(sorted(map(str, paths)))
         return program
 
     def changed(self):
-        return any(not p.exists() or p.stat().st_mtime_ns != t for p, t in self._mtimes.items())
+        return any(_mtime(p) != t for p, t in self._mtimes.items())
 
     def release(self):
         if self.program is not None:

@@ -1,4 +1,5 @@
-"""The `vct` command line (engine.cli), run as a real process (`python -m engine.cli`).
+"""The `vct` command line (engine.cli), run as a real process (`python -m engine.cli`), or in
+this process (engine.cli.main) where a failure of the driver is simulated or many cases run.
 
 Facts: every command's --help is complete; `vct render` writes the PNG and the float32 HDR it
 was asked for and says where; every bad input (a broken scene, an impossible setting, an
@@ -76,6 +77,28 @@ def test_help_exits_0_and_mentions_every_option(command, options):
         assert option in result.stdout, f"`vct {' '.join(command)} --help` does not mention {option}"
 
 
+@pytest.mark.parametrize("command, bounds", [
+    ("render", ["--bounces", "at most 64"]),
+    ("view", ["--frames", "at most 10000", "--bounces", "at most 64"]),
+    ("bench", ["--frames", "at most 1000", "--warmup", "grid sizes, each at most once"]),
+])
+def test_help_states_the_upper_bound_of_every_count(command, bounds):
+    """Every loop a command line controls is bounded, and --help says how far."""
+    text = " ".join(vct(command, "--help").stdout.split())
+    for bound in bounds:
+        assert bound in text, bound
+
+
+@pytest.mark.parametrize("args, option", [
+    (["view", CORNELL, "--frames", "10001"], "--frames"),
+    (["bench", CORNELL, "--frames", "1001"], "--frames"),
+    (["bench", CORNELL, "--warmup", "1001"], "--warmup"),
+    (["bench", CORNELL, "--grids", "16,16"], "--grids"),
+], ids=lambda v: " ".join(map(str, v[2:])) if isinstance(v, list) else None)
+def test_counts_beyond_their_bound_exit_2_naming_the_option(args, option):
+    assert_one_line_error(vct(*args), option)
+
+
 def test_render_help_lists_every_mode_and_tone_mapper():
     from engine.settings import MODES, TONEMAPS
 
@@ -132,8 +155,9 @@ def test_missing_scene_file_exits_2_naming_it(out_dir):
 @pytest.mark.parametrize("args, field", [
     (["--grid", "48"], "grid"), (["--grid", "512"], "grid"), (["--grid", "8"], "grid"),
     (["--width", "0"], "--width"), (["--height", "-3"], "--height"), (["--width", "wide"], "--width"),
-    (["--exposure", "nan"], "--exposure"), (["--exposure", "0"], "exposure"),
+    (["--exposure", "nan"], "--exposure"), (["--exposure", "0"], "exposure"), (["--exposure", "1e30"], "exposure"),
     (["--mip", "9", "--grid", "16"], "mip"), (["--bounces", "-1"], "--bounces"),
+    (["--bounces", "100000"], "bounces"), (["--bounces", "65"], "bounces"),
     (["--mode", "raytraced"], "--mode"), (["--tonemap", "filmic"], "--tonemap"),
 ], ids=lambda v: " ".join(v) if isinstance(v, list) else None)
 def test_impossible_setting_exits_2_with_one_line_naming_the_option(out_dir, args, field):
@@ -167,6 +191,15 @@ def test_output_that_is_a_directory_exits_2_naming_path_and_flag(out_dir, flag):
     assert [p.name for p in out_dir.iterdir()] == ["taken"] and list(taken.iterdir()) == []
 
 
+@pytest.mark.parametrize("flag", ["--out", "--hdr"])
+def test_output_that_is_a_device_exits_2_and_leaves_the_device_alone(out_dir, flag):
+    """/dev/null is writable, but replacing it with a file would break the system."""
+    paths = {"--out": out_dir / "x.png", "--hdr": out_dir / "x.npy", flag: "/dev/null"}
+    result = vct("render", CORNELL, "--out", paths["--out"], "--hdr", paths["--hdr"], *SMALL)
+    assert_one_line_error(result, "/dev/null", flag, "not a regular file")
+    assert Path("/dev/null").is_char_device() and list(out_dir.iterdir()) == []
+
+
 def test_hdr_and_png_on_the_same_path_exits_2(out_dir):
     result = vct("render", CORNELL, "--out", out_dir / "x.png", "--hdr", out_dir / "x.png", *SMALL)
     assert_one_line_error(result, "--hdr")
@@ -176,10 +209,103 @@ def test_hdr_and_png_on_the_same_path_exits_2(out_dir):
 @pytest.mark.skipif(not Path("/proc").is_dir(), reason="needs /proc, a directory not even root can create files in")
 def test_png_that_fails_to_write_after_rendering_leaves_no_hdr_behind(out_dir):
     """/proc passes the up-front check for root but refuses the file: the failure comes after
-    the render, when the .npy may already be written, and must take it away again."""
+    the render, and the .npy must not be written either."""
     result = vct("render", CORNELL, "--out", "/proc/vct-test.png", "--hdr", out_dir / "x.npy", *SMALL)
     assert_one_line_error(result, "/proc/vct-test.png")
     assert list(out_dir.iterdir()) == []
+
+
+@pytest.mark.skipif(not Path("/proc").is_dir(), reason="needs /proc, a directory not even root can create files in")
+def test_png_that_fails_to_write_after_rendering_leaves_the_existing_hdr_file_as_it_was(out_dir):
+    """A failed render never deletes nor changes a file that was there before."""
+    hdr = out_dir / "k.npy"
+    hdr.write_bytes(b"the previous render")
+    result = vct("render", CORNELL, "--out", "/proc/vct-test.png", "--hdr", hdr, *SMALL)
+    assert_one_line_error(result, "/proc/vct-test.png")
+    assert hdr.read_bytes() == b"the previous render"
+    assert list(out_dir.iterdir()) == [hdr]
+
+
+def test_output_name_too_long_for_the_file_system_exits_2_and_leaves_the_existing_hdr_file_as_it_was(out_dir):
+    hdr = out_dir / "k.npy"
+    hdr.write_bytes(b"the previous render")
+    png = out_dir / ("x" * 300 + ".png")
+    result = vct("render", CORNELL, "--out", png, "--hdr", hdr, *SMALL)
+    assert_one_line_error(result, "--out", "too long")
+    assert hdr.read_bytes() == b"the previous render"
+    assert list(out_dir.iterdir()) == [hdr]
+
+
+def test_concurrent_renders_to_the_same_outputs_all_succeed_and_leave_both_files(out_dir):
+    """Four processes writing the same --out and --hdr at once each write their own temporary
+    files and move them into place: every one succeeds, and both files are there, complete."""
+    png, npy = out_dir / "same.png", out_dir / "same.npy"
+    command = [sys.executable, "-m", "engine.cli", "render", str(CORNELL), "--out", str(png), "--hdr", str(npy), *SMALL]
+    processes = [subprocess.Popen(command, cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+                 for _ in range(4)]
+    results = [process.communicate(timeout=120) + (process.returncode,) for process in processes]
+    assert [code for _, _, code in results] == [0, 0, 0, 0], [err for _, err, _ in results]
+    assert np.load(npy).shape == (32, 32, 3)
+    with Image.open(png) as image:
+        assert image.size == (32, 32)
+    assert sorted(p.name for p in out_dir.iterdir()) == ["same.npy", "same.png"]
+
+
+# ---- writing outputs (engine.output.write_files) ---------------------------------------------
+
+def test_write_files_writes_all_or_nothing_and_keeps_the_files_that_were_there(tmp_path):
+    """The second output cannot be written (its directory is missing): the first file keeps its
+    old content and no temporary file is left."""
+    from engine.errors import VctError
+    from engine.output import write_files
+
+    first = tmp_path / "first.npy"
+    first.write_bytes(b"old")
+    with pytest.raises(VctError, match="second.png"):
+        write_files([(first, lambda f: f.write(b"new")), (tmp_path / "missing" / "second.png", lambda f: f.write(b"new"))])
+    assert first.read_bytes() == b"old"
+    assert list(tmp_path.iterdir()) == [first]
+
+
+def test_write_files_removes_its_temporaries_whatever_a_writer_raises(tmp_path):
+    from engine.output import write_files
+
+    def broken(f):
+        f.write(b"half")
+        raise ValueError("encoder failed")
+
+    target = tmp_path / "x.png"
+    target.write_bytes(b"old")
+    with pytest.raises(ValueError):
+        write_files([(target, broken)])
+    assert target.read_bytes() == b"old"
+    assert list(tmp_path.iterdir()) == [target]
+
+
+def test_write_files_to_the_same_path_at_the_same_time_both_succeed(tmp_path):
+    """Another writer of the same path finishes while this one is writing: each has its own
+    temporary file, so neither fails nor removes the other's result; the last move wins."""
+    from engine.output import write_files
+
+    target = tmp_path / "same.npy"
+
+    def slow(f):
+        write_files([(target, lambda g: g.write(b"fast"))])
+        f.write(b"slow")
+
+    write_files([(target, slow)])
+    assert target.read_bytes() == b"slow"
+    assert list(tmp_path.iterdir()) == [target]
+
+
+def test_write_files_takes_names_as_long_as_the_file_system_allows(tmp_path):
+    """Temporary names do not grow with the target's name."""
+    from engine.output import write_files
+
+    longest = tmp_path / ("x" * 255)
+    write_files([(longest, lambda f: f.write(b"data"))])
+    assert longest.read_bytes() == b"data"
+    assert list(tmp_path.iterdir()) == [longest]
 
 
 def test_shaders_directory_that_does_not_exist_exits_2_naming_it(out_dir):
@@ -230,3 +356,88 @@ def test_image_larger_than_the_driver_allows_exits_2(out_dir):
     result = vct("render", CORNELL, "--out", out_dir / "x.png", "--mode", "direct", "--width", "100000", "--height", "16")
     assert_one_line_error(result, "size")
     assert list(out_dir.iterdir()) == []
+
+
+# ---- hostile inputs: one line, exit 2, nothing written ---------------------------------------
+
+def run_main(capsys, *args):
+    """`vct ARGS` in this process: (exit code, stdout, stderr lines)."""
+    from engine.cli import main
+
+    try:
+        code = main([str(a) for a in args])
+    except SystemExit as exit:  # argparse
+        code = exit.code
+    out, err = capsys.readouterr()
+    return code, out, err.splitlines()
+
+
+def test_scene_path_that_is_a_device_exits_2_without_reading_it(out_dir):
+    result = vct("render", "/dev/zero", "--out", out_dir / "x.png", *SMALL)
+    assert_one_line_error(result, "/dev/zero", "not a regular file")
+    assert list(out_dir.iterdir()) == []
+
+
+def _reference_files(directory):
+    """Reference files `bench --reference` must refuse, by name."""
+    good = np.ones((32, 32, 3), np.float32)
+    files = {"npz-archive.npz": lambda p: np.savez(p, radiance=good),
+             "object-array.npy": lambda p: np.save(p, np.array([{"radiance": 1}], dtype=object), allow_pickle=True),
+             "wrong-shape.npy": lambda p: np.save(p, good[:16]),
+             "nan.npy": lambda p: np.save(p, np.where(np.eye(32)[..., None] > 0, np.nan, good)),
+             "all-black.npy": lambda p: np.save(p, 0 * good),
+             "text.npy": lambda p: p.write_text("not an array")}
+    for name, write in files.items():
+        write(directory / name)
+    return sorted(directory / name for name in files)
+
+
+def test_bench_reference_that_is_not_a_matching_radiance_array_exits_2_naming_it(tmp_path, capsys):
+    """An .npz archive ended in AttributeError; every unusable reference is one line."""
+    for reference in _reference_files(tmp_path):
+        code, out, err = run_main(capsys, "bench", CORNELL, "--reference", reference, "--frames", 1, "--warmup", 0,
+                                  "--grids", 16, *SMALL)
+        assert code == 2 and len(err) == 1, (reference.name, err)
+        assert err[0].startswith(f"vct: error: {reference}: --reference: "), err[0]
+
+
+def test_bench_reference_npz_exits_2_without_traceback_end_to_end(tmp_path):
+    reference = tmp_path / "reference.npz"
+    np.savez(reference, radiance=np.ones((32, 32, 3), np.float32))
+    result = vct("bench", CORNELL, "--reference", reference, "--frames", 1, "--warmup", 0, "--grids", 16, *SMALL)
+    assert_one_line_error(result, reference, "--reference")
+
+
+def test_render_targets_the_driver_cannot_create_exit_2_naming_the_size(out_dir, capsys, monkeypatch):
+    """A size under the driver's limit that it still cannot allocate (llvmpipe: 16384x16384
+    fails with 'the framebuffer is not complete') is a size error, not a traceback."""
+    import moderngl
+
+    import engine.renderer
+
+    def failing_renderer(*args, **kwargs):
+        raise moderngl.Error("the framebuffer is not complete (INCOMPLETE_ATTACHMENT)")
+
+    monkeypatch.setattr(engine.renderer, "Renderer", failing_renderer)
+    code, out, err = run_main(capsys, "render", CORNELL, "--out", out_dir / "x.png", "--mode", "direct",
+                              "--width", 16384, "--height", 16384)
+    assert code == 2 and len(err) == 1, err
+    assert err[0].startswith("vct: error: size: cannot create the 16384x16384 render targets"), err[0]
+    assert list(out_dir.iterdir()) == []
+
+
+def test_radiance_with_nan_or_infinity_is_never_written(tmp_path, out_dir):
+    """A lighting shader that overflows float32: the render is refused before anything is
+    written, and the files that were there stay as they were."""
+    glsl = tmp_path / "glsl"
+    shutil.copytree(ROOT / "glsl", glsl)
+    lighting = glsl / "lighting.frag"
+    lighting.write_text(lighting.read_text().replace("out_radiance = vec4(radiance, 1.0);",
+                                                     "out_radiance = vec4(radiance * 1e30 * 1e30, 1.0);"))
+    png, npy = out_dir / "x.png", out_dir / "x.npy"
+    png.write_bytes(b"old png")
+    npy.write_bytes(b"old npy")
+    result = vct("render", CORNELL, "--out", png, "--hdr", npy, "--shaders", glsl, *SMALL)
+    assert_one_line_error(result, CORNELL, "radiance", "NaN or infinite")
+    assert png.read_bytes() == b"old png" and npy.read_bytes() == b"old npy"
+    assert sorted(p.name for p in out_dir.iterdir()) == ["x.npy", "x.png"]

@@ -8,6 +8,7 @@ and the field. BAD_SCENES is shared with tests/test_cli.py, which feeds the same
 """
 import json
 import math
+import os
 import shutil
 from dataclasses import dataclass
 from pathlib import Path
@@ -16,12 +17,13 @@ from typing import Callable
 import numpy as np
 import pytest
 
+from conftest import REFERENCE, REQUIRE_REFERENCES, reference_file  # tests/ is on sys.path under pytest
 from engine import SceneError, load_scene
 from engine.transforms import normal_matrix, transform_points
 
 ROOT = Path(__file__).resolve().parent.parent
 CORNELL = ROOT / "scenes" / "cornell_box.json"
-REFERENCE_CORNELL = ROOT.parent / "shared" / "reference" / "cornell_box.json"
+REFERENCE_CORNELL = REFERENCE / "cornell_box.json"
 DATA = Path(__file__).resolve().parent / "data"
 
 CORNELL_NAMES = ["Left Plane", "Right Plane", "Bottom Plane", "Top Plane", "Near Plane", "Far Plane",
@@ -67,9 +69,8 @@ def ry(deg):
 
 # ---- the Cornell box -------------------------------------------------------------------------
 
-@pytest.mark.skipif(not REFERENCE_CORNELL.is_file(), reason="../shared/reference/cornell_box.json is not present")
 def test_scenes_cornell_box_is_the_reference_file_unchanged():
-    assert CORNELL.read_bytes() == REFERENCE_CORNELL.read_bytes()
+    assert CORNELL.read_bytes() == reference_file(REFERENCE_CORNELL).read_bytes()
 
 
 def test_cornell_box_loads_objects_and_light_as_children_of_a_cornell_box_node_in_file_order():
@@ -289,6 +290,14 @@ def _add_object(spec):
     return _edit(lambda data: data["objects"].append(spec))
 
 
+def _nested_groups(levels):
+    """Groups nested `levels` deep around one box."""
+    node = {"name": "Deepest", "type": "box", "material": "white", "size": [0.1, 0.1, 0.1]}
+    for level in range(levels):
+        node = {"name": f"Level {level}", "type": "group", "children": [node]}
+    return node
+
+
 def _malformed_line():
     return 1 + next(i for i, line in enumerate(CORNELL.read_text().splitlines()) if '"width"' in line)
 
@@ -305,6 +314,10 @@ BAD_SCENES = [
     BadScene("unknown-light-type", _set(["lights", 0, "type"], "area"), "lights[0].type"),
     BadScene("missing-mesh-file", _add_object({"name": "Bunny", "type": "mesh", "material": "white",
                                                "file": "meshes/bunny.obj"}), 'objects[8] "Bunny".file', "bunny.obj"),
+    BadScene("mesh-file-name-with-a-nul", _add_object({"name": "Nul", "type": "mesh", "material": "white",
+                                                      "file": "meshes/\u0000.obj"}), 'objects[8] "Nul".file', "cannot read"),
+    BadScene("mesh-file-name-too-long", _add_object({"name": "Long", "type": "mesh", "material": "white",
+                                                    "file": "x" * 300}), 'objects[8] "Long".file', "too long"),
     BadScene("unreadable-mesh-file", _add_object({"name": "Broken", "type": "mesh", "material": "white",
                                                   "file": "meshes/broken.ply"}), 'objects[8] "Broken".file', "broken.ply"),
     BadScene("mesh-file-without-triangles", _add_object({"name": "Text", "type": "mesh", "material": "white",
@@ -331,6 +344,27 @@ BAD_SCENES = [
     BadScene("negative-albedo", _set(["materials", "red", "albedo"], [0.65, -0.05, 0.05]), "materials.red.albedo[1]", "negative"),
     BadScene("fractional-image-width", _set(["camera", "width"], 0.5), "camera.width", "whole number"),
     BadScene("negative-light-intensity", _set(["lights", 0, "intensity"], [3, -3, 3]), 'lights[0] "Omni Light".intensity[1]', "negative"),
+    # Values that would not give finite float32 radiance, or transforms that are not invertible.
+    BadScene("emission-1e308", _set(["materials", "white", "emission"], [1e308, 0, 0]), "materials.white.emission[0]", "at most"),
+    BadScene("emission-beyond-half-floats", _set(["materials", "white", "emission"], [0, 70000, 0]),
+             "materials.white.emission[1]", "at most 65504"),
+    BadScene("light-intensity-1e308", _set(["lights", 0, "intensity"], [1e308, 3, 3]), 'lights[0] "Omni Light".intensity[0]', "at most"),
+    BadScene("translation-1e308", _set(["objects", 6, "translation"], [1e308, 0, 0]), f"{SHORT_BOX}.translation[0]", "at most"),
+    BadScene("group-places-its-child-beyond-the-limit",
+             _add_object({"name": "Far", "type": "group", "translation": [9e5, 0, 0], "children": [
+                 {"name": "Farther", "type": "box", "material": "white", "translation": [9e5, 0, 0], "size": [1, 1, 1]}]}),
+             'objects[8] "Far".children[0] "Farther"', "beyond"),
+    BadScene("scale-underflowing-to-a-singular-transform",
+             _edit(lambda data: data["objects"][7].update(scale=[1e-200, 1, 1], size=[1e-200, 1.2, 0.6])),
+             'objects[7] "Tall Box".scale', "world transform"),
+    BadScene("nested-scales-compounding-below-the-limit",
+             _add_object({"name": "Small", "type": "group", "scale": [1e-4, 1e-4, 1e-4], "children": [
+                 {"name": "Smaller", "type": "sphere", "material": "white", "radius": 1e-4}]}),
+             'objects[8] "Small".children[0] "Smaller".scale', "world transform"),
+    BadScene("voxel-region-of-1e-300", _edit(lambda data: data.update(voxel_region={"center": [0, 0, 0], "size": 1e-300})),
+             "voxel_region.size", "at least"),
+    BadScene("field-of-view-of-1e-300", _set(["camera", "vertical_fov_deg"], 1e-300), "camera.vertical_fov_deg", "at least"),
+    BadScene("children-nested-too-deeply", _add_object(_nested_groups(40)), 'objects[8] "Level 39"', "nest more than"),
 ]
 
 
@@ -379,3 +413,115 @@ def test_the_unedited_base_of_the_bad_input_table_loads(tmp_path):
     """Guards BAD_SCENES: each case fails because of its one edit, not because of the helpers."""
     scene = load_scene(write_scene(tmp_path, cornell_data()))
     assert scene.root.name == "Cornell Box" and len(scene.root.children) == 9
+
+
+@pytest.mark.parametrize("device", ["/dev/zero", "fifo"])
+def test_scene_path_that_is_not_a_regular_file_is_refused_without_reading_it(tmp_path, device):
+    """/dev/zero would be read until memory runs out, a pipe would block: neither is read."""
+    if device == "fifo":
+        device = tmp_path / "scene.json"
+        os.mkfifo(device)
+    with pytest.raises(SceneError, match="not a regular file") as info:
+        load_scene(device)
+    assert str(device) in str(info.value)
+
+
+def test_scene_file_larger_than_the_limit_is_refused(tmp_path):
+    from engine.scene_file import MAX_SCENE_BYTES
+
+    path = tmp_path / "huge.json"
+    with open(path, "wb") as f:
+        f.truncate(MAX_SCENE_BYTES + 1)  # sparse: nothing is written to disk
+    with pytest.raises(SceneError, match="larger than"):
+        load_scene(path)
+
+
+def test_nan_nested_as_deep_as_json_allows_is_named_without_a_recursion_error(tmp_path):
+    depth = 900
+    path = write_scene(tmp_path, CORNELL.read_text().replace('"name": "cornell_box"',
+                                                             '"name": "cornell_box", "note": ' + "[" * depth + "NaN" + "]" * depth))
+    with pytest.raises(SceneError, match=r"note(\[0\]){900}: .*NaN"):
+        load_scene(path)
+
+
+# ---- hostile mesh files ----------------------------------------------------------------------
+
+def mesh_scene(directory, file):
+    return write_scene(directory, small_scene([{"name": "M", "type": "mesh", "material": "white", "file": file}]))
+
+
+@pytest.mark.parametrize("suffix", ["obj", "ply", "glb", "stl"])
+def test_noise_as_a_mesh_file_is_one_line_naming_the_field(tmp_path, suffix):
+    """Random bytes: an error naming the file and field, not an import error of a text decoder."""
+    (tmp_path / f"noise.{suffix}").write_bytes(np.random.default_rng(11).integers(0, 256, 20000, np.uint8).tobytes())
+    path = mesh_scene(tmp_path, f"noise.{suffix}")
+    with pytest.raises(SceneError) as info:
+        load_scene(path)
+    message = str(info.value)
+    assert message.startswith(f'{path}: objects[0] "M".file: ') and f"noise.{suffix}" in message, message
+    assert "\n" not in message and "module" not in message, message
+
+
+def test_obj_materials_are_ignored_so_a_section_per_material_still_loads_as_one_mesh(tmp_path):
+    """trimesh makes one mesh per `usemtl` section and names them in quadratic time; the scene's
+    material applies anyway, so those lines are dropped and 2000 sections load like one."""
+    sections = 2000
+    lines = ["mtllib nowhere.mtl"]
+    for i in range(sections):
+        lines += [f"usemtl m{i}", f"v {i} 0 0", f"v {i} 1 0", f"v {i} 0 1", f"f {3 * i + 1} {3 * i + 2} {3 * i + 3}"]
+    (tmp_path / "sections.obj").write_text("\n".join(lines) + "\n")
+    mesh = load_scene(mesh_scene(tmp_path, "sections.obj")).root.find("M").mesh
+    assert len(mesh.indices) == sections
+
+
+def test_a_mesh_file_used_by_several_objects_is_loaded_once(tmp_path):
+    objects = [{"name": f"T{i}", "type": "mesh", "material": "white", "file": "meshes/tetrahedron.obj"} for i in range(3)]
+    scene = load_scene(write_scene(tmp_path, small_scene(objects)))
+    assert scene.root.find("T0").mesh is scene.root.find("T1").mesh is scene.root.find("T2").mesh
+
+
+def test_mesh_faces_facing_apart_on_shared_vertices_get_flat_unit_normals(tmp_path):
+    """A two-sided triangle: its vertex normals would cancel to zero (NaN in the shaders)."""
+    (tmp_path / "two_sided.obj").write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 1 3 2\n")
+    mesh = load_scene(mesh_scene(tmp_path, "two_sided.obj")).root.find("M").mesh
+    np.testing.assert_allclose(np.linalg.norm(mesh.normals, axis=1), 1.0)
+    np.testing.assert_allclose(np.abs(mesh.normals[:, 2]), 1.0)
+
+
+def test_mesh_file_triangles_with_vertices_that_are_not_finite_are_dropped(tmp_path):
+    (tmp_path / "nan.obj").write_text("v 0 0 0\nv 1 0 0\nv 0 nan 0\nv 0 1 0\nf 1 2 3\nf 1 2 4\n")
+    mesh = load_scene(mesh_scene(tmp_path, "nan.obj")).root.find("M").mesh
+    assert len(mesh.indices) == 1
+    assert np.all(np.isfinite(mesh.positions)) and np.all(np.isfinite(mesh.normals))
+
+
+def test_loading_a_mesh_file_prints_nothing(tmp_path, capfd):
+    """Vertex normals are computed without trimesh's sparse-matrix path, which logs a traceback
+    to stderr when scipy is missing."""
+    load_scene(mesh_scene(tmp_path, "meshes/tetrahedron.obj"))
+    assert capfd.readouterr() == ("", "")
+
+
+def test_mesh_file_whose_triangles_all_have_zero_area_holds_no_triangles(tmp_path):
+    (tmp_path / "flat.obj").write_text("v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n")
+    with pytest.raises(SceneError, match='objects\\[0\\] "M".file: flat.obj: holds no triangles'):
+        load_scene(mesh_scene(tmp_path, "flat.obj"))
+
+
+# ---- the references in ../shared/reference ---------------------------------------------------
+
+def test_a_missing_reference_skips_with_the_reason_in_a_users_clone(tmp_path, monkeypatch):
+    monkeypatch.delenv(REQUIRE_REFERENCES, raising=False)
+    with pytest.raises(pytest.skip.Exception, match="missing.npy is not available"):
+        reference_file(tmp_path / "missing.npy")
+
+
+def test_a_missing_reference_fails_where_references_are_required(tmp_path, monkeypatch):
+    monkeypatch.setenv(REQUIRE_REFERENCES, "1")
+    with pytest.raises(pytest.fail.Exception, match="missing.npy is not available, and VCT_REQUIRE_REFERENCES=1 requires it"):
+        reference_file(tmp_path / "missing.npy")
+
+
+def test_ci_requires_the_references():
+    """.ci/run turns a missing reference into a failure, not a skip."""
+    assert f"export {REQUIRE_REFERENCES}=1" in (ROOT / ".ci" / "run").read_text()

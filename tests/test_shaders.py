@@ -1,5 +1,6 @@
 """GLSL sources: #include expansion, error lines mapped to the real file, hot reload that keeps
 the last good program, and constants defined once for host and shaders."""
+import re
 import shutil
 
 import pytest
@@ -75,3 +76,59 @@ def test_editing_an_included_library_rebuilds_its_users(glsl_copy):
         rebuilt, errors = r.reload_shaders()
         users = [h for h in r.programs.handles if any(f.endswith("brdf.glsl") for f in h.files)]
         assert errors == [] and rebuilt == len(users) >= 2
+
+
+def _include_errors(errors, target):
+    """The errors that say `#include "target": no such file` at a real file and line."""
+    pattern = re.compile(rf'^glsl/[\w/.]+:\d+: error: #include "{re.escape(target)}": no such file$')
+    return [str(error) for error in errors if pattern.match(str(error))]
+
+
+def test_hot_reload_reports_a_deleted_library_at_each_include_and_recovers(glsl_copy):
+    """Deleting an included file is an error at the line that includes it, in every program
+    using it; the last good programs keep rendering; restoring the file clears the errors."""
+    scene = engine.load_scene(GLSL_ROOT.parent / "scenes" / "cornell_box.json")
+    with engine.Renderer(32, 32, glsl_root=glsl_copy) as r:
+        before = r.render(scene, mode="direct")
+        users = [h for h in r.programs.handles if any(f.endswith("brdf.glsl") for f in h.files)]
+        brdf = glsl_copy / "lib" / "brdf.glsl"
+        text = brdf.read_text()
+        brdf.unlink()
+        rebuilt, errors = r.reload_shaders()
+        assert rebuilt == 0 and len(errors) == len(users) >= 2
+        assert len(_include_errors(r.programs.errors(), "lib/brdf.glsl")) == len(users)
+        line = 1 + (glsl_copy / "lighting.frag").read_text().splitlines().index('#include "lib/brdf.glsl"')
+        assert f'glsl/lighting.frag:{line}: error: #include "lib/brdf.glsl": no such file' in map(str, errors)
+        assert (r.render(scene, mode="direct") == before).all(), "the last good programs keep rendering"
+        assert r.reload_shaders() == (0, []), "an unchanged missing file is not rebuilt again"
+        brdf.write_text(text)
+        rebuilt, errors = r.reload_shaders()
+        assert rebuilt == len(users) and errors == [] and r.programs.errors() == []
+
+
+def test_hot_reload_reports_an_include_of_a_file_that_does_not_exist_until_it_is_created(glsl_copy):
+    with engine.Renderer(16, 16, glsl_root=glsl_copy) as r:
+        lighting = glsl_copy / "lighting.frag"
+        lines = lighting.read_text().splitlines()
+        lines.insert(2, '#include "lib/nowhere.glsl"')
+        lighting.write_text("\n".join(lines) + "\n")
+        rebuilt, errors = r.reload_shaders()
+        assert rebuilt == 0
+        assert [str(e) for e in errors] == ['glsl/lighting.frag:3: error: #include "lib/nowhere.glsl": no such file']
+        assert [str(e) for e in r.programs.errors()] == [str(errors[0])]
+        (glsl_copy / "lib" / "nowhere.glsl").write_text("// now it exists\n")
+        rebuilt, errors = r.reload_shaders()
+        assert rebuilt == 1 and errors == [] and r.programs.errors() == []
+
+
+def test_hot_reload_reports_a_deleted_stage_file_and_recovers(glsl_copy):
+    with engine.Renderer(16, 16, glsl_root=glsl_copy) as r:
+        tonemap = glsl_copy / "tonemap.frag"
+        text = tonemap.read_text()
+        tonemap.unlink()
+        rebuilt, errors = r.reload_shaders()
+        assert rebuilt == 0 and [str(e) for e in errors] == ["glsl/tonemap.frag: error: no such file"]
+        assert [str(e) for e in r.programs.errors()] == ["glsl/tonemap.frag: error: no such file"]
+        tonemap.write_text(text)
+        rebuilt, errors = r.reload_shaders()
+        assert rebuilt == 1 and errors == [] and r.programs.errors() == []

@@ -345,3 +345,26 @@ def test_shader_watcher_reports_each_change_once():
     assert watcher.poll(force=True) == []
     assert "fixed, reloaded 2 programs" in out.getvalue()
     assert watcher.poll() == []  # within the interval: no reload
+
+
+def test_shader_watcher_shows_a_deleted_shader_file_like_a_compile_error_and_clears_it(tmp_path):
+    """A file that preprocessing cannot find (here a deleted library) reaches the viewer's
+    error list and stderr with the file and line that include it, and clears when it is back."""
+    import io
+
+    glsl = tmp_path / "glsl"
+    shutil.copytree(ROOT / "glsl", glsl)
+    brdf = glsl / "lib" / "brdf.glsl"
+    text = brdf.read_text()
+    line = 1 + (glsl / "lighting.frag").read_text().splitlines().index('#include "lib/brdf.glsl"')
+    out = io.StringIO()
+    with engine.Renderer(16, 16, glsl_root=glsl) as renderer, renderer.ctx:
+        watcher = ShaderWatcher(renderer.programs, stream=out)
+        brdf.unlink()
+        errors = watcher.poll(force=True)
+        assert f'glsl/lighting.frag:{line}: error: #include "lib/brdf.glsl": no such file' in errors
+        assert all(e.endswith('error: #include "lib/brdf.glsl": no such file') for e in errors), errors
+        assert out.getvalue().count("no such file") == len(errors)
+        brdf.write_text(text)
+        assert watcher.poll(force=True) == []
+        assert "shader errors fixed" in out.getvalue()

@@ -1,9 +1,10 @@
 """GLSL hot reload for the viewer: poll the renderer's ProgramLibrary for changed files.
 
-A program whose file (or an included glsl/lib file) changed is rebuilt; on a compile error
-the last good program keeps running and the error, mapped to the real file and line
-(`glsl/lib/brdf.glsl:12: error: ...`), is kept here for the window and printed to stderr
-once per change. Fixing the file clears it. Works the same without a window (tests).
+A program whose file (or an included glsl/lib file) changed is rebuilt; on a compile error,
+or a file that is missing or unreadable, the last good program keeps running and the error,
+with the real file and line (`glsl/lib/brdf.glsl:12: error: ...`, `glsl/lighting.frag:5:
+error: #include "lib/brdf.glsl": no such file`), is kept here for the window and printed to
+stderr once per change. Fixing the file clears it. Works the same without a window (tests).
 """
 import sys
 import time
