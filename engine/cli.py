@@ -3,7 +3,6 @@ import argparse
 import math
 import os
 import sys
-from contextlib import contextmanager
 from pathlib import Path
 
 from .errors import VctError
@@ -176,23 +175,10 @@ def check_writable(path, flag):
         raise VctError("not writable", source=path, field=flag)
 
 
-@contextmanager
-def creating_render_targets(width, height):
-    """Around creating a renderer: render targets of a size the driver allows but cannot
-    create (memory) are a size error."""
-    import moderngl
-
-    try:
-        yield
-    except (moderngl.Error, MemoryError) as exc:
-        raise VctError(f"cannot create the {width}x{height} render targets ({exc})", field="size") from None
-
-
 def open_renderer(width, height, settings, args):
     from .renderer import Renderer
 
-    with creating_render_targets(width, height):
-        return Renderer(width, height, settings, glsl_root=shader_root(args))
+    return Renderer(width, height, settings, glsl_root=shader_root(args))
 
 
 def check_finite(radiance, scene):
@@ -241,9 +227,8 @@ def view_command(args):
     settings = settings_from_args(args)
     scene = load_scene(args.scene)
     size = (args.width or scene.camera.width, args.height or scene.camera.height)
-    with creating_render_targets(*size):
-        viewer = Viewer(scene, settings, size, glsl_root=shader_root(args), show_panels=not args.no_panels,
-                        vsync=args.frames is None)
+    viewer = Viewer(scene, settings, size, glsl_root=shader_root(args), show_panels=not args.no_panels,
+                    vsync=args.frames is None)
     with viewer:
         viewer.run(args.frames)
         if args.screenshot:

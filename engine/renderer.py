@@ -11,6 +11,7 @@ import time
 from contextlib import contextmanager
 from dataclasses import dataclass
 
+import moderngl
 import numpy as np
 
 from .bounces import BounceSchedule
@@ -96,24 +97,39 @@ class Renderer:
         self.grid = VoxelGrid(self.ctx)
         self._passes = []
         try:
-            self.shadow = self._add(ShadowPass(self.ctx, self.programs, self.geometry, self.settings.shadow_map_size))
-            self.gbuffer = self._add(GBufferPass(self.ctx, self.programs, self.geometry, self.size))
-            self.lighting = self._add(LightingPass(self.ctx, self.programs, self.size))
-            self.gbuffer_view = self._add(GBufferViewPass(self.ctx, self.programs, self.size))
-            self.voxelize = self._add(VoxelizePass(self.ctx, self.programs, self.geometry))
-            self.inject = self._add(InjectPass(self.ctx, self.programs))
-            self.gather = self._add(GatherPass(self.ctx, self.programs))
-            self.faces = self._add(FaceViewsPass(self.ctx, self.programs))
-            self.cone_trace = self._add(ConeTracePass(self.ctx, self.programs, self.size))
-            self.voxel_view = self._add(VoxelViewPass(self.ctx, self.programs, self.size))
-            self.tonemap = self._add(TonemapPass(self.ctx, self.programs, self.size))
-            self.readback = self.programs.compute("voxel_readback.comp")
+            with self._creating_targets(self.size):
+                self._create_passes()
         except Exception:
             self.close()
             raise
         self.bounces = BounceSchedule(self.gather, self.faces)
         self.bounds_cache = BoundsCache()
         self.stages = {name: Stage() for name in ("shadows", "voxels", "radiance", "bounces")}
+
+    def _create_passes(self):
+        """The passes of a frame, each with its programs and targets."""
+        self.shadow = self._add(ShadowPass(self.ctx, self.programs, self.geometry, self.settings.shadow_map_size))
+        self.gbuffer = self._add(GBufferPass(self.ctx, self.programs, self.geometry, self.size))
+        self.lighting = self._add(LightingPass(self.ctx, self.programs, self.size))
+        self.gbuffer_view = self._add(GBufferViewPass(self.ctx, self.programs, self.size))
+        self.voxelize = self._add(VoxelizePass(self.ctx, self.programs, self.geometry))
+        self.inject = self._add(InjectPass(self.ctx, self.programs))
+        self.gather = self._add(GatherPass(self.ctx, self.programs))
+        self.faces = self._add(FaceViewsPass(self.ctx, self.programs))
+        self.cone_trace = self._add(ConeTracePass(self.ctx, self.programs, self.size))
+        self.voxel_view = self._add(VoxelViewPass(self.ctx, self.programs, self.size))
+        self.tonemap = self._add(TonemapPass(self.ctx, self.programs, self.size))
+        self.readback = self.programs.compute("voxel_readback.comp")
+
+
+    @staticmethod
+    @contextmanager
+    def _creating_targets(size):
+        """Render targets of a size the driver allows but cannot create (memory): a size error."""
+        try:
+            yield
+        except (moderngl.Error, MemoryError) as exc:
+            raise VctError(f"cannot create the {size[0]}x{size[1]} render targets ({exc})", field="size") from None
 
     def _add(self, render_pass):
         self._passes.append(render_pass)
@@ -132,8 +148,9 @@ class Renderer:
         """Follow a new output size (all screen-space targets are recreated)."""
         self._check_size((int(width), int(height)))
         self.size = (max(1, int(width)), max(1, int(height)))
-        for render_pass in (self.gbuffer, self.lighting, self.gbuffer_view, self.cone_trace, self.voxel_view, self.tonemap):
-            render_pass.resize(self.size)
+        with self._creating_targets(self.size):
+            for render_pass in (self.gbuffer, self.lighting, self.gbuffer_view, self.cone_trace, self.voxel_view, self.tonemap):
+                render_pass.resize(self.size)
 
     @_current
     def voxels(self, name="radiance", level=0):

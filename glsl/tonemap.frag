@@ -24,7 +24,7 @@ vec3 srgb_encode(vec3 c) {
 void main() {
     vec3 c = max(texelFetch(hdr_input, ivec2(gl_FragCoord.xy), 0).rgb, 0.0) * exposure;
     if (tonemap == TONEMAP_REINHARD) c = c / (1.0 + c);   // Reinhard: L / (1 + L)
-    else if (tonemap == TONEMAP_ACES) c = aces_film(c);
+    else if (tonemap == TONEMAP_ACES) c = aces_film(min(c, 1e4));  // the fit is 1 from there on; its products overflow later
     c = clamp(c, 0.0, 1.0);
     out_color = vec4(encode_srgb ? srgb_encode(c) : c, 1.0);
 }

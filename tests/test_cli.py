@@ -413,12 +413,12 @@ def test_render_targets_the_driver_cannot_create_exit_2_naming_the_size(out_dir,
     fails with 'the framebuffer is not complete') is a size error, not a traceback."""
     import moderngl
 
-    import engine.renderer
+    from engine.passes import target
 
-    def failing_renderer(*args, **kwargs):
+    def failing_target(self, size):
         raise moderngl.Error("the framebuffer is not complete (INCOMPLETE_ATTACHMENT)")
 
-    monkeypatch.setattr(engine.renderer, "Renderer", failing_renderer)
+    monkeypatch.setattr(target.ScreenTarget, "resize", failing_target)
     code, out, err = run_main(capsys, "render", CORNELL, "--out", out_dir / "x.png", "--mode", "direct",
                               "--width", 16384, "--height", 16384)
     assert code == 2 and len(err) == 1, err

@@ -68,7 +68,9 @@ vec3 light_irradiance(int i, vec3 p, vec3 n, out vec3 l) {
         }
         if (type == LIGHT_SPOT) {
             float c = dot(-l, light.direction_range.xyz);
-            attenuation *= smoothstep(light.spot_cosines.y, light.spot_cosines.x, c);
+            // smoothstep(cos outer, cos inner, c), defined also where the two angles are equal
+            float t = clamp((c - light.spot_cosines.y) / max(light.spot_cosines.x - light.spot_cosines.y, 1e-6), 0.0, 1.0);
+            attenuation *= t * t * (3.0 - 2.0 * t);
         }
     }
     float cos_theta = dot(n, l);
