@@ -130,7 +130,8 @@ def benchmark(scene, renderer, settings, grids, frames, warmup, kinds=FRAME_KIND
             record = {"scene": scene.name, "grid": grid if uses_voxels else None, "width": renderer.size[0],
                       "height": renderer.size[1], **time_frames(scene, renderer, s, kind, frames, warmup)}
             settle(scene, renderer, s)  # back to the settled scene for the next kind
-            record.update(voxel_bytes=renderer.grid.memory_bytes() if uses_voxels else 0, peak_rss_mb=peak_rss_mb())
+            record.update(voxel_bytes=renderer.grid.memory_bytes() if uses_voxels else 0,
+                          texture_bytes=renderer.geometry.textures.memory_bytes(), peak_rss_mb=peak_rss_mb())
             rows.append(record)
         if reference is not None and uses_voxels:  # the accuracy of this grid, converged within one frame
             renderer.progressive = False

@@ -3,6 +3,7 @@ import argparse
 import math
 import os
 import sys
+import time
 from pathlib import Path
 
 from .errors import VctError
@@ -278,7 +279,7 @@ def parse_grids(text):
 def bench_command(args):
     import json
 
-    from .bench import benchmark, format_table
+    from .bench import benchmark, format_table, peak_rss_mb
     from .gl import renderer_name
     from .output import write_files
     from .scene_file import load_scene
@@ -289,14 +290,18 @@ def bench_command(args):
         settings.replace(grid=grid).validate()
     if args.json:
         check_writable(args.json, "--json")
+    start = time.perf_counter()
     scene = load_scene(args.scene)
+    load_s, load_rss_mb = time.perf_counter() - start, peak_rss_mb()
     width, height = args.width or scene.camera.width, args.height or scene.camera.height
     reference = load_reference(args.reference, (height, width, 3)) if args.reference else None
     with open_renderer(width, height, settings, args) as renderer:
         device = renderer_name(renderer.ctx)
-        print(f"{scene.name}: {width}x{height}, mode {settings.mode}, median of {args.frames} frames after "
-              f"{args.warmup} warm-up per kind, on {device}", flush=True)
+        print(f"{scene.name}: loaded in {load_s:.2f} s, peak RSS {load_rss_mb:.0f} MB; {width}x{height}, mode "
+              f"{settings.mode}, median of {args.frames} frames after {args.warmup} warm-up per kind, on {device}", flush=True)
         rows = benchmark(scene, renderer, settings, grids, args.frames, args.warmup, reference=reference)
+    for row in rows:
+        row.update(load_s=load_s, load_peak_rss_mb=load_rss_mb)
     print(format_table(rows))
     moved = {row["frame"]: row["moves"] for row in rows}
     print("moving: " + ", ".join(f"{kind}: {subject}" for kind, subject in moved.items()))

@@ -157,6 +157,8 @@ class Renderer:
         """A voxel volume of the last frame as float32 (n, n, n, 4), indexed [z, y, x]:
         "radiance" (emission + direct light, a = opacity), "normal" (mean normal, its length
         the coherence), "albedo"; levels above 0 come from hardware mipmaps."""
+        if not self.grid.n:
+            raise VctError("no voxels yet: render a frame in a mode that uses them first", field="voxels")
         volume = shown_volume(self.grid, VOXEL_VOLUMES[name])
         if level > 0:
             volume.build_mipmaps()

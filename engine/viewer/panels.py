@@ -46,7 +46,8 @@ def draw_overlay(frames, process, renderer, vsync, panels_shown=True):
         cpu = "--" if process.cpu_percent is None else f"{process.cpu_percent:.0f}"
         imgui.text(f"FPS {frames.fps:6.1f}  SPF {frames.ms_per_frame:7.1f} ms")
         imgui.text(f"CPU {cpu:>5} %  RAM {process.ram_mb:7.0f} MB")
-        imgui.text(f"Draw calls {renderer.geometry.draw_calls}  voxels {renderer.grid.memory_bytes() / 2 ** 20:.0f} MB")
+        imgui.text(f"Draw calls {renderer.geometry.draw_calls}  voxels {renderer.grid.memory_bytes() / 2 ** 20:.0f} MB  "
+                   f"textures {renderer.geometry.textures.memory_bytes() / 2 ** 20:.0f} MB")
         imgui.text_colored(DIM, f"{renderer.size[0]}x{renderer.size[1]} {s.mode} grid {s.grid}"
                                 f"{' vsync' if vsync else ''}")
         if renderer.timings:
