@@ -41,6 +41,7 @@ IMAGE_UNIT = {
     "ALBEDO_OUT": 0,
     "NORMAL_OUT": 1,
     "EMISSION_OUT": 2,
+    "FRONT": 3,             # the voxelizer's front-layer keys, per voxel and facing direction
     "INSPECT_OUT": 0,
     "IMAGE_OUT": 0,         # a screen target a compute pass adds to
 }
@@ -92,7 +93,7 @@ VOXEL_MAX_EMISSION = 65504.0
 # GL formats of the voxel volumes and the render targets.
 VOXEL_FORMAT = "f2"  # RGBA16F: HDR radiance without banding (field notes 9)
 HDR_FORMAT = "f4"
-GL_IMAGE_FORMAT = {"rgba16f": 0x881A, "rgba32f": 0x8814}
+GL_IMAGE_FORMAT = {"rgba16f": 0x881A, "rgba32f": 0x8814, "r32ui": 0x8236}
 # Voxel memory allowed before a grid is refused (bytes).
 VOXEL_MEMORY_BUDGET = 4 * 2 ** 30
 # One-sided views of the voxel radiance that cones read, one per axis direction (+x, -x, ...),

@@ -1,7 +1,8 @@
 """The voxel grid: every GPU resource of the N^3 grid in one object, owned by the renderer and
 passed to the passes that read and write it.
 
-- the voxelizer's fixed-point sums, one storage buffer per channel (lib/voxel_sums.glsl);
+- the voxelizer's fixed-point sums, one storage buffer per channel (lib/voxel_sums.glsl), and
+  its front-layer keys, per voxel and facing direction (stacked like the face views);
 - the resolved surface of each voxel: albedo, mean normal, emission and surface offset;
 - the radiance: `base` (emission + injected direct light), the diffuse `gathered` by each
   voxel (two volumes, the latest and the one before, for closing the bounce series), and the
@@ -28,7 +29,7 @@ MIP_CHAIN = 8 / 7  # a full mip chain adds a seventh
 def voxel_memory_bytes(n):
     """GPU bytes a grid of n^3 needs: sums, volumes (surface, radiance, faces with mips) and lists."""
     voxels = n ** 3
-    sums = 4 * len(VOXEL_SUM_CHANNELS)
+    sums = 4 * len(VOXEL_SUM_CHANNELS) + 4 * VOXEL_FACES  # and the front-layer keys
     surface = TEXEL_BYTES * (2 * MIP_CHAIN + 1)              # albedo, normal (viewable), emission
     radiance = TEXEL_BYTES * (MIP_CHAIN + 2)                 # base (viewable), two gathers
     faces = TEXEL_BYTES * VOXEL_FACES * MIP_CHAIN
@@ -97,6 +98,7 @@ class VoxelGrid:
         self.n = n
         voxels = n ** 3
         self.sums = [self._keep(ctx.buffer(data=bytes(4 * voxels))) for _ in VOXEL_SUM_CHANNELS]
+        self.front = self._keep(ctx.texture3d((n, n, VOXEL_FACES * n), 1, data=bytes(4 * VOXEL_FACES * voxels), dtype="u4"))
         self.albedo, self.normal, self.base = (self._volume(mipmapped=True) for _ in range(3))
         self.emission = self._volume()
         self.gathered = [self._volume() for _ in range(2)]
@@ -151,8 +153,10 @@ class VoxelGrid:
                     voxel_grid=self.n, voxel_size=self.voxel_size, voxel_max_mip=float(self.mip_count - 1))
 
     def bind_sums(self):
+        """The voxelizer's sums and front-layer keys."""
         for channel, buffer in enumerate(self.sums):
             buffer.bind_to_storage_buffer(STORAGE_BINDING["VOXEL_SUMS"] + channel)
+        self.front.bind_to_image(IMAGE_UNIT["FRONT"], read=True, write=True, format=GL_IMAGE_FORMAT["r32ui"])
 
     def use_surface(self):
         self.albedo.use(TEXTURE_UNIT["VOXEL_ALBEDO"])

@@ -2,22 +2,41 @@
 // Voxelization, fragment stage: one fragment = one surface sample in one voxel. Its diffuse
 // albedo and emission (the material's factors times its textures, sampled at the mip level of
 // a voxel's footprint), unit normal, offset along the normal from the voxel centre are added to
-// the voxel's fixed-point sums with atomics, with a fragment count (lib/voxel_sums.glsl). The
-// first fragment in a voxel flags it and lists it as touched. An update of part of the scene
-// runs in two passes: `mark_only` flags the voxels the changed objects cover (before and
-// after the change), then `touched_only` re-adds every object's fragments in those voxels
-// alone; a full voxelization runs neither restriction.
+// the voxel's fixed-point sums with atomics, with a fragment count (lib/voxel_sums.glsl).
+//
+// Surfaces that share a voxel and face the same way (a lamp under a ceiling, a picture on a
+// wall, a rug on a floor) hide one another: seen from their front, only the front-most shows.
+// So per voxel and facing direction (the dominant axis of the normal, with its sign) only the
+// front-most layer is summed: VOXELIZE_FRONT records the largest offset along the normal
+// (atomicMax, order-independent), VOXELIZE_ADD adds the fragments within LAYER_TOLERANCE of it
+// (a plane has one offset in a voxel; a curved surface, about one).
+//
+// Stages: VOXELIZE_MARK flags (and lists as touched) the voxels the changed objects of a
+// partial update cover, before and after the change; VOXELIZE_FRONT, then VOXELIZE_ADD, over
+// every object reaching them, restricted to flagged voxels (`touched_only`), or over the whole
+// scene for a full voxelization, where VOXELIZE_FRONT flags and lists.
 #include "lib/voxel.glsl"
 #include "lib/voxel_sums.glsl"
 #include "lib/material.glsl"
+
+#define VOXELIZE_MARK 0
+#define VOXELIZE_FRONT 1
+#define VOXELIZE_ADD 2
+#define LAYER_TOLERANCE 0.125  // voxels
 
 in vec3 gs_position;
 in vec3 gs_normal;
 in vec2 gs_texcoord;
 flat in vec4 gs_pixel_bounds;
-uniform bool mark_only;
+uniform int stage;
 uniform bool touched_only;
 layout(std430, binding = SSBO_TOUCHED) buffer TouchedVoxels { uint touched_count; uint touched[]; };
+layout(binding = IMG_FRONT, r32ui) uniform coherent uimage3D front;  // per voxel and facing: the front layer's key
+
+// The offset of a surface along its normal from the voxel centre, in voxels, as an ordered key.
+uint layer_key(float offset) {
+    return uint((clamp(offset, -1.0, 1.0) + 1.0) * 32767.0);
+}
 
 uint unit_fixed(float x) {  // two's complement of round(x * VOXEL_UNIT_SCALE), |x| <= 1
     return uint(int(round(clamp(x, -1.0, 1.0) * VOXEL_UNIT_SCALE)));
@@ -46,14 +65,22 @@ void main() {
     } else {
         uint flags = atomicOr(voxel_sums[SUM_COUNT].value[i], TOUCHED_FLAG);
         if ((flags & TOUCHED_FLAG) == 0u) touched[atomicAdd(touched_count, 1u)] = pack_voxel(voxel);
-        if (mark_only) return;
+        if (stage == VOXELIZE_MARK) return;
     }
+    vec3 n = normalize(gs_normal);
+    float offset = dot(gs_position - voxel_center(voxel), n) / voxel_size;  // in [-0.87, 0.87]
+    vec3 a = abs(n);
+    int axis = a.x >= a.y ? (a.x >= a.z ? 0 : 2) : (a.y >= a.z ? 1 : 2);
+    ivec3 front_texel = face_texel(voxel, 2 * axis + int(n[axis] < 0.0), voxel_grid);
+    if (stage == VOXELIZE_FRONT) {
+        imageAtomicMax(front, front_texel, layer_key(offset));
+        return;
+    }
+    if (layer_key(offset + LAYER_TOLERANCE) < imageLoad(front, front_texel).r) return;  // behind the front layer
+
     uint earlier_fragments = atomicAdd(voxel_sums[SUM_COUNT].value[i], 1u) & COUNT_MASK;
     if (earlier_fragments >= VOXEL_MAX_FRAGMENTS) return;  // headroom of the signed sums
-
-    vec3 n = normalize(gs_normal);
     vec3 diffuse_albedo = (1.0 - m.metalness) * m.albedo;
-    float offset = dot(gs_position - voxel_center(voxel), n) / voxel_size;  // in [-0.87, 0.87]
     atomicAdd(voxel_sums[SUM_ALBEDO_R].value[i], unit_fixed(diffuse_albedo.r));
     atomicAdd(voxel_sums[SUM_ALBEDO_G].value[i], unit_fixed(diffuse_albedo.g));
     atomicAdd(voxel_sums[SUM_ALBEDO_B].value[i], unit_fixed(diffuse_albedo.b));

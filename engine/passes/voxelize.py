@@ -1,7 +1,8 @@
 """Voxelization pass: the scene's surfaces into the N^3 grid (geometry-shader dominant-axis
 projection, conservative dilation, fixed-point sums with atomics), resolved into the grid's
-surface volumes: albedo, mean normal, emission and surface offset per voxel. Light is not
-part of it (passes/inject.py), so a light change never revoxelizes.
+surface volumes: albedo, mean normal, emission and surface offset per voxel. Where surfaces
+facing the same way share a voxel, the front-most one is kept (glsl/voxelize.frag). Light is
+not part of it (passes/inject.py), so a light change never revoxelizes.
 
 An update touches only the voxels of the draws that changed: it flags the voxels those draws
 covered before and cover now, rebuilds just those voxels from every draw that reaches them, and
@@ -12,6 +13,8 @@ import numpy as np
 
 from ..constants import IMAGE_UNIT, STORAGE_BINDING, TEXTURE_UNIT
 from ..voxel_grid import bind_image
+
+STAGES = {"MARK": 0, "FRONT": 1, "ADD": 2}  # glsl/voxelize.frag VOXELIZE_*
 
 
 class VoxelizePass:
@@ -36,21 +39,23 @@ class VoxelizePass:
             grid.covered.bind("COVERED")
             self.mark_covered.set(**uniforms)
             grid.dispatch(self.mark_covered, grid.covered.count)
-            self._rasterize(grid, update.added, mark_only=False, touched_only=False)
+            reaching = update.added
+            self._rasterize(grid, reaching, "FRONT", touched_only=False)
         else:
-            self._rasterize(grid, update.removed + update.added, mark_only=True, touched_only=False)
+            self._rasterize(grid, update.removed + update.added, "MARK", touched_only=False)
             lo, hi = update.touched_bounds(margin=grid.voxel_size)
             reaching = [d for d in draws if np.all(d.bounds[0] <= hi) and np.all(d.bounds[1] >= lo)]
-            self._rasterize(grid, reaching, mark_only=False, touched_only=True)
+            self._rasterize(grid, reaching, "FRONT", touched_only=True)
+        self._rasterize(grid, reaching, "ADD", touched_only=True)
         self._resolve_and_relist(grid)
 
-    def _rasterize(self, grid, draws, mark_only, touched_only):
-        self.program.set(**grid.uniforms(), mark_only=mark_only, touched_only=touched_only)
+    def _rasterize(self, grid, draws, stage, touched_only):
+        self.program.set(**grid.uniforms(), stage=STAGES[stage], touched_only=touched_only)
         grid.framebuffer.use()
         self.ctx.viewport = (0, 0, grid.n, grid.n)
         self.ctx.disable(self.ctx.DEPTH_TEST | self.ctx.CULL_FACE | self.ctx.BLEND)
         self.geometry.draw(self.program, draws, materials=True)
-        self.ctx.memory_barrier(self.ctx.SHADER_STORAGE_BARRIER_BIT)
+        self.ctx.memory_barrier(self.ctx.SHADER_STORAGE_BARRIER_BIT | self.ctx.SHADER_IMAGE_ACCESS_BARRIER_BIT)
 
     def _resolve_and_relist(self, grid):
         uniforms = grid.uniforms()
