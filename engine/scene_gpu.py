@@ -1,7 +1,12 @@
 """GPU copies of the scene: vertex and index buffers per mesh and textures per image (each
 uploaded once, again when the scene gives it new data, and released when it leaves the
 scene), vertex arrays per program, and the per-draw uniforms and texture bindings of the
-materials (`bind_material`), which every pass that rasterizes the scene shares."""
+materials (`bind_material`), which every pass that rasterizes the scene shares.
+
+A large mesh is uploaded with its triangles sorted into spatial clusters, each a range of its
+index buffer with its own bounds, so a draw skips the clusters outside a view frustum or a box
+(a cube face of a point light's shadow sees about a sixth of a room; a partial voxel update
+touches a few cells)."""
 import ctypes
 import ctypes.util
 
@@ -22,6 +27,7 @@ MATERIAL_TEXTURES = {
     "normal_texture": ("NORMAL_MAP", (128, 128, 255, 255)),
 }
 ALPHA_TESTED = ("MASK", "BLEND")  # BLEND is drawn as a cut-out (engine.scene.Material)
+CLUSTER_TRIANGLES = 1024  # meshes are split into clusters of about this many triangles
 GL_TEXTURE_WRAP = {"s": 0x2802, "t": 0x2803}
 GL_MIRRORED_REPEAT = 0x8370
 GL_SRGB8_ALPHA8 = 0x8C43
@@ -80,10 +86,53 @@ class SceneTextures:
         self.textures.clear()
 
 
+class MeshClusters:
+    """The clusters of a mesh: triangles binned by centroid into a grid of cells over the
+    mesh's bounds, each cell's triangles a contiguous range of the sorted index buffer."""
+
+    def __init__(self, positions, triangles):
+        count = len(triangles)
+        cells = max(1, min(16, round((count / CLUSTER_TRIANGLES) ** (1 / 3))))
+        centroids = positions[triangles].mean(axis=1)
+        lo, hi = positions.min(axis=0), positions.max(axis=0)
+        cell = np.clip(((centroids - lo) / np.maximum(hi - lo, 1e-30) * cells).astype(np.int64), 0, cells - 1)
+        keys = (cell[:, 0] * cells + cell[:, 1]) * cells + cell[:, 2]
+        order = np.argsort(keys, kind="stable")
+        self.triangles = triangles[order]
+        starts = np.flatnonzero(np.r_[True, np.diff(keys[order]) != 0])
+        self.first = starts * 3                                    # first index of each cluster
+        self.count = np.diff(np.r_[starts, count]) * 3              # indices in each cluster
+        corners = positions[self.triangles]
+        self.lo = np.minimum.reduceat(corners.min(axis=1), starts)  # local bounds of each cluster
+        self.hi = np.maximum.reduceat(corners.max(axis=1), starts)
+
+    def ranges(self, world, view_projection=None, box=None):
+        """(first, count) index ranges of the clusters inside a view frustum and/or a world box
+        (all without either), adjacent ones merged."""
+        keep = np.ones(len(self.first), bool)
+        if view_projection is not None or box is not None:
+            corners = np.stack([np.where([(k >> a) & 1 for a in range(3)], self.hi, self.lo) for k in range(8)], axis=1)
+            world_corners = corners @ world[:3, :3].T + world[:3, 3]  # (clusters, 8, 3)
+            if box is not None:
+                keep &= np.all(world_corners.min(axis=1) <= box[1], axis=1) & np.all(world_corners.max(axis=1) >= box[0], axis=1)
+            if view_projection is not None:
+                clip = np.concatenate([world_corners, np.ones(world_corners.shape[:2] + (1,))], axis=2) @ view_projection.T
+                w = clip[..., 3:]
+                outside = np.any(np.all(clip[..., :3] > w, axis=1) | np.all(clip[..., :3] < -w, axis=1), axis=1)
+                keep &= ~outside
+        ranges = []
+        for first, count in zip(self.first[keep], self.count[keep]):
+            if ranges and ranges[-1][0] + ranges[-1][1] == first:
+                ranges[-1] = (ranges[-1][0], ranges[-1][1] + count)
+            else:
+                ranges.append((int(first), int(count)))
+        return ranges
+
+
 class SceneGeometry:
     def __init__(self, ctx):
         self.ctx = ctx
-        self.buffers = {}  # id(mesh) -> (the mesh's arrays, vbo, ibo)
+        self.buffers = {}  # id(mesh) -> (the mesh's arrays, vbo, ibo, clusters)
         self.vertex_arrays = {}  # handle -> (program, {id(mesh): vao})
         self.textures = SceneTextures(ctx)
         self.draw_calls = 0
@@ -100,7 +149,9 @@ class SceneGeometry:
                        mesh.texcoords if mesh.texcoords is not None else np.zeros((count, 2)),
                        mesh.tangents if mesh.tangents is not None else np.zeros((count, 4))]
             data = np.hstack([np.asarray(c, dtype="f4") for c in columns])
-            entry = (mesh.arrays(), self.ctx.buffer(data.tobytes()), self.ctx.buffer(mesh.indices.astype("i4").tobytes()))
+            clusters = MeshClusters(np.asarray(mesh.positions, np.float64), np.asarray(mesh.indices, np.int64).reshape(-1, 3))
+            entry = (mesh.arrays(), self.ctx.buffer(data.tobytes()), self.ctx.buffer(clusters.triangles.astype("i4").tobytes()),
+                     clusters)
             self.buffers[id(mesh)] = entry
         return entry
 
@@ -111,7 +162,7 @@ class SceneGeometry:
                 vao.release()
             program, arrays = handle.program, {}
             self.vertex_arrays[handle] = (program, arrays)
-        _, vbo, ibo = self._buffers(mesh)  # uploaded again, without vertex arrays, if the mesh has new arrays
+        _, vbo, ibo, _ = self._buffers(mesh)  # uploaded again, without vertex arrays, if the mesh has new arrays
         vao = arrays.get(id(mesh))
         if vao is None:
             # The attributes the compiler kept, and padding for the others.
@@ -134,10 +185,15 @@ class SceneGeometry:
             gl_texture = self.textures.get(texture) if texture is not None else self.textures.defaults[field]
             gl_texture.use(TEXTURE_UNIT[unit])
 
-    def draw(self, handle, draws, materials=False, cull_single_sided=False):
-        """Draw each of `draws` (changes.Draw) with `handle`, with its material bound if asked.
+    def draw(self, handle, draws, materials=False, cull_single_sided=False, view_projection=None, box=None):
+        """Draw each of `draws` (changes.Draw) with `handle`, with its material bound if asked,
+        skipping the clusters outside `view_projection`'s frustum and the world `box` (lo, hi).
         `cull_single_sided`: back faces of single-sided materials are not drawn."""
         for draw in draws:
+            vao = self.vertex_array(handle, draw.mesh)
+            ranges = self.buffers[id(draw.mesh)][3].ranges(draw.world, view_projection, box)
+            if not ranges:
+                continue
             handle.set(model=transforms.gl_bytes(draw.world),
                        normal_matrix=np.asarray(transforms.normal_matrix(draw.world), "f4").T.tobytes())
             if materials:
@@ -146,11 +202,12 @@ class SceneGeometry:
             if cull:  # a mirroring transform turns the front faces clockwise
                 self.ctx.front_face = "cw" if np.linalg.det(draw.world[:3, :3]) < 0 else "ccw"
                 self.ctx.enable(self.ctx.CULL_FACE)
-            self.vertex_array(handle, draw.mesh).render(self.ctx.TRIANGLES)
+            for first, count in ranges:
+                vao.render(self.ctx.TRIANGLES, vertices=count, first=first)
+                self.draw_calls += 1
             if cull:
                 self.ctx.disable(self.ctx.CULL_FACE)
                 self.ctx.front_face = "ccw"
-            self.draw_calls += 1
 
     def retain(self, draws):
         """Release the buffers, vertex arrays and textures of meshes and images that no draw
@@ -165,7 +222,7 @@ class SceneGeometry:
             vao = arrays.pop(key, None)
             if vao is not None:
                 vao.release()
-        _, vbo, ibo = self.buffers.pop(key)
+        _, vbo, ibo, _ = self.buffers.pop(key)
         vbo.release()
         ibo.release()
 
@@ -173,7 +230,7 @@ class SceneGeometry:
         for _, arrays in self.vertex_arrays.values():
             for vao in arrays.values():
                 vao.release()
-        for _, vbo, ibo in self.buffers.values():
+        for _, vbo, ibo, _ in self.buffers.values():
             vbo.release()
             ibo.release()
         self.vertex_arrays.clear()

@@ -142,6 +142,11 @@ class VoxelGrid:
     def voxel_size(self):
         return float(self.region.size) / self.n
 
+    def bounds(self):
+        """The region as a world box (lo, hi)."""
+        lo = np.asarray(self.region.center, float) - self.region.size / 2.0
+        return lo, lo + self.region.size
+
     def memory_bytes(self):
         return voxel_memory_bytes(self.n) if self.n else 0
 

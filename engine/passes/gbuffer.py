@@ -47,7 +47,7 @@ class GBufferPass:
         gbuffer.framebuffer.clear(0.0, 0.0, 0.0, 0.0, depth=1.0)
         self.ctx.enable_only(self.ctx.DEPTH_TEST)
         self.program.set(view_projection=transforms.gl_bytes(view_projection))
-        self.geometry.draw(self.program, draws, materials=True, cull_single_sided=True)
+        self.geometry.draw(self.program, draws, materials=True, cull_single_sided=True, view_projection=view_projection)
         return gbuffer
 
     def release(self):

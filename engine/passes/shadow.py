@@ -140,7 +140,7 @@ class ShadowPass:
                 self.ctx.viewport = (x, y, tile, tile)
                 maps.framebuffer.clear(depth=1.0, viewport=(x, y, tile, tile))
                 self.program.set(view_projection=transforms.gl_bytes(view_projection))
-                self.geometry.draw(self.program, draws, materials=True)
+                self.geometry.draw(self.program, draws, materials=True, view_projection=view_projection)
             rows.append(np.concatenate([
                 np.asarray(view_projection, "f4").T.ravel(),
                 [x / atlas_w, y / atlas_h, tile / atlas_w, tile / atlas_h],

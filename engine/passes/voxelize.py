@@ -39,22 +39,23 @@ class VoxelizePass:
             grid.covered.bind("COVERED")
             self.mark_covered.set(**uniforms)
             grid.dispatch(self.mark_covered, grid.covered.count)
-            reaching = update.added
-            self._rasterize(grid, reaching, "FRONT", touched_only=False)
+            reaching, box = update.added, grid.bounds()
+            self._rasterize(grid, reaching, "FRONT", touched_only=False, box=box)
         else:
-            self._rasterize(grid, update.removed + update.added, "MARK", touched_only=False)
-            lo, hi = update.touched_bounds(margin=grid.voxel_size)
-            reaching = [d for d in draws if np.all(d.bounds[0] <= hi) and np.all(d.bounds[1] >= lo)]
-            self._rasterize(grid, reaching, "FRONT", touched_only=True)
-        self._rasterize(grid, reaching, "ADD", touched_only=True)
+            self._rasterize(grid, update.removed + update.added, "MARK", touched_only=False, box=grid.bounds())
+            box = update.touched_bounds(margin=grid.voxel_size)
+            reaching = [d for d in draws if np.all(d.bounds[0] <= box[1]) and np.all(d.bounds[1] >= box[0])]
+            self._rasterize(grid, reaching, "FRONT", touched_only=True, box=box)
+        self._rasterize(grid, reaching, "ADD", touched_only=True, box=box)
         self._resolve_and_relist(grid)
 
-    def _rasterize(self, grid, draws, stage, touched_only):
+    def _rasterize(self, grid, draws, stage, touched_only, box):
+        """Rasterize the parts of `draws` inside the world `box` in one of the fragment stages."""
         self.program.set(**grid.uniforms(), stage=STAGES[stage], touched_only=touched_only)
         grid.framebuffer.use()
         self.ctx.viewport = (0, 0, grid.n, grid.n)
         self.ctx.disable(self.ctx.DEPTH_TEST | self.ctx.CULL_FACE | self.ctx.BLEND)
-        self.geometry.draw(self.program, draws, materials=True)
+        self.geometry.draw(self.program, draws, materials=True, box=box)
         self.ctx.memory_barrier(self.ctx.SHADER_STORAGE_BARRIER_BIT | self.ctx.SHADER_IMAGE_ACCESS_BARRIER_BIT)
 
     def _resolve_and_relist(self, grid):
