@@ -82,9 +82,9 @@ def grille_gltf(path, alpha_mode):
                                  "pbrMetallicRoughness": {"baseColorTexture": {"index": g.texture(g.image(png(rgba)))},
                                                           "metallicFactor": 0.0}})
     mesh = g.add("meshes", {"primitives": [g.quad(grille)]})
-    # Rotated -90 degrees about x: the quad's +z normal points down, its plane is horizontal.
-    g.doc["scenes"][0]["nodes"].append(g.add("nodes", {"name": "Grille", "mesh": mesh, "translation": [-0.5, 1.0, 0.5],
-                                                        "rotation": [-0.7071068, 0.0, 0.0, 0.7071068]}))
+    # Turned 90 degrees about x: the quad's +z normal points down, its plane is horizontal.
+    g.doc["scenes"][0]["nodes"].append(g.add("nodes", {"name": "Grille", "mesh": mesh, "translation": [-0.5, 1.0, -0.5],
+                                                        "rotation": [0.7071068, 0.0, 0.0, 0.7071068]}))
     return g.write(path)
 
 
@@ -141,3 +141,33 @@ def test_sponza_voxels_carry_the_red_green_and_blue_of_its_curtains(grid):
     assert ((red > 2.5 * green) & (red > 2.5 * blue)).sum() > 30
     assert ((green > 1.6 * red) & (green > 1.6 * blue)).sum() > 30
     assert ((blue > 2.0 * red) & (blue > 1.3 * green)).sum() > 30
+
+
+def test_an_emissive_texture_lights_the_room_in_its_colour(tmp_path):
+    """A lamp whose colour comes from its emissive texture (orange, sRGB) and a black base
+    colour, facing down over a white floor, lit by nothing else: the floor under it receives
+    orange light through the voxels (its red over green over blue as the texture's, decoded)."""
+    g = Gltf()
+    orange = np.full((2, 2, 3), (255, 128, 0), np.uint8)
+    lamp = g.add("materials", {"name": "Lamp", "emissiveFactor": [1.0, 1.0, 1.0],
+                               "emissiveTexture": {"index": g.texture(g.image(png(orange)))},
+                               "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": 8.0}},
+                               "pbrMetallicRoughness": {"baseColorFactor": [0.0, 0.0, 0.0, 1.0], "metallicFactor": 0.0}})
+    mesh = g.add("meshes", {"primitives": [g.quad(lamp)]})
+    g.doc["scenes"][0]["nodes"].append(g.add("nodes", {"name": "Lamp", "mesh": mesh, "translation": [-0.5, 1.0, -0.5],
+                                                        "rotation": [0.7071068, 0.0, 0.0, 0.7071068]}))  # facing down
+    g.write(tmp_path / "lamp.glb")
+    floor = {"name": "Floor", "type": "quad", "material": "white",
+             "vertices": [[-2, 0, -2], [-2, 0, 2], [2, 0, 2], [2, 0, -2]]}
+    scene = write_scene(tmp_path, [floor, {"name": "Lamp", "type": "mesh", "file": "lamp.glb"}],
+                        camera={"position": [0.0, 0.6, 2.0], "look_at": [0.0, 0.0, 0.0], "vertical_fov_deg": 40.0,
+                                "width": 64, "height": 64})
+    with engine.Renderer(64, 64) as r:
+        gi = r.render(scene, grid=64)
+        direct = r.render(scene, mode="direct")
+    floor_under = gi[40:60, 24:40].reshape(-1, 3)
+    assert direct[40:60, 24:40].max() == 0.0  # no light but the lamp's
+    red, green, blue = floor_under.mean(axis=0)
+    expected = srgb_to_linear([255, 128, 0])  # the texture's linear colour: 1, 0.216, 0
+    assert red > 0.05 and blue < 1e-3 * red
+    assert green / red == pytest.approx(expected[1], rel=0.1)

@@ -1,10 +1,13 @@
-"""Accuracy table: the Cornell box rendered at each grid size and bounce count, compared with
-the Mitsuba references in ../shared/reference (relative MAE, relative MSE, mean-luminance ratio).
+"""Accuracy tables: scenes rendered at each grid size and bounce count, compared with their
+path-traced references (relative MAE, relative MSE, mean-luminance ratio).
 
-    .venv/bin/python tools/accuracy.py [--grids 32,64,128,256] [--bounces 1,2,3,0] [--json out.json]
+    .venv/bin/python tools/accuracy.py [--grids 32,64,128,256] [--bounces 1,0] [--json out.json]
+    .venv/bin/python tools/accuracy.py --scenes all --bounces 0
 
-bounces 1 is compared with cornell_box_1bounce.npy (direct + one bounce), every other count
-with cornell_box_gi.npy (all bounces); 0 means iterate to convergence (the default)."""
+The Cornell box is compared with ../shared/reference (`bounces 1` with cornell_box_1bounce.npy,
+every other count with cornell_box_gi.npy, and direct light alone with cornell_box_direct.npy);
+the scenes of scenes/references with their NAME_gi.npy (and NAME_direct.npy, direct light
+alone, where a scene has a point light or a sun). 0 bounces means iterate to convergence."""
 import argparse
 import json
 import time
@@ -16,39 +19,55 @@ import engine
 from engine.bench import relative_errors
 
 ROOT = Path(__file__).resolve().parent.parent
-REFERENCE = ROOT.parent / "shared" / "reference"
+SHARED = ROOT.parent / "shared" / "reference"
+OURS = ROOT / "scenes" / "references"
+
+
+def cases(names):
+    """(scene name, scene file, {"direct" | "1bounce" | "gi": reference file})."""
+    yield "cornell_box", ROOT / "scenes" / "cornell_box.json", {k: SHARED / f"cornell_box_{k}.npy" for k in ("direct", "1bounce", "gi")}
+    if names == "cornell_box":
+        return
+    for scene in sorted(p for p in OURS.glob("*.json") if not p.name.endswith(".meta.json")):
+        refs = {k: OURS / f"{scene.stem}_{k}.npy" for k in ("direct", "gi")}
+        yield scene.stem, scene, {k: path for k, path in refs.items() if path.exists()}
 
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--scene", default=str(ROOT / "scenes" / "cornell_box.json"))
-    parser.add_argument("--reference-dir", default=str(REFERENCE))
+    parser.add_argument("--scenes", choices=("cornell_box", "all"), default="cornell_box")
     parser.add_argument("--grids", default="32,64,128,256")
-    parser.add_argument("--bounces", default="1,2,3,0")
+    parser.add_argument("--bounces", default="1,0")
     parser.add_argument("--json", help="also write the rows as JSON")
     args = parser.parse_args()
-    scene = engine.load_scene(args.scene)
-    references = {name: np.load(Path(args.reference_dir) / f"cornell_box_{name}.npy").astype(np.float64)
-                  for name in ("direct", "1bounce", "gi")}
     rows = []
-    print("| grid | bounces | reference | relMAE | relMSE | luminance ratio | seconds |")
-    print("|---|---|---|---|---|---|---|")
-    with engine.Renderer(scene.camera.width, scene.camera.height) as renderer:
-        direct = renderer.render(scene, mode="direct")
-        row = {"grid": None, "bounces": "direct", "reference": "direct", **relative_errors(direct, references["direct"])}
-        print(f"| - | direct only | direct | {row['rel_mae']:.4f} | {row['rel_mse']:.5f} | {row['luminance_ratio']:.3f} | - |")
-        rows.append(row)
-        for grid in [int(g) for g in args.grids.split(",")]:
-            for bounces in [int(b) for b in args.bounces.split(",")]:
-                start = time.perf_counter()
-                radiance = renderer.render(scene, mode="gi", grid=grid, bounces=bounces)
-                seconds = time.perf_counter() - start
-                name = "1bounce" if bounces == 1 else "gi"
-                row = {"grid": grid, "bounces": bounces or "converged", "reference": name, "seconds": seconds,
-                       "bounce_iterations": renderer.bounce_iterations, **relative_errors(radiance, references[name])}
+    print("| scene | grid | bounces | reference | relMAE | relMSE | luminance ratio | seconds |")
+    print("|---|---|---|---|---|---|---|---|")
+    for name, scene_file, refs in cases(args.scenes):
+        scene = engine.load_scene(scene_file)
+        references = {k: np.load(path).astype(np.float64) for k, path in refs.items()}
+        with engine.Renderer(scene.camera.width, scene.camera.height) as renderer:
+            if "direct" in references and scene.lights():
+                direct = renderer.render(scene, mode="direct")
+                row = {"scene": name, "grid": None, "bounces": "direct", "reference": "direct",
+                       **relative_errors(direct, references["direct"])}
+                print(f"| {name} | - | direct only | direct | {row['rel_mae']:.4f} | {row['rel_mse']:.5f} | "
+                      f"{row['luminance_ratio']:.3f} | - |", flush=True)
                 rows.append(row)
-                print(f"| {grid}^3 | {row['bounces']} | {name} | {row['rel_mae']:.4f} | {row['rel_mse']:.5f} | "
-                      f"{row['luminance_ratio']:.3f} | {seconds:.1f} |", flush=True)
+            for grid in [int(g) for g in args.grids.split(",")]:
+                for bounces in [int(b) for b in args.bounces.split(",")]:
+                    kind = "1bounce" if bounces == 1 and "1bounce" in references else "gi"
+                    if kind not in references or (bounces == 1 and kind == "gi"):
+                        continue
+                    start = time.perf_counter()
+                    radiance = renderer.render(scene, mode="gi", grid=grid, bounces=bounces)
+                    seconds = time.perf_counter() - start
+                    row = {"scene": name, "grid": grid, "bounces": bounces or "converged", "reference": kind,
+                           "seconds": seconds, "bounce_iterations": renderer.bounce_iterations,
+                           **relative_errors(radiance, references[kind])}
+                    rows.append(row)
+                    print(f"| {name} | {grid}^3 | {row['bounces']} | {kind} | {row['rel_mae']:.4f} | {row['rel_mse']:.5f} | "
+                          f"{row['luminance_ratio']:.3f} | {seconds:.1f} |", flush=True)
     if args.json:
         Path(args.json).write_text(json.dumps(rows, indent=2))
 
