@@ -36,16 +36,17 @@ l.h) (s + 2) / (8 pi) (n.h)^s with s = 2 / r^4 - 2 (r clamped to >= 0.05), F0 = 
 - a specular layer: `roughconductor` with the Beckmann distribution, alpha = max(r, 0.05)^2 (a
   normalized Blinn-Phong lobe of exponent s is the Beckmann lobe of alpha^2 = 2 / (s + 2)), and
   a complex index of refraction (eta, k) per channel fitted so that the conductor Fresnel
-  curve matches Schlick's with the same F0 (within 0.03 at every angle for F0 in 0.01..0.3,
-  within 0.01 for F0 >= 0.45; see `fresnel_ior`). Mitsuba's dielectric Fresnel (k = 0, eta =
-  1.5 for F0 = 0.04) would be within 0.036, but for metals' large F0 it dips by up to 0.45 near
-  grazing (Brewster angle), so one fitted conductor serves both.
+  curve matches Schlick's with the same F0 (within 0.031 at every angle for F0 >= 0.005, 0.026
+  for glTF's 0.04, 0.012 for F0 >= 0.45; see `fresnel_ior`). Mitsuba's dielectric Fresnel (k =
+  0, eta = 1.5 for F0 = 0.04) would be within 0.036, but for metals' large F0 it dips by up to
+  0.45 near grazing (Brewster angle), so one fitted conductor serves both.
 - both layers: `blendbsdf` with weight 1/2 of `diffuse` with reflectance 2 (1 - m) k_d and the
   `roughconductor` above with specular_reflectance 2, which is exactly the sum of the two
   layers, as in the renderer. Mitsuba's plastic models are NOT used: `plastic`/`roughplastic`
   couple the layers (the diffuse part is attenuated by the Fresnel transmission in and out and
-  by internal reflections, and is brighter or darker than k_d / pi by 5-20 %), which the
-  renderer's additive model does not do.
+  by internal reflections: for k_d = 0.5, IOR 1.5 and alpha 0.16, roughplastic's diffuse part
+  reflects 0.45 of the light at normal incidence and 0.36 at 75 degrees where the renderer's
+  Lambert layer reflects 0.5 at every angle).
 
 Where Mitsuba's specular layer still differs from the renderer's (measured by integrating both
 BRDFs over the hemisphere):
@@ -149,32 +150,34 @@ def conductor_fresnel(n, k, cos):
 
 @functools.lru_cache(maxsize=1)
 def _fresnel_table():
-    """(F0, n, k) on a grid of F0: for each F0 the (n, k) with conductor reflectance F0 at normal
-    incidence whose curve deviates least (max over angles) from Schlick's."""
-    cos = np.linspace(1e-4, 1.0, 512)
-    f0s = np.linspace(0.0, 1.0, 201)
-    ns = np.concatenate([np.geomspace(1e-3, 0.999, 400), np.geomspace(1.001, 200.0, 400)])
+    """(F0, n, k) on a grid of F0 (denser towards 0): for each F0 the (n, k) with conductor
+    reflectance F0 at normal incidence whose curve deviates least (max over angles) from Schlick's."""
+    cos = np.linspace(0.0, 1.0, 257)
+    f0s = np.concatenate([np.geomspace(1e-4, 0.05, 60, endpoint=False), np.linspace(0.05, 1.0, 191)])
+    coarse = np.geomspace(1e-3, 200.0, 160)
     table = []
     for f0 in f0s:
-        if f0 <= 0.0:
-            table.append((0.0, 1.0, 0.0))
-            continue
-        if f0 >= 1.0:
+        if f0 >= 1.0:  # n = 0 reflects everything at every angle, as Schlick's F0 = 1 does
             table.append((1.0, 0.0, table[-1][2]))
             continue
-        k2 = (f0 * (ns + 1) ** 2 - (ns - 1) ** 2) / (1 - f0)
-        n, k = ns[k2 >= 0], np.sqrt(k2[k2 >= 0])
-        error = np.abs(conductor_fresnel(n[:, None], k[:, None], cos[None]) - schlick(f0, cos)[None]).max(axis=1)
-        best = int(np.argmin(error))
+        target = schlick(f0, cos)[None]
+        ns = coarse
+        for _ in range(2):  # a coarse search over n, then a fine one around the best
+            k2 = (f0 * (ns + 1) ** 2 - (ns - 1) ** 2) / (1 - f0)
+            n, k = ns[k2 >= 0], np.sqrt(k2[k2 >= 0])
+            best = int(np.argmin(np.abs(conductor_fresnel(n[:, None], k[:, None], cos[None]) - target).max(axis=1)))
+            ns = np.linspace(n[max(best - 1, 0)], n[min(best + 1, len(n) - 1)], 41)
         table.append((f0, n[best], k[best]))
     return np.array(table)
 
 
 def fresnel_ior(f0):
     """(eta, k) arrays shaped like f0 (reflectance at normal incidence, 0..1) whose conductor
-    Fresnel curve follows Schlick's with that F0 (interpolated in a fitted table)."""
+    Fresnel curve follows Schlick's with that F0 within 0.031 at every angle for F0 >= 0.005
+    (interpolated in a fitted table; F0 below 1e-4 is taken as 1e-4; below 0.005, where no
+    conductor curve rises as steeply near grazing as Schlick's, the error reaches 0.4)."""
     table = _fresnel_table()
-    f0 = np.clip(np.asarray(f0, np.float64), 0.0, 1.0)
+    f0 = np.clip(np.asarray(f0, np.float64), table[0, 0], 1.0)
     return np.interp(f0, table[:, 0], table[:, 1]), np.interp(f0, table[:, 0], table[:, 2])
 
 
@@ -555,6 +558,7 @@ def main(argv=None):
         scene = engine.load_scene(args.scene)
         with tempfile.TemporaryDirectory() as mesh_dir:  # convert first: bad input fails before rendering
             scene_dict(scene, args.pass_spp, args.max_depth, mesh_dir, args.sampler)
+        commit = git_commit()  # before rendering: the code that renders is the code of this commit
         start = time.time()
 
         def progress(done, total):
@@ -574,7 +578,7 @@ def main(argv=None):
             "scene": _display_path(scene_path),
             "scene_sha256": hashlib.sha256(scene_path.read_bytes()).hexdigest(),
             "note": args.note,
-            "tool": "tools/reference.py", "tool_version": TOOL_VERSION, "git_commit": git_commit(),
+            "tool": "tools/reference.py", "tool_version": TOOL_VERSION, "git_commit": commit,
             "date": datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds"),
             "renderer": f"mitsuba {mi.__version__} ({args.variant})",
             "integrator": integrator,
