@@ -121,7 +121,6 @@ class Renderer:
         self.tonemap = self._add(TonemapPass(self.ctx, self.programs, self.size))
         self.readback = self.programs.compute("voxel_readback.comp")
 
-
     @staticmethod
     @contextmanager
     def _creating_targets(size):

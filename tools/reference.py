@@ -6,92 +6,615 @@ the Cornell box is:
     .venv/bin/python tools/reference.py SCENE.json OUT.npy [--spp 1024] [--max-depth -1]
     .venv/bin/vct bench SCENE.json --reference OUT.npy      # or compare with `vct render --hdr`
 
-The scene's triangles, Lambertian materials (albedo; emission as one-sided area emitters),
-point/spot/directional lights and camera are converted as they are; the output is linear
-float32 radiance (H, W, 3), row 0 at the top, each pixel integrated over its footprint (box
-filter). `--max-depth 3` gives direct light + one bounce (Mitsuba counts the camera ray and
-the emitter hit), `-1` all bounces.
+Besides OUT.npy (linear float32 radiance (H, W, 3), row 0 at the top, each pixel integrated
+over its footprint: box filter) it writes OUT.meta.json (tool version, Mitsuba variant,
+integrator, spp, max depth, scene file and its SHA-256, date, render time, mean radiance and the
+measured noise) and OUT.png (clip(radiance * --png-exposure, 0, 1), sRGB-encoded). The image is
+rendered as two independent halves of spp/2 samples each (different seeds), in passes of
+--pass-spp; OUT.npy is their mean and `halves_relMAE` = sum|A - B| / sum B between the halves,
+the relative MAE of two independent renders at spp/2 (two at the full spp: about 1/sqrt(2) of
+it). `--max-depth 2` gives direct light only (Mitsuba counts the camera ray and the emitter
+hit), 3 direct + one bounce, -1 all bounces. `--variant llvm_ad_rgb` is several times faster
+than the default scalar_rgb but needs a libLLVM that Dr.Jit can drive: Debian 12's LLVM 15
+aborts ("Cannot select: fminimum"); libllvm19 works with
+DRJIT_LIBLLVM_PATH=/usr/lib/x86_64-linux-gnu/libLLVM.so.19.1.
+
+What is converted, and how
+--------------------------
+Geometry: every drawn mesh with its world transform, its own vertex normals as Mitsuba's
+shading normals (spheres are shaded smooth, as the renderer draws them) and its texture
+coordinates. Faces are one-sided by their winding (right-hand rule), as in the renderer.
+Camera: perspective, vertical field of view, the scene's width and height. Lights: point
+(W/sr, inverse square), spot (Mitsuba's fall-off between the inner and outer angles is linear in
+angle, vct's smooth) and directional (W/m^2); `range` and `cast_shadows: false` are refused.
+
+Materials. The renderer's BRDF (glsl/lib/brdf.glsl) is f = (1 - m) k_d / pi + F_Schlick(F0,
+l.h) (s + 2) / (8 pi) (n.h)^s with s = 2 / r^4 - 2 (r clamped to >= 0.05), F0 = `specular`
+(1 - m) + k_d m: a Lambert layer and a specular layer simply added. It maps to:
+
+- no specular layer (F0 = 0: specular 0 and metalness 0): `diffuse` with reflectance (1-m) k_d.
+- a specular layer: `roughconductor` with the Beckmann distribution, alpha = max(r, 0.05)^2 (a
+  normalized Blinn-Phong lobe of exponent s is the Beckmann lobe of alpha^2 = 2 / (s + 2)), and
+  a complex index of refraction (eta, k) per channel fitted so that the conductor Fresnel
+  curve matches Schlick's with the same F0 (within 0.031 at every angle for F0 >= 0.005, 0.026
+  for glTF's 0.04, 0.012 for F0 >= 0.45; see `fresnel_ior`). Mitsuba's dielectric Fresnel (k =
+  0, eta = 1.5 for F0 = 0.04) would be within 0.036, but for metals' large F0 it dips by up to
+  0.45 near grazing (Brewster angle), so one fitted conductor serves both.
+- both layers: `blendbsdf` with weight 1/2 of `diffuse` with reflectance 2 (1 - m) k_d and the
+  `roughconductor` above with specular_reflectance 2, which is exactly the sum of the two
+  layers, as in the renderer. Mitsuba's plastic models are NOT used: `plastic`/`roughplastic`
+  couple the layers (the diffuse part is attenuated by the Fresnel transmission in and out and
+  by internal reflections: for k_d = 0.5, IOR 1.5 and alpha 0.16, roughplastic's diffuse part
+  reflects 0.45 of the light at normal incidence and 0.36 at 75 degrees where the renderer's
+  Lambert layer reflects 0.5 at every angle).
+
+Where Mitsuba's specular layer still differs from the renderer's (measured by integrating both
+BRDFs over the hemisphere):
+
+- The microfacet form. Mitsuba evaluates F D G / (4 cos_i cos_o) with Smith's shadowing G; the
+  renderer's analytic lobe, used for point, spot and directional lights, is F D / 4, i.e. G
+  replaced by cos_i cos_o. Its directional albedo is therefore about F cos_o^2 where Mitsuba's
+  is about F: ratios renderer/Mitsuba at r = 0.25 for view angles 0/30/60/75 degrees 0.99/0.72/
+  0.19/0.07 (r = 0.4: 0.95/0.68/0.18/0.07). Highlights of point lights seen at oblique angles
+  are brighter in these references than in the renderer's direct light. The renderer's
+  cone-traced specular (glsl/cone_pixels.comp: F(w_o.n) times the cone's radiance) has albedo
+  F, as Mitsuba's does, so light reflected from emitters and walls matches in form.
+- Rough lobes. The two distributions of half vectors (each normalized, projected) differ by
+  0.2 % (L1) at r = 0.25, 1.4 % at 0.4, 5 % at 0.55, 12 % at 0.7 and 41 % at r = 1, where the
+  renderer's lobe is uniform over the half vectors (s = 0) and Beckmann's (alpha = 1) is not.
+  With the microfacet form above, the renderer's analytic lobe at r = 1 reflects 0.52..0.29 of
+  Mitsuba's (view 0..75 degrees): for glTF's default dielectric (F0 = 0.04, r = 1) about 1 % of
+  the incident light against Mitsuba's 2..6 %, next to a Lambert layer of k_d.
+- Fresnel: Schlick against the fitted conductor curve, within 0.031 (above).
+- The voxel cones of the renderer carry diffuse radiance only; the references contain every
+  path, including light that specular surfaces reflect onto other surfaces.
+
+Textures (materials from glTF/OBJ files, engine/scene.py `Material`): the base-colour texture
+(sRGB-decoded) times the albedo factor becomes a float bitmap (baked with the layer's factors,
+e.g. 2 (1 - m) k_d inside a blend); metal textures give per-texel eta/k; the roughness channel
+(G) of a metal-roughness texture gives a per-texel alpha; the emissive texture (sRGB-decoded)
+times `emission` becomes the area emitter's radiance bitmap. Texture coordinates go to Mitsuba
+unchanged: glTF's (0, 0) is the image's top-left and so is Mitsuba's (the image's row 0 is at
+v = 0). Bitmaps are filtered bilinearly without mipmaps (each pixel integrates its footprint
+by sampling) where the renderer filters trilinearly; wrap modes map to repeat/mirror/clamp
+(Mitsuba has one mode for both axes: textures whose two modes differ are refused where the
+texture coordinates leave [0, 1]). Alpha (alpha_mode MASK, and BLEND drawn as MASK): the
+alpha (base-colour texture's alpha times `alpha`) is thresholded at `alpha_cutoff` per texel
+into a 0/1 opacity bitmap read with nearest filtering inside a `mask` BSDF, so the cut-out
+edges follow texel edges (exact for 0/1 alpha, within half a texel otherwise); emission is
+cut out the same way, a surface cut out everywhere is dropped, and scenes with masks are
+rendered with `volpath` (whose shadow rays pass through masks; `path`'s do not).
+`double_sided` wraps the BSDF in `twosided`; emitters stay one-sided (front faces only).
+Refused with one line naming the field: normal textures, and metal-roughness textures whose
+metalness (B) varies across the image.
 """
 import argparse
+import datetime
+import functools
+import hashlib
+import json
+import subprocess
 import sys
 import tempfile
+import time
 from pathlib import Path
 
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
+ROOT = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(ROOT))
 
 import engine  # noqa: E402
 from engine import transforms  # noqa: E402
 
-
-def rgb(value):
-    return {"type": "rgb", "value": [float(v) for v in value]}
-
-
-def scene_dict(scene, spp, max_depth, mesh_dir):
-    import trimesh
-
-    camera = scene.camera
-    up = np.asarray(camera.up, float)
-    sensor = {
-        "type": "perspective", "fov": camera.vertical_fov_deg, "fov_axis": "y",
-        "to_world": mi.ScalarTransform4f.look_at(origin=list(camera.position), target=list(camera.look_at), up=list(up)),
-        "film": {"type": "hdrfilm", "width": camera.width, "height": camera.height, "rfilter": {"type": "box"},
-                 "pixel_format": "rgb"},
-        "sampler": {"type": "independent", "sample_count": spp},
-    }
-    result = {"type": "scene", "integrator": {"type": "path", "max_depth": max_depth}, "sensor": sensor}
-    for k, (node, world) in enumerate(scene.drawables()):
-        material = node.material
-        if material.metalness > 0 or material.specular > 0:
-            raise engine.VctError("the reference supports Lambertian materials only", field=f"materials.{material.name}")
-        path = Path(mesh_dir) / f"mesh{k}.ply"
-        positions = transforms.transform_points(world, node.mesh.positions)
-        trimesh.Trimesh(positions, node.mesh.indices, process=False).export(path)
-        shape = {"type": "ply", "filename": str(path), "face_normals": True,
-                 "bsdf": {"type": "diffuse", "reflectance": rgb(material.albedo)}}
-        if np.any(material.emission > 0):
-            shape["emitter"] = {"type": "area", "radiance": rgb(material.emission)}
-        result[f"shape{k}"] = shape
-    for k, (_, light) in enumerate(scene.lights()):
-        if light.range > 0:
-            raise engine.VctError("the reference has no light range", field="lights")
-        if light.type == "point":
-            emitter = {"type": "point", "position": list(light.position), "intensity": rgb(light.intensity)}
-        elif light.type == "spot":
-            # vct's spot falls off smoothly between the inner and outer angles, Mitsuba's linearly.
-            emitter = {"type": "spot", "intensity": rgb(light.intensity), "cutoff_angle": light.outer_angle_deg,
-                       "beam_width": light.inner_angle_deg,
-                       "to_world": mi.ScalarTransform4f.look_at(origin=list(light.position),
-                                                                target=list(light.position + light.direction),
-                                                                up=[0, 1, 0] if abs(light.direction[1]) < 0.99 else [1, 0, 0])}
-        else:
-            emitter = {"type": "directional", "direction": list(light.direction), "irradiance": rgb(light.intensity)}
-        result[f"light{k}"] = emitter
-    return result
+TOOL_VERSION = 2  # 1: Lambertian only; 2: specular layer, textures, alpha masks, meta/png/halves
+MIN_ROUGHNESS = 0.05  # glsl/lib/brdf.glsl clamps the roughness the same way
+WRAP = {"REPEAT": "repeat", "MIRRORED_REPEAT": "mirror", "CLAMP_TO_EDGE": "clamp"}
+mi = None  # the mitsuba module, imported by main() or use_mitsuba()
 
 
-def main():
+def use_mitsuba(variant="scalar_rgb"):
+    """Import Mitsuba and select `variant` (the converter needs one to build transforms and bitmaps)."""
     global mi
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("scene")
-    parser.add_argument("out", help="output .npy (linear float32 radiance, row 0 at the top)")
-    parser.add_argument("--spp", type=int, default=1024)
-    parser.add_argument("--max-depth", type=int, default=-1, help="-1: all bounces; 2: direct only; 3: + one bounce")
-    args = parser.parse_args()
-    import mitsuba as mi
+    import mitsuba
 
-    variant = "scalar_rgb"  # the LLVM variants need a libLLVM that Dr.Jit can drive; scalar always runs
-    mi.set_variant(variant)
-    scene = engine.load_scene(args.scene)
+    mitsuba.set_variant(variant)
+    mi = mitsuba
+    return mitsuba
+
+
+class ReferenceError_(engine.VctError):
+    """A scene the reference cannot render as the renderer would (one line naming the field)."""
+
+
+# ---- colour and Fresnel ---------------------------------------------------------------------
+
+def srgb_to_linear(c):
+    c = np.asarray(c, np.float64)
+    return np.where(c <= 0.04045, c / 12.92, ((c + 0.055) / 1.055) ** 2.4)
+
+
+def schlick(f0, cos):
+    return f0 + (1.0 - f0) * (1.0 - cos) ** 5
+
+
+def conductor_fresnel(n, k, cos):
+    """Unpolarized Fresnel reflectance of a conductor of complex index n + ik (vacuum outside)."""
+    sin2 = 1.0 - cos * cos
+    t = n * n - k * k - sin2
+    ab = np.sqrt(t * t + 4.0 * n * n * k * k)
+    a = np.sqrt(np.maximum(0.5 * (ab + t), 0.0))
+    rs = (ab - 2.0 * a * cos + cos * cos) / (ab + 2.0 * a * cos + cos * cos)
+    rp = rs * (ab * cos * cos - 2.0 * a * cos * sin2 + sin2 * sin2) / (ab * cos * cos + 2.0 * a * cos * sin2 + sin2 * sin2)
+    return 0.5 * (rs + rp)
+
+
+@functools.lru_cache(maxsize=1)
+def _fresnel_table():
+    """(F0, n, k) on a grid of F0 (denser towards 0): for each F0 the (n, k) with conductor
+    reflectance F0 at normal incidence whose curve deviates least (max over angles) from Schlick's."""
+    cos = np.linspace(0.0, 1.0, 257)
+    f0s = np.concatenate([np.geomspace(1e-4, 0.05, 60, endpoint=False), np.linspace(0.05, 1.0, 191)])
+    coarse = np.geomspace(1e-3, 200.0, 160)
+    table = []
+    for f0 in f0s:
+        if f0 >= 1.0:  # n = 0 reflects everything at every angle, as Schlick's F0 = 1 does
+            table.append((1.0, 0.0, table[-1][2]))
+            continue
+        target = schlick(f0, cos)[None]
+        ns = coarse
+        for _ in range(2):  # a coarse search over n, then a fine one around the best
+            k2 = (f0 * (ns + 1) ** 2 - (ns - 1) ** 2) / (1 - f0)
+            n, k = ns[k2 >= 0], np.sqrt(k2[k2 >= 0])
+            best = int(np.argmin(np.abs(conductor_fresnel(n[:, None], k[:, None], cos[None]) - target).max(axis=1)))
+            ns = np.linspace(n[max(best - 1, 0)], n[min(best + 1, len(n) - 1)], 41)
+        table.append((f0, n[best], k[best]))
+    return np.array(table)
+
+
+def fresnel_ior(f0):
+    """(eta, k) arrays shaped like f0 (reflectance at normal incidence, 0..1) whose conductor
+    Fresnel curve follows Schlick's with that F0 within 0.031 at every angle for F0 >= 0.005
+    (interpolated in a fitted table; F0 below 1e-4 is taken as 1e-4; below 0.005, where no
+    conductor curve rises as steeply near grazing as Schlick's, the error reaches 0.4)."""
+    table = _fresnel_table()
+    f0 = np.clip(np.asarray(f0, np.float64), table[0, 0], 1.0)
+    return np.interp(f0, table[:, 0], table[:, 1]), np.interp(f0, table[:, 0], table[:, 2])
+
+
+# ---- meshes -------------------------------------------------------------------------------
+
+def write_ply(path, positions, indices, normals=None, texcoords=None):
+    """Binary PLY that Mitsuba's `ply` shape reads: x y z [nx ny nz] [u v], triangles."""
+    columns, names = [np.asarray(positions, np.float32)], ["x", "y", "z"]
+    if normals is not None:
+        columns.append(np.asarray(normals, np.float32))
+        names += ["nx", "ny", "nz"]
+    if texcoords is not None:
+        columns.append(np.asarray(texcoords, np.float32))
+        names += ["u", "v"]
+    vertices = np.ascontiguousarray(np.hstack(columns), dtype="<f4")
+    faces = np.zeros(len(indices), dtype=[("n", "u1"), ("i", "<i4", (3,))])
+    faces["n"] = 3
+    faces["i"] = np.asarray(indices).reshape(-1, 3)
+    header = ("ply\nformat binary_little_endian 1.0\n"
+              f"element vertex {len(vertices)}\n" + "".join(f"property float {n}\n" for n in names) +
+              f"element face {len(faces)}\nproperty list uchar int vertex_indices\nend_header\n")
+    Path(path).write_bytes(header.encode("ascii") + vertices.tobytes() + faces.tobytes())
+
+
+def read_ply(path):
+    """(vertex table (V, columns) float32, property names, triangles) of a PLY made by write_ply."""
+    data = Path(path).read_bytes()
+    end = data.index(b"end_header\n") + len(b"end_header\n")
+    lines = data[:end].decode("ascii").splitlines()
+    names = [line.split()[2] for line in lines if line.startswith("property float")]
+    count = int(next(line for line in lines if line.startswith("element vertex")).split()[2])
+    faces = int(next(line for line in lines if line.startswith("element face")).split()[2])
+    vertices = np.frombuffer(data, "<f4", count * len(names), end).reshape(count, len(names))
+    triangles = np.frombuffer(data, [("n", "u1"), ("i", "<i4", (3,))], faces, end + vertices.nbytes)["i"]
+    return vertices, names, triangles
+
+
+# ---- the converter ------------------------------------------------------------------------
+
+class Converter:
+    """Builds the Mitsuba scene dict of a vct scene; meshes are written as PLY into `mesh_dir`."""
+
+    def __init__(self, scene, mesh_dir):
+        self.scene = scene
+        self.mesh_dir = Path(mesh_dir)
+        self.masked = False
+
+    def fail(self, field, message):
+        raise ReferenceError_(message, source=self.scene.source, field=field)
+
+    # -- textures
+
+    def bitmap(self, array, wrap="repeat", nearest=False):
+        """A Mitsuba bitmap texture of linear float values (H, W, C), row 0 at the image's top."""
+        array = np.ascontiguousarray(array, np.float32)
+        if array.ndim == 2:
+            array = array[..., None]
+        return {"type": "bitmap", "bitmap": mi.Bitmap(array), "raw": True,
+                "filter_type": "nearest" if nearest else "bilinear", "wrap_mode": wrap}
+
+    def colour(self, value, texture=None, wrap="repeat"):
+        """rgb(value), or a float bitmap (texture times value) where a texture is given or a value
+        exceeds 1 (Mitsuba refuses reflectances above 1 in rgb, not in float bitmaps)."""
+        value = np.asarray(value, np.float64)
+        if texture is None:
+            if np.all(value <= 1.0):
+                return {"type": "rgb", "value": [float(v) for v in value]}
+            return self.bitmap(value.reshape(1, 1, 3))
+        return self.bitmap(texture * value, wrap)
+
+    @staticmethod
+    def rgb_of(texture):
+        """Linear RGB (H, W, 3) of a Texture: sRGB-decoded where it is colour; grey replicated."""
+        image = texture.image.astype(np.float64) / 255.0
+        rgb = image[..., :3] if image.shape[2] >= 3 else np.repeat(image[..., :1], 3, axis=2)
+        return srgb_to_linear(rgb) if texture.srgb else rgb
+
+    @staticmethod
+    def alpha_of(texture):
+        """The alpha channel (H, W) of a Texture (linear), or None where it has none."""
+        if texture.image.shape[2] in (2, 4):
+            return texture.image[..., -1].astype(np.float64) / 255.0
+        return None
+
+    def wrap_of(self, texture, mesh, field):
+        if texture.wrap_s != texture.wrap_t:
+            uv = mesh.texcoords
+            if uv is not None and (uv.min() < 0.0 or uv.max() > 1.0):
+                self.fail(field, f"wrap modes {texture.wrap_s} (u) and {texture.wrap_t} (v) differ and the texture "
+                                 "coordinates leave [0, 1]: Mitsuba's bitmap has one wrap mode for both axes")
+        return WRAP[texture.wrap_s]
+
+    # -- materials
+
+    def opacity(self, material, mesh, field):
+        """None (opaque), 0.0 (cut out everywhere) or (H, W) 0/1 opacity of the texels."""
+        if material.alpha_mode == "OPAQUE":
+            return None
+        alpha = np.full((1, 1), float(material.alpha))
+        if material.base_color_texture is not None and self.alpha_of(material.base_color_texture) is not None:
+            alpha = self.alpha_of(material.base_color_texture) * material.alpha
+        keep = (alpha >= material.alpha_cutoff).astype(np.float32)
+        if keep.all():
+            return None
+        if not keep.any():
+            return 0.0
+        if alpha.shape == (1, 1):
+            return None if keep[0, 0] else 0.0
+        return keep
+
+    def bsdf(self, material, mesh, field):
+        """The Mitsuba BSDF dict of a vct Material (see the module docstring)."""
+        if material.normal_texture is not None:
+            self.fail(f"{field}.normal_texture", "normal textures are not converted (Mitsuba's normalmap builds its "
+                                                 "tangent frame differently); give the part a scene material")
+        base = material.base_color_texture
+        wrap = self.wrap_of(base, mesh, f"{field}.base_color_texture") if base is not None else "repeat"
+        texture = self.rgb_of(base) if base is not None else None  # k_d = albedo x texture
+        albedo = np.asarray(material.albedo, np.float64)
+        k_d = albedo * texture if texture is not None else albedo  # (H, W, 3) or (3,)
+        metalness = float(material.metalness)
+        roughness = np.full((1, 1), float(material.roughness))
+        mr = material.metallic_roughness_texture
+        mr_wrap = "repeat"
+        if mr is not None:
+            mr_field = f"{field}.metallic_roughness_texture"
+            mr_wrap = self.wrap_of(mr, mesh, mr_field)
+            channels = self.rgb_of(mr)
+            if metalness > 0:
+                if np.ptp(channels[..., 2]) > 0:
+                    self.fail(mr_field, "metalness that varies across the texture (its B channel) is not converted")
+                metalness *= float(channels[0, 0, 2])
+            roughness = roughness * channels[..., 1]
+        if metalness > 0:  # F0 = mix(specular, k_d, m): per texel where k_d is textured
+            f0 = (1.0 - metalness) * float(material.specular) + metalness * k_d
+        else:
+            f0 = np.full(3, float(material.specular))
+        diffuse_factor = (1.0 - metalness) * albedo  # the diffuse reflectance is diffuse_factor x texture
+        if not np.any(f0 > 0):
+            return {"type": "diffuse", "reflectance": self.colour(diffuse_factor, texture, wrap)}
+        alpha = np.maximum(roughness, MIN_ROUGHNESS) ** 2
+        eta, k = fresnel_ior(f0)
+        specular = {"type": "roughconductor", "distribution": "beckmann",
+                    "alpha": float(alpha.flat[0]) if np.ptp(alpha) == 0 else self.bitmap(alpha, mr_wrap),
+                    "eta": self.ior(eta, wrap), "k": self.ior(k, wrap)}
+        if metalness >= 1.0 or not np.any(diffuse_factor > 0):
+            return specular
+        # The sum of the two layers: a blend of weight 1/2 of each, doubled.
+        specular["specular_reflectance"] = 2.0
+        return {"type": "blendbsdf", "weight": 0.5,
+                "bsdf_0": {"type": "diffuse", "reflectance": self.colour(2.0 * diffuse_factor, texture, wrap)},
+                "bsdf_1": specular}
+
+    def ior(self, values, wrap):
+        """eta or k: rgb where constant, else a per-texel float bitmap."""
+        values = np.asarray(values, np.float64)
+        if values.ndim == 1:
+            return {"type": "rgb", "value": [float(v) for v in values]}
+        return self.bitmap(values, wrap)
+
+    def surface(self, material, mesh, field):
+        """(bsdf, emitter) dicts of a drawn part, or None where the part is cut out everywhere."""
+        keep = self.opacity(material, mesh, field)
+        if isinstance(keep, float):
+            return None
+        bsdf = self.bsdf(material, mesh, field)
+        if material.double_sided:
+            bsdf = {"type": "twosided", "bsdf": bsdf}
+        if keep is not None:
+            bsdf = {"type": "mask", "opacity": self.bitmap(keep, self.wrap_of(material.base_color_texture, mesh, field),
+                                                          nearest=True), "bsdf": bsdf}
+            self.masked = True
+        emitter = None
+        emission = np.asarray(material.emission, np.float64)
+        if np.any(emission > 0):
+            texture = material.emissive_texture
+            if texture is None and keep is None:
+                emitter = {"type": "area", "radiance": {"type": "rgb", "value": [float(v) for v in emission]}}
+            else:
+                radiance = self.rgb_of(texture) * emission if texture is not None else emission.reshape(1, 1, 3)
+                wrap = self.wrap_of(texture, mesh, f"{field}.emissive_texture") if texture is not None else "repeat"
+                if keep is not None:  # cut out where the surface is: both on the finer of the two grids
+                    shape = max(radiance.shape[:2], keep.shape, key=lambda s: s[0] * s[1])
+                    radiance = _resample(radiance, shape) * _resample(keep[..., None], shape)
+                    wrap = self.wrap_of(material.base_color_texture, mesh, field)
+                emitter = {"type": "area", "radiance": self.bitmap(radiance, wrap)}
+        return bsdf, emitter
+
+    # -- the scene
+
+    def scene_dict(self, spp, max_depth, sampler="independent"):
+        scene = self.scene
+        camera = scene.camera
+        sensor = {
+            "type": "perspective", "fov": float(camera.vertical_fov_deg), "fov_axis": "y",
+            "to_world": mi.ScalarTransform4f.look_at(origin=[float(v) for v in camera.position],
+                                                     target=[float(v) for v in camera.look_at],
+                                                     up=[float(v) for v in camera.up]),
+            "film": {"type": "hdrfilm", "width": int(camera.width), "height": int(camera.height),
+                     "rfilter": {"type": "box"}, "pixel_format": "rgb"},
+            "sampler": {"type": sampler, "sample_count": int(spp)},
+        }
+        result = {"type": "scene", "sensor": sensor}
+        for k, (node, world) in enumerate(scene.drawables()):
+            material = node.material
+            field = f'objects "{node.name}" material "{material.name}"'
+            surface = self.surface(material, node.mesh, field)
+            if surface is None:
+                continue
+            bsdf, emitter = surface
+            path = self.mesh_dir / f"mesh{k}.ply"
+            self.write_mesh(path, node.mesh, world, needs_texcoords=_has_textures(material), field=field)
+            shape = {"type": "ply", "filename": str(path), "face_normals": False, "bsdf": bsdf}
+            if emitter is not None:
+                shape["emitter"] = emitter
+            result[f"shape{k}"] = shape
+        for k, (node, light) in enumerate(scene.lights()):
+            field = f'lights "{node.name}"'
+            if light.range > 0:
+                self.fail(f"{field}.range", "the reference has no light range (inverse square only)")
+            if not light.cast_shadows:
+                self.fail(f"{field}.cast_shadows", "the reference's lights always cast shadows")
+            if light.type == "point":
+                emitter = {"type": "point", "position": [float(v) for v in light.position],
+                           "intensity": {"type": "rgb", "value": [float(v) for v in light.intensity]}}
+            elif light.type == "spot":
+                # vct's spot falls off smoothly between the inner and outer angles, Mitsuba's linearly.
+                up = [0, 1, 0] if abs(light.direction[1]) < 0.99 else [1, 0, 0]
+                emitter = {"type": "spot", "intensity": {"type": "rgb", "value": [float(v) for v in light.intensity]},
+                           "cutoff_angle": float(light.outer_angle_deg), "beam_width": float(light.inner_angle_deg),
+                           "to_world": mi.ScalarTransform4f.look_at(origin=[float(v) for v in light.position],
+                                                                    target=[float(v) for v in light.position + light.direction],
+                                                                    up=up)}
+            else:
+                emitter = {"type": "directional", "direction": [float(v) for v in light.direction],
+                           "irradiance": {"type": "rgb", "value": [float(v) for v in light.intensity]}}
+            result[f"light{k}"] = emitter
+        # Shadow rays of `path` stop at any surface; `volpath` lets them through masks' holes.
+        result["integrator"] = {"type": "volpath" if self.masked else "path", "max_depth": int(max_depth)}
+        return result
+
+    def write_mesh(self, path, mesh, world, needs_texcoords, field):
+        positions = transforms.transform_points(world, mesh.positions)
+        normal_matrix = np.linalg.inv(world[:3, :3]).T
+        normals = np.asarray(mesh.normals, np.float64) @ normal_matrix.T
+        normals /= np.maximum(np.linalg.norm(normals, axis=1, keepdims=True), 1e-30)
+        indices = np.asarray(mesh.indices).reshape(-1, 3)
+        if np.linalg.det(world[:3, :3]) < 0:  # a mirroring transform: keep the front faces in front
+            indices = indices[:, ::-1]
+        if needs_texcoords and mesh.texcoords is None:
+            self.fail(field, "the material has textures but the mesh has no texture coordinates")
+        write_ply(path, positions, indices, normals, mesh.texcoords)
+
+
+def _has_textures(material):
+    return bool(material.textures())
+
+
+def _resample(image, shape):
+    """Nearest-neighbour resampling of (H, W, C) to shape (h, w), by texel centres."""
+    if image.shape[:2] == tuple(shape):
+        return image
+    rows = np.minimum((np.arange(shape[0]) + 0.5) * image.shape[0] / shape[0], image.shape[0] - 1).astype(int)
+    cols = np.minimum((np.arange(shape[1]) + 0.5) * image.shape[1] / shape[1], image.shape[1] - 1).astype(int)
+    return image[rows][:, cols]
+
+
+def scene_dict(scene, spp, max_depth, mesh_dir, sampler="independent"):
+    """The Mitsuba scene dict of a vct scene (mitsuba must be imported: use_mitsuba())."""
+    return Converter(scene, mesh_dir).scene_dict(spp, max_depth, sampler)
+
+
+# ---- rendering and output -------------------------------------------------------------------
+
+def rel_mae(image, reference):
+    return float(np.abs(image.astype(np.float64) - reference).sum() / np.asarray(reference, np.float64).sum())
+
+
+def render(scene, spp, max_depth, seed=0, pass_spp=64, sampler="independent", progress=None):
+    """(mean image, half A, half B, integrator): two independent halves of spp/2 samples each,
+    in passes of pass_spp samples with distinct seeds."""
+    halves = []
     with tempfile.TemporaryDirectory() as mesh_dir:
-        loaded = mi.load_dict(scene_dict(scene, args.spp, args.max_depth, mesh_dir))
-        image = np.array(mi.render(loaded), dtype=np.float32)[..., :3]
-    engine.save_npy(args.out, image)
-    print(f"wrote {args.out} ({image.shape[1]}x{image.shape[0]}, {args.spp} spp, max depth {args.max_depth}, "
-          f"{variant}), mean radiance {image.reshape(-1, 3).mean(axis=0).round(4).tolist()}")
+        converted = scene_dict(scene, pass_spp, max_depth, mesh_dir, sampler)
+        loaded = mi.load_dict(converted)
+        passes = spp // 2 // pass_spp
+        for half in range(2):
+            total = None
+            for k in range(passes):
+                pass_seed = (seed * 2 + half) * 100_003 + k
+                image = np.array(mi.render(loaded, spp=pass_spp, seed=pass_seed), dtype=np.float64)[..., :3]
+                total = image if total is None else total + image
+                if progress:
+                    progress(half * passes + k + 1, 2 * passes)
+            halves.append(total / passes)
+    return (halves[0] + halves[1]) / 2.0, halves[0], halves[1], converted["integrator"]["type"]
+
+
+def emitter_pixels(scene, spp=16):
+    """Boolean (H, W): pixels where the camera sees an emitter directly (in any part of the footprint)."""
+    with tempfile.TemporaryDirectory() as mesh_dir:
+        loaded = mi.load_dict(scene_dict(scene, spp, 1, mesh_dir))
+        return np.array(mi.render(loaded, spp=spp, seed=1), dtype=np.float64)[..., :3].max(axis=2) > 0
+
+
+def preview(image, exposure):
+    """uint8 sRGB of clip(radiance * exposure, 0, 1)."""
+    c = np.clip(image * exposure, 0.0, 1.0)
+    c = np.where(c <= 0.0031308, 12.92 * c, 1.055 * np.power(c, 1.0 / 2.4) - 0.055)
+    return np.round(c * 255.0).astype(np.uint8)
+
+
+def git_commit():
+    try:
+        out = subprocess.run(["git", "-C", str(ROOT), "rev-parse", "--short", "HEAD"], capture_output=True, text=True, timeout=10)
+        dirty = subprocess.run(["git", "-C", str(ROOT), "status", "--porcelain", "--", "tools/reference.py", "engine"],
+                               capture_output=True, text=True, timeout=10)
+        return out.stdout.strip() + ("+dirty" if dirty.stdout.strip() else "") if out.returncode == 0 else None
+    except (OSError, subprocess.SubprocessError):
+        return None
+
+
+def _display_path(path):
+    path = Path(path).resolve()
+    try:
+        return str(path.relative_to(ROOT))
+    except ValueError:
+        return str(path)
+
+
+class _Parser(argparse.ArgumentParser):
+    def error(self, message):
+        self.exit(2, f"reference.py: error: {message} (see `{self.prog} --help`)\n")
+
+
+def _positive(text):
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a whole number, got {text!r}") from None
+    if value <= 0:
+        raise argparse.ArgumentTypeError(f"must be positive, got {value}")
+    return value
+
+
+def main(argv=None):
+    parser = _Parser(description=__doc__.splitlines()[0])
+    parser.add_argument("scene")
+    parser.add_argument("out", help="output .npy (linear float32 radiance, row 0 at the top); .meta.json and .png beside it")
+    parser.add_argument("--spp", type=_positive, default=1024, help="samples per pixel in all (two halves of spp/2)")
+    parser.add_argument("--max-depth", type=int, default=-1, help="-1: all bounces; 2: direct only; 3: + one bounce")
+    parser.add_argument("--pass-spp", type=_positive, default=64, help="samples per pixel of one render call")
+    parser.add_argument("--seed", type=int, default=0, help="seeds of the passes derive from it (0..9999)")
+    parser.add_argument("--sampler", default="independent", choices=["independent", "stratified", "multijitter"])
+    parser.add_argument("--variant", default="scalar_rgb", choices=["scalar_rgb", "llvm_ad_rgb"])
+    parser.add_argument("--png-exposure", type=float, default=0.6, help="preview: clip(radiance * exposure, 0, 1), sRGB")
+    parser.add_argument("--note", default=None, help="a line stored in the meta (what the scene tests)")
+    args = parser.parse_args(argv)
+    if args.max_depth == 0 or args.max_depth < -1:
+        parser.error("argument --max-depth: must be -1 (all bounces) or at least 1")
+    if args.spp % (2 * args.pass_spp):
+        parser.error(f"argument --spp: must be a multiple of 2 x --pass-spp = {2 * args.pass_spp} (two halves of whole passes)")
+    if args.sampler != "independent" and round(args.pass_spp ** 0.5) ** 2 != args.pass_spp:
+        parser.error(f"argument --pass-spp: the {args.sampler} sampler needs a perfect square, got {args.pass_spp}")
+    if not 0 <= args.seed < 10000:
+        parser.error("argument --seed: must be in 0..9999")
+    out = Path(args.out)
+    if out.suffix != ".npy":
+        parser.error(f"argument out: must end in .npy, got {args.out!r}")
+    if not out.parent.is_dir():
+        parser.error(f"argument out: directory {str(out.parent)!r} does not exist")
+    try:
+        use_mitsuba(args.variant)
+    except ImportError:
+        print("reference.py: error: mitsuba is not installed (pip install -e '.[reference]')", file=sys.stderr)
+        return 2
+    try:
+        scene = engine.load_scene(args.scene)
+        with tempfile.TemporaryDirectory() as mesh_dir:  # convert first: bad input fails before rendering
+            scene_dict(scene, args.pass_spp, args.max_depth, mesh_dir, args.sampler)
+        commit = git_commit()  # before rendering: the code that renders is the code of this commit
+        start = time.time()
+
+        def progress(done, total):
+            print(f"\r{done}/{total} passes, {time.time() - start:.0f} s", end="", file=sys.stderr, flush=True)
+
+        image, a, b, integrator = render(scene, args.spp, args.max_depth, args.seed, args.pass_spp, args.sampler, progress)
+        seconds = time.time() - start
+        print(file=sys.stderr)
+        image = image.astype(np.float32)
+        halves_mae = rel_mae(a, b)
+        emitters = emitter_pixels(scene)
+        lit = ~emitters
+        halves_mae_lit = rel_mae(a[lit], b[lit]) if lit.any() and b[lit].sum() > 0 else None
+        halves_rmse = float(np.sqrt(((a - b) ** 2).sum() / (b ** 2).sum()))
+        scene_path = Path(args.scene)
+        meta = {
+            "scene": _display_path(scene_path),
+            "scene_sha256": hashlib.sha256(scene_path.read_bytes()).hexdigest(),
+            "note": args.note,
+            "tool": "tools/reference.py", "tool_version": TOOL_VERSION, "git_commit": commit,
+            "date": datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds"),
+            "renderer": f"mitsuba {mi.__version__} ({args.variant})",
+            "integrator": integrator,
+            "max_depth": args.max_depth, "rr_depth": 5,
+            "spp": args.spp, "spp_per_pass": args.pass_spp, "sampler": args.sampler, "rfilter": "box", "seed": args.seed,
+            "render_seconds": round(seconds, 1),
+            "convergence": {
+                "halves_relMAE": round(halves_mae, 6),
+                "halves_relRMSE_global": round(halves_rmse, 6),
+                "halves_spp": args.spp // 2,
+                "est_two_full_renders_relMAE": round(halves_mae / 2 ** 0.5, 6),
+                "est_vs_converged_relMAE": round(halves_mae / 2, 6),
+                "emitter_pixels": int(emitters.sum()),
+                "halves_relMAE_without_emitter_pixels": None if halves_mae_lit is None else round(halves_mae_lit, 6),
+                "definition": "relMAE(A, B) = sum|A - B| / sum B over pixels and channels; A, B: independent "
+                              "renders of spp/2 each (different seeds); the reference is their mean; "
+                              "without_emitter_pixels: over the pixels where no emitter is seen directly",
+            },
+            "png_exposure": args.png_exposure,
+            "png_encoding": "clip(radiance*exposure, 0, 1) -> sRGB",
+            "mean_radiance_rgb": [float(v) for v in image.reshape(-1, 3).mean(axis=0)],
+            "shape": list(image.shape), "dtype": "float32", "row0": "top",
+        }
+        engine.save_npy(out, image)
+        engine.save_png(out.with_suffix(".png"), preview(image, args.png_exposure))
+        text = json.dumps(meta, indent=1) + "\n"
+        engine.output.write_atomically(out.with_suffix(".meta.json"), lambda f: f.write(text.encode()))
+    except engine.VctError as exc:
+        print(f"reference.py: error: {exc}", file=sys.stderr)
+        return 2
+    print(f"wrote {out} ({image.shape[1]}x{image.shape[0]}, {args.spp} spp, max depth {args.max_depth}, {args.variant}, "
+          f"{seconds:.0f} s), halves relMAE {halves_mae:.4f} ({halves_mae_lit if halves_mae_lit is None else round(halves_mae_lit, 4)} "
+          f"without the {int(emitters.sum())} emitter pixels), mean radiance {np.round(meta['mean_radiance_rgb'], 4).tolist()}")
+    return 0
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(main())

@@ -1,0 +1,246 @@
+"""tools/reference.py: how vct scenes become Mitsuba 3 scenes (no renders here but one of 30x30
+pixels that checks the texture orientation).
+
+Facts: a Lambertian material becomes `diffuse`; a specular layer becomes a Beckmann
+`roughconductor` of alpha = r^2 whose Fresnel curve follows Schlick's with the material's F0 (the
+dielectric `specular`, or the albedo of a metal), added to the Lambert layer by a `blendbsdf` of
+weight 1/2 with both parts doubled; a base-colour texture becomes a linear float bitmap (sRGB
+decoded, times the layer's factor) and the mesh keeps glTF's texture coordinates, which Mitsuba
+shows the right way up; an emissive texture becomes the area emitter's radiance; alpha masks
+become a `mask` BSDF with a per-texel 0/1 opacity (and `volpath`, whose shadow rays pass through
+the holes), double-sided materials `twosided`; a part cut out everywhere is dropped. What the
+tool cannot convert fails with one line naming the field and exit code 2.
+"""
+import importlib.util
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import engine
+from test_mesh_files import PAINTING, Gltf, png  # tests/ is on sys.path under pytest
+
+mitsuba = pytest.importorskip("mitsuba")
+
+ROOT = Path(__file__).resolve().parent.parent
+TOOL = ROOT / "tools" / "reference.py"
+CAMERA = {"position": [0.5, 0.5, 1.0], "look_at": [0.5, 0.5, 0.0], "vertical_fov_deg": 53.130102354, "width": 30, "height": 30}
+
+
+@pytest.fixture(scope="module")
+def reference():
+    spec = importlib.util.spec_from_file_location("reference_tool", TOOL)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    module.use_mitsuba("scalar_rgb")
+    return module
+
+
+def write_scene(directory, objects, materials=None, lights=()):
+    path = Path(directory) / "scene.json"
+    path.write_text(json.dumps({"camera": CAMERA, "materials": materials or {}, "objects": objects, "lights": list(lights)}))
+    return path
+
+
+def quad(material="m"):
+    return {"name": "Quad", "type": "quad", "material": material, "vertices": [[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]]}
+
+
+def convert(reference, scene_path, directory, max_depth=-1):
+    scene = engine.load_scene(scene_path)
+    return reference.scene_dict(scene, 4, max_depth, directory)
+
+
+def shapes(converted):
+    return [value for key, value in converted.items() if key.startswith("shape")]
+
+
+def gltf_quad(directory, material, image=PAINTING):
+    """A glb with one unit quad (image top-left at (0, 1, 0)) and one material using `image`."""
+    g = Gltf()
+    texture = g.texture(g.image(png(image)))
+    spec = json.loads(json.dumps(material).replace('"TEXTURE"', str(texture)))
+    g.add("meshes", {"primitives": [g.quad(g.add("materials", spec))]})
+    g.add("nodes", {"name": "Model", "mesh": 0})
+    g.doc["scenes"][0]["nodes"] = [0]
+    g.write(Path(directory) / "model.glb")
+    return write_scene(directory, [{"name": "Model", "type": "mesh", "file": "model.glb"}])
+
+
+def bitmap_values(texture):
+    assert texture["type"] == "bitmap" and texture["raw"] is True
+    return np.array(texture["bitmap"], dtype=np.float64)
+
+
+def test_lambertian_material_becomes_diffuse_with_the_albedo_and_world_space_geometry(reference, tmp_path):
+    """A material with neither specular nor metalness is a `diffuse` BSDF of its albedo; the mesh is
+    written in world space with its normals, and the integrator is `path`."""
+    scene = write_scene(tmp_path, [dict(quad(), translation=[0, 0, -2])], {"m": {"albedo": [0.5, 0.25, 0.125]}})
+    converted = convert(reference, scene, tmp_path)
+    (shape,) = shapes(converted)
+    assert shape["bsdf"] == {"type": "diffuse", "reflectance": {"type": "rgb", "value": [0.5, 0.25, 0.125]}}
+    vertices, names, triangles = reference.read_ply(shape["filename"])
+    assert names == ["x", "y", "z", "nx", "ny", "nz"]
+    np.testing.assert_allclose(vertices[:, 2], -2.0)
+    np.testing.assert_allclose(vertices[:, 3:6], np.tile([0, 0, 1], (4, 1)))
+    assert converted["integrator"] == {"type": "path", "max_depth": -1}
+
+
+def test_dielectric_specular_layer_is_added_to_lambert_by_a_half_blend_of_doubled_parts(reference, tmp_path):
+    """specular 0.04, roughness 0.4: blendbsdf(1/2) of diffuse 2 k_d (a float bitmap where 2 k_d > 1)
+    and a Beckmann roughconductor of alpha 0.16 with specular_reflectance 2, whose Fresnel is F0 =
+    0.04 at normal incidence and within 0.03 of Schlick's at every angle."""
+    scene = write_scene(tmp_path, [quad()], {"m": {"albedo": [0.1, 0.2, 0.6], "specular": 0.04, "roughness": 0.4}})
+    (shape,) = shapes(convert(reference, scene, tmp_path))
+    bsdf = shape["bsdf"]
+    assert bsdf["type"] == "blendbsdf" and bsdf["weight"] == 0.5
+    np.testing.assert_allclose(bitmap_values(bsdf["bsdf_0"]["reflectance"]).reshape(3), [0.2, 0.4, 1.2], rtol=1e-6)
+    specular = bsdf["bsdf_1"]
+    assert (specular["type"], specular["distribution"], specular["specular_reflectance"]) == ("roughconductor", "beckmann", 2.0)
+    assert specular["alpha"] == pytest.approx(0.16)
+    eta, k = np.array(specular["eta"]["value"]), np.array(specular["k"]["value"])
+    cos = np.linspace(0.0, 1.0, 201)[:, None]
+    np.testing.assert_allclose(reference.conductor_fresnel(eta, k, np.ones(1)), 0.04, atol=1e-3)
+    assert np.abs(reference.conductor_fresnel(eta, k, cos) - reference.schlick(0.04, cos)).max() < 0.03
+
+
+def test_metal_is_a_conductor_alone_with_the_albedo_as_f0_and_roughness_clamped_like_the_renderer(reference, tmp_path):
+    """metalness 1: no Lambert layer, a Beckmann roughconductor whose Fresnel follows Schlick's with
+    F0 = albedo per channel (within 0.03); roughness 0.01 is clamped to 0.05 (alpha 0.0025)."""
+    gold = [1.0, 0.78, 0.34]
+    scene = write_scene(tmp_path, [quad("gold"), dict(quad("mirror"), translation=[0, 0, -1])],
+                        {"gold": {"albedo": gold, "metalness": 1.0, "roughness": 0.25},
+                         "mirror": {"albedo": [0.9, 0.9, 0.9], "metalness": 1.0, "roughness": 0.01}})
+    gold_shape, mirror_shape = shapes(convert(reference, scene, tmp_path))
+    bsdf = gold_shape["bsdf"]
+    assert (bsdf["type"], bsdf["distribution"]) == ("roughconductor", "beckmann") and "specular_reflectance" not in bsdf
+    assert bsdf["alpha"] == pytest.approx(0.25 ** 2)
+    eta, k = np.array(bsdf["eta"]["value"]), np.array(bsdf["k"]["value"])
+    cos = np.linspace(0.0, 1.0, 201)[:, None]
+    assert np.abs(reference.conductor_fresnel(eta, k, cos) - reference.schlick(np.array(gold), cos)).max() < 0.03
+    assert mirror_shape["bsdf"]["alpha"] == pytest.approx(0.05 ** 2)
+
+
+def test_base_colour_texture_is_a_linear_bitmap_and_texcoords_keep_the_gltf_convention(reference, tmp_path):
+    """A glTF dielectric (specular 0.04) with a base-colour texture and factor (0.5, 1, 1): the
+    diffuse reflectance is the bitmap 2 x factor x sRGB-decoded texture, row 0 = the image's top,
+    and the PLY holds the file's texture coordinates unchanged (u, v)."""
+    scene = gltf_quad(tmp_path, {"pbrMetallicRoughness": {"baseColorTexture": {"index": "TEXTURE"},
+                                                          "baseColorFactor": [0.5, 1.0, 1.0, 1.0], "metallicFactor": 0.0}})
+    (shape,) = shapes(convert(reference, scene, tmp_path))
+    diffuse = shape["bsdf"]["bsdf_0"]["reflectance"]
+    expected = 2.0 * np.array([0.5, 1.0, 1.0]) * reference.srgb_to_linear(PAINTING / 255.0)
+    np.testing.assert_allclose(bitmap_values(diffuse), expected, rtol=1e-6)
+    assert diffuse["filter_type"] == "bilinear" and diffuse["wrap_mode"] == "repeat"
+    vertices, names, _ = reference.read_ply(shape["filename"])
+    assert names[-2:] == ["u", "v"]
+    model = engine.load_scene(scene).drawables()[0][0].mesh
+    np.testing.assert_allclose(vertices[:, -2:], model.texcoords)
+
+
+def test_emissive_texture_is_the_area_emitters_radiance_and_shows_the_right_way_up(reference, tmp_path):
+    """emissiveFactor x emissiveTexture becomes the area emitter's radiance bitmap (sRGB decoded);
+    rendered straight on (30x30 pixels, emission only), each of PAINTING's 2x3 pixels appears in
+    its place: the image's top-left at the quad's top-left, as the renderer draws it."""
+    scene = gltf_quad(tmp_path, {"emissiveTexture": {"index": "TEXTURE"}, "emissiveFactor": [1.0, 0.5, 1.0],
+                                 "pbrMetallicRoughness": {"baseColorFactor": [0.0, 0.0, 0.0, 1.0], "metallicFactor": 0.0}})
+    converted = convert(reference, scene, tmp_path, max_depth=1)
+    (shape,) = shapes(converted)
+    radiance = np.array([1.0, 0.5, 1.0]) * reference.srgb_to_linear(PAINTING / 255.0)
+    np.testing.assert_allclose(bitmap_values(shape["emitter"]["radiance"]), radiance, rtol=1e-6)
+    image = np.array(mitsuba.render(mitsuba.load_dict(converted), spp=16))[..., :3]
+    for row in range(3):  # near texel centres, where bilinear filtering mixes in 5 % of a neighbour on average
+        for col in range(2):
+            np.testing.assert_allclose(image[row * 10 + 5, col * 15 + 7], radiance[row, col], atol=0.1)
+
+
+def test_alpha_mask_is_a_per_texel_opacity_inside_a_mask_bsdf_rendered_with_volpath(reference, tmp_path):
+    """alphaMode MASK, alphaCutoff 0.5, baseColorFactor alpha 0.8, doubleSided, emissive: the
+    opacity bitmap is 1 where texture alpha x 0.8 >= 0.5 and 0 elsewhere, read with nearest
+    filtering, around a twosided BSDF; the emission is cut out the same way; the integrator is
+    volpath."""
+    image = np.zeros((2, 3, 4), np.uint8)
+    image[..., :3] = 200
+    image[..., 3] = [[255, 0, 160], [10, 255, 255]]  # x 0.8: 0.8, 0, 0.50, 0.03, 0.8, 0.8
+    scene = gltf_quad(tmp_path, {"alphaMode": "MASK", "alphaCutoff": 0.5, "doubleSided": True, "emissiveFactor": [1, 1, 1],
+                                 "pbrMetallicRoughness": {"baseColorTexture": {"index": "TEXTURE"},
+                                                          "baseColorFactor": [1, 1, 1, 0.8], "metallicFactor": 0.0}},
+                      image)
+    converted = convert(reference, scene, tmp_path)
+    (shape,) = shapes(converted)
+    bsdf = shape["bsdf"]
+    assert bsdf["type"] == "mask" and bsdf["bsdf"]["type"] == "twosided"
+    keep = np.array([[1, 0, 1], [0, 1, 1]], float)
+    np.testing.assert_array_equal(bitmap_values(bsdf["opacity"]).reshape(2, 3), keep)
+    assert bsdf["opacity"]["filter_type"] == "nearest"
+    np.testing.assert_allclose(bitmap_values(shape["emitter"]["radiance"]), np.repeat(keep[..., None], 3, axis=2))
+    assert converted["integrator"]["type"] == "volpath"
+
+
+def test_a_part_cut_out_everywhere_is_dropped_and_an_opaque_mask_needs_no_mask(reference, tmp_path):
+    """MASK with a constant alpha below the cutoff draws nothing (no shape); at or above it, the
+    plain BSDF (no `mask`, integrator `path`)."""
+    for alpha, expected in ((0.2, 0), (0.6, 1)):
+        scene = gltf_quad(tmp_path, {"alphaMode": "MASK", "pbrMetallicRoughness": {"baseColorFactor": [1, 1, 1, alpha],
+                                                                                   "metallicFactor": 0.0}})
+        converted = convert(reference, scene, tmp_path)
+        assert len(shapes(converted)) == expected
+        assert converted["integrator"]["type"] == "path"
+        if expected:
+            assert shapes(converted)[0]["bsdf"]["type"] == "blendbsdf"
+
+
+def test_mitsuba_accepts_the_converted_scene_with_textures_masks_and_specular_layers(reference, tmp_path):
+    """The dict of a scene with a textured, alpha-masked glTF part, a metal and a dielectric loads
+    in Mitsuba (no render)."""
+    image = np.zeros((4, 4, 4), np.uint8)
+    image[..., 0] = 255
+    image[..., 3] = 255
+    image[::2, ::2, 3] = 0
+    gltf_quad(tmp_path, {"alphaMode": "MASK", "doubleSided": True, "pbrMetallicRoughness": {
+        "baseColorTexture": {"index": "TEXTURE"}, "metallicFactor": 0.5, "roughnessFactor": 0.3}}, image)
+    scene = write_scene(tmp_path, [{"name": "Model", "type": "mesh", "file": "model.glb"},
+                                   dict(quad("gold"), translation=[0, 0, -1]), dict(quad("plastic"), translation=[0, 0, -2])],
+                        {"gold": {"albedo": [1.0, 0.78, 0.34], "metalness": 1.0, "roughness": 0.25},
+                         "plastic": {"albedo": [0.1, 0.2, 0.6], "specular": 0.04, "roughness": 0.4}},
+                        [{"type": "point", "position": [0, 1, 1], "intensity": [1, 1, 1]}])
+    loaded = mitsuba.load_dict(convert(reference, scene, tmp_path))
+    assert len(loaded.shapes()) == 3
+
+
+def run_tool(*args):
+    return subprocess.run([sys.executable, str(TOOL), *map(str, args)], capture_output=True, text=True, timeout=120)
+
+
+def assert_one_line_error(result, *words):
+    assert result.returncode == 2, result.stderr
+    lines = result.stderr.strip().splitlines()
+    assert len(lines) == 1, result.stderr
+    for word in words:
+        assert word in lines[0], lines[0]
+
+
+def test_what_the_tool_cannot_convert_fails_with_one_line_naming_the_field(tmp_path):
+    """A normal texture, a light with a range or without shadows, and bad arguments (--spp not a
+    multiple of two passes, a non-.npy output) each fail with one line naming the field, exit
+    code 2, and write nothing."""
+    g = Gltf()
+    texture = g.texture(g.image(png(PAINTING)))
+    g.add("meshes", {"primitives": [g.quad(g.add("materials", {"name": "Bumpy", "normalTexture": {"index": texture}}))]})
+    g.add("nodes", {"name": "Model", "mesh": 0})
+    g.doc["scenes"][0]["nodes"] = [0]
+    g.write(tmp_path / "model.glb")
+    bumpy = write_scene(tmp_path, [{"name": "Model", "type": "mesh", "file": "model.glb"}])
+    out = tmp_path / "out.npy"
+    assert_one_line_error(run_tool(bumpy, out), "normal_texture", '"Bumpy"')
+    for light, field in (({"type": "point", "position": [0, 1, 0], "intensity": [1, 1, 1], "range": 2.0}, "range"),
+                         ({"type": "point", "position": [0, 1, 0], "intensity": [1, 1, 1], "cast_shadows": False}, "cast_shadows")):
+        scene = write_scene(tmp_path, [quad()], {"m": {}}, [light])
+        assert_one_line_error(run_tool(scene, out), field)
+    scene = write_scene(tmp_path, [quad()], {"m": {}})
+    assert_one_line_error(run_tool(scene, out, "--spp", 100), "--spp")
+    assert_one_line_error(run_tool(scene, tmp_path / "out.exr"), "out", ".npy")
+    assert not list(tmp_path.glob("out*"))

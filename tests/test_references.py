@@ -1,0 +1,55 @@
+"""Scenes of our own against their path-traced references (scenes/references, made with
+tools/reference.py): textured glTF materials with alpha cut-outs, and light from emissive
+surfaces, at grid 128, the images compared pixel for pixel (relative MAE, luminance ratio)."""
+import numpy as np
+import pytest
+
+import engine
+from conftest import SCENES, luminance_ratio, rel_mae
+
+REFERENCES = SCENES / "references"
+
+
+def reference(name):
+    return np.load(REFERENCES / f"{name}.npy").astype(np.float64)
+
+
+def test_textured_box_direct_light_matches_its_reference():
+    """A glTF box with an asymmetric sRGB base-colour texture and an alpha-masked grille whose
+    patterned shadow falls on the back wall: direct light within 5 % (relative MAE)."""
+    scene = engine.load_scene(REFERENCES / "textured_box.json")
+    with engine.Renderer(256, 256) as r:
+        direct = r.render(scene, mode="direct")
+    assert rel_mae(direct, reference("textured_box_direct")) <= 0.05
+    assert luminance_ratio(direct, reference("textured_box_direct")) == pytest.approx(1.0, abs=0.02)
+
+
+def test_textured_box_converged_gi_matches_its_reference():
+    """The same scene with all bounces: the textures' colours bounce through the voxels;
+    within 20 % (relative MAE), luminance within 10 %."""
+    scene = engine.load_scene(REFERENCES / "textured_box.json")
+    with engine.Renderer(256, 256) as r:
+        gi = r.render(scene, grid=128)
+    assert rel_mae(gi, reference("textured_box_gi")) <= 0.20
+    assert luminance_ratio(gi, reference("textured_box_gi")) == pytest.approx(1.0, abs=0.10)
+
+
+# Measured at grid 128 (README, Accuracy): the bounds hold those figures with a margin and fail
+# a renderer that averaged a lamp with the ceiling behind it (luminance 0.45) or lost emitters.
+EMISSIVE = {  # scene: (relMAE bound, luminance ratio bound) of the converged image
+    "panel_under_ceiling": (0.17, 0.12),    # measured 0.146, 0.900
+    "emissive_box_on_floor": (0.15, 0.14),  # measured 0.123, 1.115
+    "coloured_panel": (0.06, 0.04),         # measured 0.037, 1.002
+}
+
+
+@pytest.mark.parametrize("name", sorted(EMISSIVE))
+def test_light_from_emissive_surfaces_matches_its_reference(name):
+    """Scenes lit by emissive surfaces alone (a panel 1 cm under the ceiling, a glowing box on
+    the floor, an orange panel on a wall), all bounces through the voxels."""
+    error_bound, luminance_bound = EMISSIVE[name]
+    scene = engine.load_scene(REFERENCES / f"{name}.json")
+    with engine.Renderer(256, 256) as r:
+        gi = r.render(scene, grid=128)
+    assert rel_mae(gi, reference(f"{name}_gi")) <= error_bound
+    assert luminance_ratio(gi, reference(f"{name}_gi")) == pytest.approx(1.0, abs=luminance_bound)
