@@ -87,6 +87,11 @@ class Material:
     normal_texture: Texture = None
     normal_scale: float = 1.0
 
+    @property
+    def alpha_tested(self):
+        """Cut out where alpha < alpha_cutoff: MASK, and BLEND drawn as MASK."""
+        return self.alpha_mode in ("MASK", "BLEND")
+
     def textures(self):
         """The textures this material uses, in field order."""
         return [t for t in (self.base_color_texture, self.metallic_roughness_texture,

@@ -26,7 +26,6 @@ MATERIAL_TEXTURES = {
     "emissive_texture": ("EMISSIVE_MAP", (255, 255, 255, 255)),
     "normal_texture": ("NORMAL_MAP", (128, 128, 255, 255)),
 }
-ALPHA_TESTED = ("MASK", "BLEND")  # BLEND is drawn as a cut-out (engine.scene.Material)
 CLUSTER_TRIANGLES = 1024  # meshes are split into clusters of about this many triangles
 GL_TEXTURE_WRAP = {"s": 0x2802, "t": 0x2803}
 GL_MIRRORED_REPEAT = 0x8370
@@ -179,7 +178,7 @@ class SceneGeometry:
                    metalness=float(material.metalness), dielectric_f0=float(material.specular),
                    emission=tuple(material.emission), normal_scale=float(material.normal_scale),
                    has_normal_map=material.normal_texture is not None,
-                   alpha_cutoff=float(material.alpha_cutoff) if material.alpha_mode in ALPHA_TESTED else -1.0)
+                   alpha_cutoff=float(material.alpha_cutoff) if material.alpha_tested else -1.0)
         for field, (unit, _) in MATERIAL_TEXTURES.items():
             texture = getattr(material, field)
             gl_texture = self.textures.get(texture) if texture is not None else self.textures.defaults[field]

@@ -1,6 +1,7 @@
 #version 450 core
-// Depth only (the rasterizer writes gl_FragCoord.z into the shadow atlas); alpha-tested
-// materials let light through where they are cut out.
+// Shadow map of alpha-tested materials: light goes through where they are cut out (the
+// rasterizer writes gl_FragCoord.z into the atlas). Opaque materials are drawn without a
+// fragment shader (engine/passes/shadow.py).
 #include "lib/material.glsl"
 
 in vec2 texcoord;

@@ -75,7 +75,10 @@ class ShadowPass:
     def __init__(self, ctx, programs, geometry, tile_size):
         self.ctx = ctx
         self.geometry = geometry
-        self.program = programs.program(vertex_shader="shadow.vert", fragment_shader="shadow.frag")
+        # Opaque materials are drawn depth only (no fragment shader: llvmpipe tests depth
+        # before shading); alpha-tested ones through shadow.frag, which cuts them out.
+        self.depth_program = programs.program(vertex_shader="shadow.vert")
+        self.cut_out_program = programs.program(vertex_shader="shadow.vert", fragment_shader="shadow.frag")
         self.maps = ShadowMaps(ctx, tile_size)
 
     def _views(self, light, bounds):
@@ -129,6 +132,8 @@ class ShadowPass:
             maps.light_buffer.write(np.array(light_rows, "f4").tobytes())
         if maps.ensure_atlas(len(views)):
             redraw = None
+        cut_out = [draw for draw in draws if draw.material.alpha_tested]
+        opaque = [draw for draw in draws if not draw.material.alpha_tested]
         rows = []
         maps.framebuffer.use()
         self.ctx.enable_only(self.ctx.DEPTH_TEST)
@@ -139,8 +144,10 @@ class ShadowPass:
             if redraw is None or owner in redraw:
                 self.ctx.viewport = (x, y, tile, tile)
                 maps.framebuffer.clear(depth=1.0, viewport=(x, y, tile, tile))
-                self.program.set(view_projection=transforms.gl_bytes(view_projection))
-                self.geometry.draw(self.program, draws, materials=True, view_projection=view_projection)
+                for program, subset in ((self.depth_program, opaque), (self.cut_out_program, cut_out)):
+                    program.set(view_projection=transforms.gl_bytes(view_projection))
+                    self.geometry.draw(program, subset, materials=program is self.cut_out_program,
+                                       view_projection=view_projection)
             rows.append(np.concatenate([
                 np.asarray(view_projection, "f4").T.ravel(),
                 [x / atlas_w, y / atlas_h, tile / atlas_w, tile / atlas_h],
@@ -152,4 +159,5 @@ class ShadowPass:
 
     def release(self):
         self.maps.release()
-        self.program.release()
+        self.depth_program.release()
+        self.cut_out_program.release()
