@@ -30,7 +30,7 @@ system-deps:
 	@bash tools/ensure_system_deps.sh
 
 test-system-deps:
-	@bash tools/ensure_system_deps.sh --xvfb
+	@bash tools/ensure_system_deps.sh --test
 
 $(VENV)/bin/python:
 	$(PYTHON) -m venv $(VENV)
@@ -41,5 +41,5 @@ $(VENV)/.installed: pyproject.toml | $(VENV)/bin/python
 	@touch $@
 
 $(VENV)/.installed-test: pyproject.toml | $(VENV)/bin/python
-	$(PIP_INSTALL) -e '.[test]'
+	$(PIP_INSTALL) -e '.[test,reference]'
 	@touch $@ $(VENV)/.installed

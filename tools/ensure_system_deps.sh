@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Makes sure the system libraries for headless OpenGL 4.5 (Mesa EGL + llvmpipe) are installed.
 # Silent when they are. When missing: installs them with apt-get as root, else stops with one line.
-# With --xvfb, also wants Xvfb for the viewer tests; without root it only says so and goes on.
+# With --test, also wants what the tests use beyond that: Xvfb (the viewer tests) and OSMesa (the
+# fallback context's test); without root it only says which tests will skip and goes on.
 set -euo pipefail
 
 mesa_packages="libegl1 libegl-mesa0 libgl1 libgl1-mesa-dri"  # libgl1: glcontext's EGL backend loads libGL.so.1
@@ -35,11 +36,21 @@ if ! mesa_present; then
     mesa_present || { echo "error: Mesa's EGL/GL libraries still missing after installing $mesa_packages" >&2; exit 1; }
 fi
 
-if [ "${1:-}" = "--xvfb" ] && ! command -v Xvfb >/dev/null; then
-    if can_install; then
-        echo "installing Xvfb for the viewer tests"
-        apt_install xvfb
-    else
-        echo "note: Xvfb not found; the viewer tests will skip (Debian/Ubuntu: apt-get install xvfb)"
+if [ "${1:-}" = "--test" ]; then
+    if ! command -v Xvfb >/dev/null; then
+        if can_install; then
+            echo "installing Xvfb for the viewer tests"
+            apt_install xvfb
+        else
+            echo "note: Xvfb not found; the viewer tests will skip (Debian/Ubuntu: apt-get install xvfb)"
+        fi
+    fi
+    if ! grep -q 'libOSMesa\.so' <<<"$(ldconfig_cache)"; then
+        if can_install; then
+            echo "installing OSMesa for the fallback-context test"
+            apt_install libosmesa6
+        else
+            echo "note: OSMesa not found; the OSMesa fallback test will skip (Debian/Ubuntu: apt-get install libosmesa6)"
+        fi
     fi
 fi
