@@ -2,7 +2,7 @@
 (emission + direct light) changed, and the state that carries from frame to frame.
 
 A bounce gathers light at every voxel with the 6 diffuse cones (passes/gather.py) and composes
-the face views again with it, L = L_base + k_d G (passes/faces.py). The gathers live in two
+the face views again with it, L = L_base + rho G (passes/faces.py). The gathers live in two
 volumes: `latest` is the one the image and the face views use, the other keeps an earlier
 gather for closing the series.
 

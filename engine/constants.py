@@ -17,7 +17,7 @@ TEXTURE_UNIT = {
     "GBUF_ALBEDO": 2,
     "GBUF_EMISSION": 3,
     "SHADOW_ATLAS": 4,
-    "VOXEL_ALBEDO": 5,      # resolved per-voxel surface: diffuse albedo, a = 1 where covered
+    "VOXEL_ALBEDO": 5,      # resolved per-voxel surface: reflectance, a = 1 where covered
     "VOXEL_NORMAL": 6,      # xyz: mean normal (its length the coherence), w: surface offset in voxels
     "VOXEL_EMISSION": 7,
     "VOXEL_BASE": 8,        # emission + injected direct light

@@ -1,6 +1,6 @@
 #version 450 core
 // The radiance cones read, over the covered voxels: each voxel sends out its base radiance
-// plus the diffuse light it gathered, L = L_base + k_d sum_j w_j L_in(p, w_j), written into the
+// plus the light it gathered, L = L_base + rho sum_j w_j L_in(p, w_j) (rho: its reflectance), into the
 // six one-sided face views premultiplied by how much of the voxel's surface faces each way
 // (coverage in a), level 0; voxel_mipmap.comp builds the coarser levels.
 #include "lib/voxel_surface.glsl"

@@ -2,7 +2,7 @@
 // The diffuse gather of each voxel of a list segment, with the lecture's 6 cones from its
 // surface point along its mean normal: G = sum_j w_j L(p, w_j). It feeds the next bounce
 // (voxel_compose.comp) and the image (cone_trace.frag interpolates it per pixel). Voxels that
-// reflect no diffuse light gather nothing and are marked so (a = 0).
+// reflect no light gather nothing and are marked so (a = 0).
 #include "lib/voxel_surface.glsl"
 #include "lib/cone.glsl"
 

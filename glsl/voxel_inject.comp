@@ -1,7 +1,7 @@
 #version 450 core
 // Light injection, over the covered voxels: the base radiance each voxel's surface sends out
 // before any bounce, evaluated at its surface point with its mean normal:
-//   L_base = L_e + (1 - m) k_d / pi * sum_lights E_l
+//   L_base = L_e + rho / pi * sum_lights E_l, rho the voxel's reflectance (voxelize.frag)
 // where dot(mean normal, l) in E_l is the mean of the fragments' cosines. Runs when a light or
 // a shadow map changes, without revoxelizing.
 #include "lib/voxel_surface.glsl"

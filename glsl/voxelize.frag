@@ -1,6 +1,6 @@
 #version 450 core
-// Voxelization, fragment stage: one fragment = one surface sample in one voxel. Its diffuse
-// albedo and emission (the material's factors times its textures, sampled at the mip level of
+// Voxelization, fragment stage: one fragment = one surface sample in one voxel. Its
+// reflectance (diffuse albedo plus the specular layer's hemispherical albedo) and emission (the material's factors times its textures, sampled at the mip level of
 // a voxel's footprint), unit normal, offset along the normal from the voxel centre are added to
 // the voxel's fixed-point sums with atomics, with a fragment count (lib/voxel_sums.glsl).
 //
@@ -18,6 +18,7 @@
 #include "lib/voxel.glsl"
 #include "lib/voxel_sums.glsl"
 #include "lib/material.glsl"
+#include "lib/brdf.glsl"
 
 #define VOXELIZE_MARK 0
 #define VOXELIZE_FRONT 1
@@ -80,10 +81,13 @@ void main() {
 
     uint earlier_fragments = atomicAdd(voxel_sums[SUM_COUNT].value[i], 1u) & COUNT_MASK;
     if (earlier_fragments >= VOXEL_MAX_FRAGMENTS) return;  // headroom of the signed sums
-    vec3 diffuse_albedo = (1.0 - m.metalness) * m.albedo;
-    atomicAdd(voxel_sums[SUM_ALBEDO_R].value[i], unit_fixed(diffuse_albedo.r));
-    atomicAdd(voxel_sums[SUM_ALBEDO_G].value[i], unit_fixed(diffuse_albedo.g));
-    atomicAdd(voxel_sums[SUM_ALBEDO_B].value[i], unit_fixed(diffuse_albedo.b));
+    // A voxel keeps no direction, so what the specular layer reflects bounces on as a Lambertian
+    // lobe: the reflectance is the diffuse albedo plus the specular layer's hemispherical albedo
+    // (a gold sphere passes its light on instead of absorbing it).
+    vec3 reflectance = (1.0 - m.metalness) * m.albedo + specular_albedo(specular_f0(m.albedo, m.metalness, dielectric_f0));
+    atomicAdd(voxel_sums[SUM_ALBEDO_R].value[i], unit_fixed(reflectance.r));
+    atomicAdd(voxel_sums[SUM_ALBEDO_G].value[i], unit_fixed(reflectance.g));
+    atomicAdd(voxel_sums[SUM_ALBEDO_B].value[i], unit_fixed(reflectance.b));
     atomicAdd(voxel_sums[SUM_NORMAL_X].value[i], unit_fixed(n.x));
     atomicAdd(voxel_sums[SUM_NORMAL_Y].value[i], unit_fixed(n.y));
     atomicAdd(voxel_sums[SUM_NORMAL_Z].value[i], unit_fixed(n.z));

@@ -40,13 +40,17 @@ EMISSIVE = {  # scene: (relMAE bound, luminance ratio bound) of the converged im
     "panel_under_ceiling": (0.17, 0.12),    # measured 0.146, 0.900
     "emissive_box_on_floor": (0.15, 0.14),  # measured 0.123, 1.115
     "coloured_panel": (0.06, 0.04),         # measured 0.037, 1.002
+    # The panel over a gold and a plastic sphere: fails where the voxels absorbed what the
+    # metal reflects (0.259, 0.771) instead of bouncing it on.
+    "cornell_spheres": (0.22, 0.16),        # measured 0.173, 0.871
 }
 
 
 @pytest.mark.parametrize("name", sorted(EMISSIVE))
 def test_light_from_emissive_surfaces_matches_its_reference(name):
     """Scenes lit by emissive surfaces alone (a panel 1 cm under the ceiling, a glowing box on
-    the floor, an orange panel on a wall), all bounces through the voxels."""
+    the floor, an orange panel on a wall, a ceiling panel over a metal and a plastic sphere),
+    all bounces through the voxels."""
     error_bound, luminance_bound = EMISSIVE[name]
     scene = engine.load_scene(REFERENCES / f"{name}.json")
     with engine.Renderer(256, 256) as r:

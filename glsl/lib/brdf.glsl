@@ -17,6 +17,12 @@ vec3 specular_f0(vec3 albedo, float metalness, float dielectric_f0) {
     return mix(vec3(dielectric_f0), albedo, metalness);
 }
 
+// Hemispherical albedo of the specular layer: Schlick's F averaged over the cosine-weighted
+// hemisphere, F0 + (1 - F0) 2 int (1 - mu)^5 mu dmu = F0 + (1 - F0) / 21; none without one (F0 = 0).
+vec3 specular_albedo(vec3 f0) {
+    return any(greaterThan(f0, vec3(0.0))) ? f0 + (1.0 - f0) / 21.0 : vec3(0.0);
+}
+
 // BRDF times pi-free cosine-less form: f(l, v) = (1 - m) k_d / pi + F (s + 2) / (8 pi) (n.h)^s.
 vec3 brdf(vec3 n, vec3 l, vec3 v, vec3 albedo, float roughness, float metalness, float dielectric_f0) {
     vec3 diffuse = (1.0 - metalness) * albedo / PI;

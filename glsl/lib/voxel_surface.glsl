@@ -1,4 +1,4 @@
-// The resolved surface of each voxel (written by voxel_resolve.comp): diffuse albedo, mean
+// The resolved surface of each voxel (written by voxel_resolve.comp): reflectance, mean
 // normal, emission, and the point on the surface nearest the voxel centre.
 #include "lib/voxel.glsl"
 
@@ -8,7 +8,7 @@ layout(binding = TEX_VOXEL_EMISSION) uniform sampler3D voxel_emission; // rgb, a
 
 struct VoxelSurface {
     bool covered;
-    vec3 albedo;       // (1 - m) k_d, averaged over the voxel's fragments
+    vec3 albedo;       // reflectance (1 - m) k_d + specular albedo, averaged over the voxel's fragments
     vec3 mean_normal;  // mean of the fragments' unit normals: its length is their coherence
     vec3 position;     // the voxel centre moved along the normal onto the (mean) surface
     vec3 emission;     // radiance of the front sides, W/(m^2 sr)
