@@ -44,6 +44,7 @@ IMAGE_UNIT = {
     "FRONT": 3,             # the voxelizer's front-layer keys, per voxel and facing direction
     "INSPECT_OUT": 0,
     "IMAGE_OUT": 0,         # a screen target a compute pass adds to
+    "SPECULAR_IN": 1,       # the specular cones' incoming radiance at the anchor pixels (half resolution)
 }
 
 # Per-voxel fixed-point sums the voxelizer accumulates with atomics: one storage block per
@@ -66,6 +67,7 @@ STORAGE_BINDING = {
     "CLASS_BUCKETS": 20,
     "READBACK": 21,
     "CONE_PIXELS": 22,      # pixels that trace cones of their own: dispatch size, count, pixels
+    "SHARED_PIXELS": 23,    # pixels that take their specular cone from the anchors around them
 }
 
 # Uniform block bindings (lights are read by every shaded pixel and voxel: uniform blocks are

@@ -7,6 +7,7 @@ changed since it last ran (found from the scene itself: engine/changes.py).
         r.save_png("out.png")                          # tone-mapped with the settings' curve
 """
 import functools
+import math
 import time
 from contextlib import contextmanager
 from dataclasses import dataclass
@@ -45,6 +46,7 @@ class FrameCamera:
     forward: np.ndarray
     view_projection: np.ndarray
     far: float
+    pixel_angle: float  # radians between neighbouring pixels' rays, at the image centre
 
 
 def frame_camera(camera, size, bounds):
@@ -55,8 +57,9 @@ def frame_camera(camera, size, bounds):
     far = float(np.max(np.linalg.norm(corners - camera.position, axis=1))) * 1.1 + 1.0
     forward = camera.look_at - camera.position
     projection = camera.projection_matrix(size[0] / size[1], NEAR_PLANE, far)
+    pixel_angle = 2.0 * math.tan(math.radians(camera.vertical_fov_deg) / 2.0) / size[1]
     return FrameCamera(np.asarray(camera.position, float), forward / np.linalg.norm(forward),
-                       projection @ camera.view_matrix(), far)
+                       projection @ camera.view_matrix(), far, pixel_angle)
 
 
 def _current(method):
@@ -220,7 +223,7 @@ class Renderer:
                 return self.voxel_view.render(self.grid, s.mode, s.voxel_mip, camera)
         with self.timed("cone_trace"):
             return self.cone_trace.render(gbuffer, direct, self.grid, self.bounces.gathered(self.grid),
-                                          s.cone_uniforms(), camera.position, s.image_terms(), s.ao_distance)
+                                          s.cone_uniforms(), camera, s.image_terms(), s.ao_distance)
 
     def _shadows(self, frame, source):
         """Shadow maps: the tiles of the lights that changed; all of them when a shadow caster

@@ -4,10 +4,12 @@
 //             traced once per voxel whenever the voxel radiance changes (voxel_gather.comp);
 //             a pixel interpolates the gathers of the voxels around p whose surfaces face its
 //             way; where none does (a thin surface seen from behind) it traces its own.
-//   specular: Lo = F(w_o . n) Lv(p, w_s, a_s), w_s = 2 (w_o . n) n - w_o, traced per pixel
+//   specular: Lo = F(w_o . n) Lv(p, w_s, a_s), w_s = 2 (w_o . n) n - w_o, traced at every
+//             other pixel in x and y and shared with the pixels between where they match
 //   AO:       1 - sum_j w_j alpha_j within ao_distance, traced per pixel
-// The per-pixel diffuse and specular cones run in cone_pixels.comp over the pixels listed
-// here, so pixels that need none never wait on them.
+// The per-pixel diffuse and specular cones run in cone_pixels.comp and
+// cone_specular_shared.comp over the pixels listed here, so pixels that need none never wait
+// on them.
 #include "lib/gbuffer.glsl"
 #include "lib/voxel_surface.glsl"
 #include "lib/cone.glsl"
@@ -23,6 +25,7 @@ uniform bool include_direct;
 uniform bool include_diffuse;
 uniform bool include_specular;
 uniform float ao_distance;
+uniform float pixel_angle;  // radians between neighbouring pixels' rays
 layout(location = 0) out vec4 out_radiance;
 
 // How much a voxel's gather stands for the gather at a surface with normal n: max(0, n . n_v)^8
@@ -64,8 +67,9 @@ void main() {
         return;
     }
     vec3 radiance = include_direct ? texelFetch(direct_light, ivec2(gl_FragCoord.xy), 0).rgb : vec3(0.0);
-    // Pixels that need cones of their own are listed for cone_pixels.comp: a specular cone
-    // where the surface reflects specularly, a diffuse gather where no voxel faces its way.
+    // Pixels that need cones of their own are listed (lib/cone_pixels.glsl): a diffuse gather
+    // where no voxel faces its way; where the surface reflects specularly, a specular cone at
+    // the anchors (even x and y) and the anchors' cones shared between them.
     uint cones = 0u;
     vec3 diffuse_albedo = (1.0 - s.metalness) * s.albedo;
     if (include_diffuse && any(greaterThan(diffuse_albedo, vec3(0.0)))) {
@@ -73,12 +77,23 @@ void main() {
         if (interpolated_gather(s, gathered)) radiance += diffuse_albedo * gathered;
         else cones |= PIXEL_DIFFUSE_CONES;
     }
-    if (include_specular && any(greaterThan(specular_f0(s.albedo, s.metalness, s.dielectric_f0), vec3(0.0))))
-        cones |= PIXEL_SPECULAR_CONE;
-    if (cones != 0u) {  // the dispatch size of cone_pixels.comp grows by a group every LIST_GROUP pixels
+    ivec2 pixel = ivec2(gl_FragCoord.xy);
+    if (include_specular && any(greaterThan(specular_f0(s.albedo, s.metalness, s.dielectric_f0), vec3(0.0)))) {
+        // Between anchors two pixels apart the reflected direction turns by about four pixels'
+        // angle: a cone at least that wide is shared, a narrower one (near a mirror) is not.
+        bool shared_cone = atan(specular_tan_half_angle(s.roughness)) >= 4.0 * pixel_angle;
+        if (all(equal(pixel % 2, ivec2(0))) || !shared_cone) {
+            cones |= PIXEL_SPECULAR_CONE;
+        } else {  // a dispatch size grows by a group every LIST_GROUP pixels
+            uint k = atomicAdd(shared_count, 1u);
+            if (k % uint(LIST_GROUP) == 0u) atomicAdd(shared_groups.x, 1u);
+            shared_pixels[k] = pack_pixel(pixel);
+        }
+    }
+    if (cones != 0u) {
         uint k = atomicAdd(pixel_count, 1u);
         if (k % uint(LIST_GROUP) == 0u) atomicAdd(pixel_groups.x, 1u);
-        pixels[k] = uvec2(uint(gl_FragCoord.x) | (uint(gl_FragCoord.y) << 16), cones);
+        pixels[k] = uvec2(pack_pixel(pixel), cones);
     }
     out_radiance = vec4(radiance, 1.0);
 }

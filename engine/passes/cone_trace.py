@@ -1,8 +1,8 @@
 """Cone-tracing pass: the image over the G-buffer. Direct light (with emission) plus the
-diffuse gather of the voxels interpolated per pixel, plus a specular cone per pixel; or
-per-pixel AO cones. Pixels that need cones of their own (specular surfaces, and thin surfaces
-seen from behind, which no voxel faces) are listed and traced by a compute pass, so the other
-pixels never wait on them."""
+diffuse gather of the voxels interpolated per pixel, plus a specular cone traced at every other
+pixel in x and y and shared with the pixels between; or per-pixel AO cones. Pixels that need
+cones of their own (specular surfaces, and thin surfaces seen from behind, which no voxel
+faces) are listed and traced by compute passes, so the other pixels never wait on them."""
 import numpy as np
 
 from ..constants import GL_IMAGE_FORMAT, IMAGE_UNIT, STORAGE_BINDING, TEXTURE_UNIT
@@ -16,36 +16,47 @@ class ConeTracePass:
         self.ctx = ctx
         self.program = programs.program(vertex_shader="fullscreen.vert", fragment_shader="cone_trace.frag")
         self.pixels_program = programs.compute("cone_pixels.comp")
+        self.shared_program = programs.compute("cone_specular_shared.comp")
         self.target = ScreenTarget(ctx, size)
-        self.cone_pixels = None
+        self.cone_pixels = self.shared_pixels = self.specular_in = None
         self.resize(size)
 
     def resize(self, size):
         self.target.resize(size)
-        if self.cone_pixels is not None:
-            self.cone_pixels.release()
+        for resource in (self.cone_pixels, self.shared_pixels, self.specular_in):
+            if resource is not None:
+                resource.release()
         self.cone_pixels = self.ctx.buffer(reserve=16 + 8 * size[0] * size[1])
+        self.shared_pixels = self.ctx.buffer(reserve=16 + 4 * size[0] * size[1])
+        # The anchors' specular Lv: one texel per anchor pixel (even x and y).
+        self.specular_in = self.ctx.texture(((size[0] + 1) // 2, (size[1] + 1) // 2), 4, dtype="f4")
 
-    def render(self, gbuffer, direct, grid, gathered, cone_uniforms, camera_position, terms, ao_distance):
-        """`terms`: settings.ImageTerms (which of direct, diffuse, specular, or AO)."""
+    def render(self, gbuffer, direct, grid, gathered, cone_uniforms, camera, terms, ao_distance):
+        """`camera`: renderer.FrameCamera; `terms`: settings.ImageTerms (which of direct, diffuse,
+        specular, or AO)."""
         gbuffer.use()
         grid.use_surface()
         grid.use_faces()
         gathered.use(TEXTURE_UNIT["VOXEL_GATHERED"])
         direct.texture.use(TEXTURE_UNIT["DIRECT_LIGHT"])
         self.program.set(**grid.uniforms(), **cone_uniforms, output_kind=OUTPUT_KIND["ao" if terms.ao else "radiance"], include_direct=terms.direct,
-                         include_diffuse=terms.diffuse, include_specular=terms.specular, ao_distance=float(ao_distance))
-        self.cone_pixels.write(np.array([0, 1, 1, 0], dtype="u4").tobytes())  # no group, no pixel yet
-        self.cone_pixels.bind_to_storage_buffer(STORAGE_BINDING["CONE_PIXELS"])
+                         include_diffuse=terms.diffuse, include_specular=terms.specular, ao_distance=float(ao_distance),
+                         pixel_angle=float(camera.pixel_angle))
+        for name, pixel_list in (("CONE_PIXELS", self.cone_pixels), ("SHARED_PIXELS", self.shared_pixels)):
+            pixel_list.write(np.array([0, 1, 1, 0], dtype="u4").tobytes())  # no group, no pixel yet
+            pixel_list.bind_to_storage_buffer(STORAGE_BINDING[name])
         self.target.draw(self.program)
         if terms.diffuse or terms.specular:
             self.ctx.memory_barrier(self.ctx.SHADER_STORAGE_BARRIER_BIT | self.ctx.COMMAND_BARRIER_BIT)
             self.target.texture.bind_to_image(IMAGE_UNIT["IMAGE_OUT"], read=True, write=True, format=GL_IMAGE_FORMAT["rgba32f"])
-            self.pixels_program.set(**grid.uniforms(), **cone_uniforms, camera_position=tuple(camera_position))
-            self.pixels_program.program.run_indirect(self.cone_pixels)
-            self.ctx.memory_barrier(self.ctx.SHADER_IMAGE_ACCESS_BARRIER_BIT | self.ctx.TEXTURE_FETCH_BARRIER_BIT)
+            self.specular_in.bind_to_image(IMAGE_UNIT["SPECULAR_IN"], read=True, write=True, format=GL_IMAGE_FORMAT["rgba32f"])
+            for program, pixel_list in ((self.pixels_program, self.cone_pixels), (self.shared_program, self.shared_pixels)):
+                program.set(**grid.uniforms(), **cone_uniforms, camera_position=tuple(camera.position))
+                program.program.run_indirect(pixel_list)  # the anchors first
+                self.ctx.memory_barrier(self.ctx.SHADER_IMAGE_ACCESS_BARRIER_BIT | self.ctx.TEXTURE_FETCH_BARRIER_BIT)
         return self.target
 
     def release(self):
-        for resource in (self.target, self.program, self.pixels_program, self.cone_pixels):
+        for resource in (self.target, self.program, self.pixels_program, self.shared_program, self.cone_pixels,
+                         self.shared_pixels, self.specular_in):
             resource.release()

@@ -17,6 +17,17 @@ vec3 specular_f0(vec3 albedo, float metalness, float dielectric_f0) {
     return mix(vec3(dielectric_f0), albedo, metalness);
 }
 
+// Specular cone aperture from the normalized Blinn-Phong lobe of exponent s = 2/r^4 - 2:
+// sigma^2 = c r^4 / (1 - r^4) with c = 2 (the lobe around w_s is twice as wide as around h),
+// sin(a/2) = sigma, tan(a/2) = sqrt(sigma^2 / (1 - sigma^2)); r = 0 gives the one-voxel
+// mirror cone (the marcher floors the diameter at a voxel), r = 1 a hemisphere.
+float specular_tan_half_angle(float roughness) {
+    float r4 = pow(roughness, 4.0);
+    if (r4 >= 1.0) return 1e4;
+    float sigma2 = min(2.0 * r4 / (1.0 - r4), 1.0);
+    return sigma2 >= 1.0 ? 1e4 : sqrt(sigma2 / (1.0 - sigma2));
+}
+
 // Hemispherical albedo of the specular layer: Schlick's F averaged over the cosine-weighted
 // hemisphere, F0 + (1 - F0) 2 int (1 - mu)^5 mu dmu = F0 + (1 - F0) / 21; none without one (F0 = 0).
 vec3 specular_albedo(vec3 f0) {

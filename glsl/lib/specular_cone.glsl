@@ -1,0 +1,23 @@
+// The specular cone of a pixel: Lv(p, w_s, a_s) along w_s = 2 (w_o . n) n - w_o, with the
+// aperture of the normalized Blinn-Phong lobe of exponent 2/r^4 - 2 (lib/brdf.glsl). Traced
+// at the anchor pixels (even x and y) and where it is too narrow to share; the pixels between
+// anchors take it from the anchors like them (cone_specular_shared.comp).
+#include "lib/gbuffer.glsl"
+#include "lib/cone.glsl"
+#include "lib/brdf.glsl"
+
+layout(binding = IMG_SPECULAR_IN, rgba32f) uniform image2D specular_in;  // per anchor: Lv
+uniform vec3 camera_position;
+
+// Lv(p, w_s, a_s) of surface s.
+vec3 specular_incoming(Surface s) {
+    vec3 wo = normalize(camera_position - s.position);
+    vec3 ws = 2.0 * max(dot(wo, s.normal), 0.0) * s.normal - wo;
+    return trace_cone(s.position, s.normal, ws, specular_tan_half_angle(s.roughness), 1e9, true).rgb;
+}
+
+// Schlick's F(w_o . n) of surface s.
+vec3 specular_fresnel(Surface s) {
+    return fresnel_schlick(specular_f0(s.albedo, s.metalness, s.dielectric_f0),
+                           max(dot(normalize(camera_position - s.position), s.normal), 0.0));
+}
