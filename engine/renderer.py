@@ -107,7 +107,7 @@ class Renderer:
             raise
         self.bounces = BounceSchedule(self.gather, self.faces)
         self.bounds_cache = BoundsCache()
-        self.stages = {name: Stage() for name in ("shadows", "voxels", "radiance", "bounces")}
+        self.stages = {name: Stage() for name in ("shadows", "gbuffer", "lighting", "voxels", "radiance", "bounces")}
 
     def _create_passes(self):
         """The passes of a frame, each with its programs and targets."""
@@ -169,8 +169,14 @@ class Renderer:
     @_current
     def reload_shaders(self):
         """Rebuild the programs whose GLSL files changed; a failing one keeps its last good
-        build. Returns (rebuilt count, [ShaderError]) for this poll."""
-        return self.programs.reload_changed()
+        build. After a rebuild the next frame recomputes every stage with the new programs
+        (an edit of the voxelizer or the bounce shows without a scene change). Returns
+        (rebuilt count, [ShaderError]) for this poll."""
+        rebuilt, errors = self.programs.reload_changed()
+        if rebuilt:
+            for stage in self.stages.values():
+                stage.forget()
+        return rebuilt, errors
 
     @property
     def bounce_iterations(self):
@@ -206,13 +212,11 @@ class Renderer:
         """The passes of one frame; returns the target holding its image."""
         camera = frame_camera(scene.camera, self.size, frame.bounds)
         shadow_maps = self._shadows(frame, scene.source)
-        with self.timed("gbuffer"):
-            gbuffer = self.gbuffer.render(frame.draws, camera.view_projection)
+        gbuffer = self._gbuffer(frame, camera)
         if s.shown.stage == "gbuffer":
             with self.timed("gbuffer_view"):
                 return self.gbuffer_view.render(gbuffer, s.mode, camera)
-        with self.timed("lighting"):
-            direct = self.lighting.render(gbuffer, shadow_maps, camera.position)
+        direct = self._lighting(gbuffer, shadow_maps, camera)
         if not s.shown.uses_voxels:
             return direct
         self._voxels(frame, s, scene.source)
@@ -239,6 +243,27 @@ class Renderer:
                 self.shadow.render(frame.lights, frame.draws, frame.bounds, redraw, source)
             stage.ran(inputs)
         return self.shadow.maps
+
+    def _gbuffer(self, frame, camera):
+        """The G-buffer, drawn again when the view, the image size or a draw changed."""
+        stage = self.stages["gbuffer"]
+        inputs = (_bytes(camera.view_projection), self.size, tuple(frame.draws))
+        if stage.stale(inputs, self.track_changes):
+            with self.timed("gbuffer"):
+                self.gbuffer.render(frame.draws, camera.view_projection)
+            stage.ran(inputs)
+        return self.gbuffer.target
+
+    def _lighting(self, gbuffer, shadow_maps, camera):
+        """Direct light, again when the G-buffer, the shadow maps (and so the lights) or the
+        viewpoint changed."""
+        stage = self.stages["lighting"]
+        inputs = (self.stages["gbuffer"].version, self.stages["shadows"].version, _bytes(camera.position))
+        if stage.stale(inputs, self.track_changes):
+            with self.timed("lighting"):
+                self.lighting.render(gbuffer, shadow_maps, camera.position)
+            stage.ran(inputs)
+        return self.lighting.target
 
     def _voxels(self, frame, s, source):
         """Voxelize what changed: the draws whose mesh, transform or material differ from the

@@ -69,6 +69,23 @@ def test_hot_reload_keeps_the_last_good_program_and_recovers(glsl_copy):
         assert after.max() == pytest.approx(2.0 * before.max(), rel=1e-5)
 
 
+def test_a_reloaded_voxel_shader_shows_on_the_next_frame_without_a_scene_change(glsl_copy):
+    """With change tracking, nothing in the scene changed, yet an edit of the light injection
+    (twice the direct light in the voxels) changes the indirect light of the next frame."""
+    scene = engine.load_scene(GLSL_ROOT.parent / "scenes" / "cornell_box.json")
+    with engine.Renderer(32, 32, glsl_root=glsl_copy) as r:
+        r.track_changes = True
+        before = r.render(scene, mode="indirect", grid=16, bounces=1)
+        inject = glsl_copy / "voxel_inject.comp"
+        text = inject.read_text()
+        assert text.count("s.albedo / PI * irradiance") == 1
+        inject.write_text(text.replace("s.albedo / PI * irradiance", "2.0 * s.albedo / PI * irradiance"))
+        rebuilt, errors = r.reload_shaders()
+        assert rebuilt == 1 and errors == []
+        after = r.render(scene, mode="indirect", grid=16, bounces=1)
+        assert after.mean() == pytest.approx(2.0 * before.mean(), rel=0.05)
+
+
 def test_editing_an_included_library_rebuilds_its_users(glsl_copy):
     with engine.Renderer(16, 16, glsl_root=glsl_copy) as r:
         lib = glsl_copy / "lib" / "brdf.glsl"

@@ -54,13 +54,13 @@ def test_tracked_frames_equal_recomputed_frames_bit_for_bit():
 
 def test_each_kind_of_change_runs_only_the_passes_it_needs():
     """Camera moved: G-buffer, lighting and cone trace only. Light moved: its shadow map,
-    injection and bounces, no voxelization. Material edited: revoxelization, injection and
-    bounces, no shadow map. Object moved: all of them."""
+    injection and bounces, lighting, no voxelization and no G-buffer. Material edited:
+    revoxelization, injection and bounces, no shadow map. Object moved: all of them."""
     _, passes = render_sequence(track_changes=True)
     ran = dict(zip([kind for kind, _ in edits()], passes))
     assert passes[0] == SCREEN_PASSES and passes[-1] == SCREEN_PASSES
-    assert {"shadow", "inject"} <= set(ran["light"]) and BOUNCE_PASSES <= set(ran["light"])
-    assert "voxelize" not in ran["light"]
+    assert {"shadow", "inject", "lighting"} <= set(ran["light"]) and BOUNCE_PASSES <= set(ran["light"])
+    assert "voxelize" not in ran["light"] and "gbuffer" not in ran["light"]
     assert {"voxelize", "inject"} <= set(ran["material"]) and BOUNCE_PASSES <= set(ran["material"])
     assert "shadow" not in ran["material"]
     assert {"shadow", "voxelize", "inject"} <= set(ran["object"]) and BOUNCE_PASSES <= set(ran["object"])
@@ -78,8 +78,9 @@ def test_progressive_tracked_frames_stay_within_a_percent_of_recomputed_frames()
 
 
 def test_a_settled_progressive_frame_runs_no_bounce():
-    """Once the progressive radiance settles, a frame where nothing moved runs the screen
-    passes alone: the viewer idles at the cost of a static frame."""
+    """Once the progressive radiance settles, a frame where nothing moved runs the cone trace
+    alone (the G-buffer and the direct light are kept): the viewer idles at less than the
+    cost of a static frame."""
     scene = engine.load_scene(SCENES / "cornell_box.json")
     with engine.Renderer(64, 64) as r:
         r.progressive = True
@@ -89,7 +90,7 @@ def test_a_settled_progressive_frame_runs_no_bounce():
                 break
         assert r.bounces.settled
         r.render(scene, grid=32)
-        assert r.passes_ran == SCREEN_PASSES
+        assert r.passes_ran == ["cone_trace"]
 
 
 @pytest.mark.parametrize("edit", ["remove", "add"])

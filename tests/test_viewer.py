@@ -317,13 +317,14 @@ def test_frame_stats_average_over_the_last_second():
     assert stats.fps == pytest.approx(20.0)
 
 
-class _FakePrograms:
-    """A ProgramLibrary stand-in: `broken` is the current error list."""
+class _FakeRenderer:
+    """A Renderer stand-in (and its ProgramLibrary's): `broken` is the current error list."""
 
     def __init__(self):
         self.broken, self.changed = [], 0
+        self.programs = self
 
-    def reload_changed(self):
+    def reload_shaders(self):
         rebuilt, self.changed = self.changed, 0
         return rebuilt, list(self.broken)
 
@@ -334,7 +335,7 @@ class _FakePrograms:
 def test_shader_watcher_reports_each_change_once():
     import io
 
-    programs, out = _FakePrograms(), io.StringIO()
+    programs, out = _FakeRenderer(), io.StringIO()
     watcher = ShaderWatcher(programs, stream=out)
     error = engine.ShaderError("glsl/lib/brdf.glsl:21: error: no function with name 'x'")
     programs.broken, programs.changed = [error, error], 2  # one file breaks two programs
@@ -358,8 +359,8 @@ def test_shader_watcher_shows_a_deleted_shader_file_like_a_compile_error_and_cle
     text = brdf.read_text()
     line = 1 + (glsl / "lighting.frag").read_text().splitlines().index('#include "lib/brdf.glsl"')
     out = io.StringIO()
-    with engine.Renderer(16, 16, glsl_root=glsl) as renderer, renderer.ctx:
-        watcher = ShaderWatcher(renderer.programs, stream=out)
+    with engine.Renderer(16, 16, glsl_root=glsl) as renderer:
+        watcher = ShaderWatcher(renderer, stream=out)
         brdf.unlink()
         errors = watcher.poll(force=True)
         assert f'glsl/lighting.frag:{line}: error: #include "lib/brdf.glsl": no such file' in errors

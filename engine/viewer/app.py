@@ -61,7 +61,7 @@ class Viewer:
             raise
         lo, hi = scene.bounds()
         self.camera = FlyCamera(scene.camera, scene_size=float(np.max(hi - lo)) if np.all(hi > lo) else 2.0)
-        self.shaders = ShaderWatcher(self.renderer.programs)
+        self.shaders = ShaderWatcher(self.renderer)
         self.frames = FrameStats()
         self.process = ProcessStats()
         self._last_frame = time.perf_counter()

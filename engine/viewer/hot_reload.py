@@ -1,6 +1,7 @@
-"""GLSL hot reload for the viewer: poll the renderer's ProgramLibrary for changed files.
+"""GLSL hot reload for the viewer: poll the renderer for changed shader files.
 
-A program whose file (or an included glsl/lib file) changed is rebuilt; on a compile error,
+A program whose file (or an included glsl/lib file) changed is rebuilt, and the next frame
+recomputes everything with it (Renderer.reload_shaders); on a compile error,
 or a file that is missing or unreadable, the last good program keeps running and the error,
 with the real file and line (`glsl/lib/brdf.glsl:12: error: ...`, `glsl/lighting.frag:5:
 error: #include "lib/brdf.glsl": no such file`), is kept here for the window and printed to
@@ -13,8 +14,8 @@ POLL_SECONDS = 0.25
 
 
 class ShaderWatcher:
-    def __init__(self, programs, interval=POLL_SECONDS, clock=time.perf_counter, stream=None):
-        self.programs = programs
+    def __init__(self, renderer, interval=POLL_SECONDS, clock=time.perf_counter, stream=None):
+        self.renderer = renderer
         self.interval = interval
         self.clock = clock
         self.stream = stream  # None: sys.stderr at the time of printing
@@ -29,10 +30,10 @@ class ShaderWatcher:
         if not force and now - self._polled < self.interval:
             return self.errors
         self._polled = now
-        rebuilt, _ = self.programs.reload_changed()
+        rebuilt, _ = self.renderer.reload_shaders()
         if rebuilt:
             self.rebuilt = rebuilt
-        self._update(_messages(self.programs.errors()), rebuilt)
+        self._update(_messages(self.renderer.programs.errors()), rebuilt)
         return self.errors
 
     def _update(self, messages, rebuilt):
