@@ -146,6 +146,27 @@ def test_mirror_reflects_what_the_specular_cone_sees(tmp_path):
     assert 0.1 < blurred[36, 32, 0] < 0.6 and blurred[60, 32, 0] > 0.1
 
 
+def test_glossy_cones_shared_between_pixels_leave_no_pattern(tmp_path):
+    """A glossy metal floor (roughness 0.3, a cone about 10 degrees wide) reflecting a uniformly
+    glowing far wall: the pixels between the anchors, which take their cone from the anchors,
+    show the same reflection as the anchors that traced it (no 2x2 pattern), and the reflection
+    is the wall's radiance."""
+    spec = cornell_spec()
+    spec["materials"] = {"black": {"albedo": [0, 0, 0]}, "glow": {"albedo": [0, 0, 0], "emission": [1, 1, 1]},
+                         "metal": {"albedo": [1, 1, 1], "metalness": 1.0, "roughness": 0.3}}
+    spec["objects"] = [dict(o, material={"Far Plane": "glow", "Bottom Plane": "metal"}.get(o["name"], "black"))
+                       for o in spec["objects"] if o["type"] == "quad"]
+    spec["lights"] = []
+    spec["camera"].update(position=[0, 0.3, 0.9], look_at=[0, -1, -0.6])
+    scene = write_scene(tmp_path, spec)
+    with engine.Renderer(64, 64) as r:
+        specular = r.render(scene, mode="specular", grid=64)[..., 0]
+    region = specular[30:46, 20:44]  # floor whose reflected cones meet the far wall
+    anchors, between = region[::2, ::2], np.concatenate([region[1::2].ravel(), region[::2, 1::2].ravel()])
+    assert anchors.mean() == pytest.approx(between.mean(), rel=0.01)
+    assert region.mean() == pytest.approx(1.0, rel=0.1)
+
+
 def test_more_bounces_add_light_and_converge_without_runaway(renderer, cornell):
     means = [renderer.render(cornell, mode="gi", grid=32, bounces=k).mean() for k in (1, 2, 3, 6)]
     converged = renderer.render(cornell, mode="gi", grid=32, bounces=0).mean()
