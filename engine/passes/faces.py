@@ -1,6 +1,6 @@
 """The face views cones read: composed per covered voxel from its base radiance and the light
-it gathered, L = L_base + k_d G, times the coverage of each face direction; then their mip
-levels, built over the covered cells of each level only."""
+it gathered, L = L_base + rho G (rho: its reflectance), times the coverage of each face
+direction; then their mip levels, built over the covered cells of each level only."""
 import numpy as np
 
 from ..constants import STORAGE_BINDING, TEXTURE_UNIT, VOXEL_FACES
@@ -15,7 +15,7 @@ class FaceViewsPass:
         self.totals_buffer = ctx.buffer(reserve=16 * VOXEL_FACES)
 
     def compose(self, grid, gathered=None):
-        """Level 0 of the face views from the base radiance plus k_d times `gathered` (a
+        """Level 0 of the face views from the base radiance plus rho times `gathered` (a
         volume of the grid, or None before the first bounce)."""
         grid.use_surface()
         grid.base.use(TEXTURE_UNIT["VOXEL_BASE"])
