@@ -124,21 +124,27 @@ def test_emissive_ceiling_alone_lights_the_floor_by_its_view_factor(tmp_path):
     assert np.allclose(ceiling[ceiling[:, 0] > 0.5], 1.0, atol=1e-3)  # the emitter itself (0 bounces)
 
 
+def metal_floor_under_a_glowing_wall(tmp_path, emission, roughness):
+    """The Cornell box's walls, black but for an emissive far wall, over a white metal floor of
+    the given roughness, no light, seen from above looking down at the floor."""
+    spec = cornell_spec()
+    spec["materials"] = {"black": {"albedo": [0, 0, 0]}, "glow": {"albedo": [0, 0, 0], "emission": emission},
+                         "metal": {"albedo": [1, 1, 1], "metalness": 1.0, "roughness": roughness}}
+    spec["objects"] = [dict(o, material={"Far Plane": "glow", "Bottom Plane": "metal"}.get(o["name"], "black"))
+                       for o in spec["objects"] if o["type"] == "quad"]
+    spec["lights"] = []
+    spec["camera"].update(position=[0, 0.3, 0.9], look_at=[0, -1, -0.6])
+    return write_scene(tmp_path, spec)
+
+
 def test_mirror_reflects_what_the_specular_cone_sees(tmp_path):
     """A metal floor with roughness 0 reflects the emissive far wall exactly (F = albedo = 1)
     and nothing where the mirrored ray meets black walls; at roughness 1 the cone opens to
     the hemisphere and blurs the reflection."""
-    spec = cornell_spec()
-    spec["materials"] = {"black": {"albedo": [0, 0, 0]}, "red glow": {"albedo": [0, 0, 0], "emission": [1, 0.2, 0.1]},
-                         "mirror": {"albedo": [1, 1, 1], "metalness": 1.0, "roughness": 0.0}}
-    spec["objects"] = [dict(o, material={"Far Plane": "red glow", "Bottom Plane": "mirror"}.get(o["name"], "black"))
-                       for o in spec["objects"] if o["type"] == "quad"]
-    spec["lights"] = []
-    spec["camera"].update(position=[0, 0.3, 0.9], look_at=[0, -1, -0.6])
-    scene = write_scene(tmp_path, spec)
+    scene = metal_floor_under_a_glowing_wall(tmp_path, emission=[1, 0.2, 0.1], roughness=0.0)
     with engine.Renderer(64, 64) as r:
         sharp = r.render(scene, mode="specular", grid=64)
-        scene.materials["mirror"].roughness = 1.0
+        scene.materials["metal"].roughness = 1.0
         blurred = r.render(scene, mode="specular", grid=64)
     # Rows 30..48 show floor whose mirrored rays meet the far wall; rows 56.. meet the black near wall.
     assert sharp[30:48, 16:48].reshape(-1, 3) == pytest.approx(np.tile([1, 0.2, 0.1], (18 * 32, 1)), rel=0.05)
@@ -151,14 +157,7 @@ def test_glossy_cones_shared_between_pixels_leave_no_pattern(tmp_path):
     glowing far wall: the pixels between the anchors, which take their cone from the anchors,
     show the same reflection as the anchors that traced it (no 2x2 pattern), and the reflection
     is the wall's radiance."""
-    spec = cornell_spec()
-    spec["materials"] = {"black": {"albedo": [0, 0, 0]}, "glow": {"albedo": [0, 0, 0], "emission": [1, 1, 1]},
-                         "metal": {"albedo": [1, 1, 1], "metalness": 1.0, "roughness": 0.3}}
-    spec["objects"] = [dict(o, material={"Far Plane": "glow", "Bottom Plane": "metal"}.get(o["name"], "black"))
-                       for o in spec["objects"] if o["type"] == "quad"]
-    spec["lights"] = []
-    spec["camera"].update(position=[0, 0.3, 0.9], look_at=[0, -1, -0.6])
-    scene = write_scene(tmp_path, spec)
+    scene = metal_floor_under_a_glowing_wall(tmp_path, emission=[1, 1, 1], roughness=0.3)
     with engine.Renderer(64, 64) as r:
         specular = r.render(scene, mode="specular", grid=64)[..., 0]
     region = specular[30:46, 20:44]  # floor whose reflected cones meet the far wall
