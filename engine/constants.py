@@ -110,6 +110,8 @@ VOLUME_GROUP = 4
 # The progressive bounce re-gathers 1 voxel class in K per frame, K <= MAX_INTERLEAVE: the
 # classes are the positions of a voxel in its 2x2x2 block.
 MAX_INTERLEAVE = 8
+# The covered-cell lists of the mip levels share one buffer, headed by a count per level.
+CELL_LIST_LEVELS = 16
 # Within a class the gather list runs block by block of CLASS_BLOCK^3 voxels, so that the
 # invocations running side by side trace neighbouring voxels.
 CLASS_BLOCK = 16
@@ -173,6 +175,7 @@ def glsl_header():
         f"#define VOLUME_GROUP {VOLUME_GROUP}",
         f"#define MAX_INTERLEAVE {MAX_INTERLEAVE}",
         f"#define CLASS_BLOCK {CLASS_BLOCK}",
+        f"#define CELL_LIST_LEVELS {CELL_LIST_LEVELS}",
         f"#define VOXEL_UNIT_SCALE {VOXEL_UNIT_SCALE:.1f}",
         f"#define VOXEL_MAX_FRAGMENTS {VOXEL_MAX_FRAGMENTS}u",
         f"#define VOXEL_EMISSION_SCALE {VOXEL_EMISSION_SCALE:.1f}",

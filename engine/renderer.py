@@ -15,6 +15,7 @@ from dataclasses import dataclass
 import moderngl
 import numpy as np
 
+from . import transforms
 from .bounces import BounceSchedule
 from .changes import BoundsCache, FrameInputs, Stage, voxel_update
 from .errors import VctError
@@ -52,8 +53,7 @@ class FrameCamera:
 def frame_camera(camera, size, bounds):
     """The camera's matrices for an image of `size`; the far plane lies past the farthest
     corner of the scene's bounds."""
-    lo, hi = bounds
-    corners = np.array([[x, y, z] for x in (lo[0], hi[0]) for y in (lo[1], hi[1]) for z in (lo[2], hi[2])])
+    corners = transforms.box_corners(*bounds)
     far = float(np.max(np.linalg.norm(corners - camera.position, axis=1))) * 1.1 + 1.0
     forward = camera.look_at - camera.position
     projection = camera.projection_matrix(size[0] / size[1], NEAR_PLANE, far)
@@ -255,10 +255,10 @@ class Renderer:
         return self.gbuffer.target
 
     def _lighting(self, gbuffer, shadow_maps, camera):
-        """Direct light, again when the G-buffer, the shadow maps (and so the lights) or the
-        viewpoint changed."""
+        """Direct light, again when the G-buffer (and so the viewpoint) or the shadow maps (and so
+        the lights) changed."""
         stage = self.stages["lighting"]
-        inputs = (self.stages["gbuffer"].version, self.stages["shadows"].version, _bytes(camera.position))
+        inputs = (self.stages["gbuffer"].version, self.stages["shadows"].version)
         if stage.stale(inputs, self.track_changes):
             with self.timed("lighting"):
                 self.lighting.render(gbuffer, shadow_maps, camera.position)

@@ -110,8 +110,7 @@ class MeshClusters:
         (all without either), adjacent ones merged."""
         keep = np.ones(len(self.first), bool)
         if view_projection is not None or box is not None:
-            corners = np.stack([np.where([(k >> a) & 1 for a in range(3)], self.hi, self.lo) for k in range(8)], axis=1)
-            world_corners = corners @ world[:3, :3].T + world[:3, 3]  # (clusters, 8, 3)
+            world_corners = transforms.box_corners(self.lo, self.hi) @ world[:3, :3].T + world[:3, 3]  # (clusters, 8, 3)
             if box is not None:
                 keep &= np.all(world_corners.min(axis=1) <= box[1], axis=1) & np.all(world_corners.max(axis=1) >= box[0], axis=1)
             if view_projection is not None:
@@ -226,14 +225,9 @@ class SceneGeometry:
         ibo.release()
 
     def release(self):
-        for _, arrays in self.vertex_arrays.values():
-            for vao in arrays.values():
-                vao.release()
-        for _, vbo, ibo, _ in self.buffers.values():
-            vbo.release()
-            ibo.release()
+        for key in list(self.buffers):  # every vertex array belongs to an uploaded mesh
+            self._release_mesh(key)
         self.vertex_arrays.clear()
-        self.buffers.clear()
         self.textures.release()
 
 

@@ -59,6 +59,12 @@ def gl_bytes(m):
     return np.asarray(m, dtype="f4").T.tobytes()
 
 
+def box_corners(lo, hi):
+    """The 8 corners of axis-aligned boxes: (8, 3) for one box, (..., 8, 3) for arrays of them."""
+    lo, hi = np.asarray(lo), np.asarray(hi)
+    return np.stack([np.where([(k >> axis) & 1 for axis in range(3)], hi, lo) for k in range(8)], axis=-2)
+
+
 def euler_deg_from_rotation(r):
     """Angles [x, y, z] in degrees with rotate_euler_deg(angles)[:3, :3] == r, for a 3x3 rotation
     matrix r (R = Rz Ry Rx; y in [-90, 90]; at y = +-90 degrees the x angle is taken as 0)."""

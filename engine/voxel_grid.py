@@ -17,11 +17,10 @@ import math
 
 import numpy as np
 
-from .constants import (CLASS_BLOCK, GL_IMAGE_FORMAT, GRID_SIZES, IMAGE_UNIT, LIST_GROUP, MAX_INTERLEAVE, STORAGE_BINDING, TEXTURE_UNIT,
+from .constants import (CELL_LIST_LEVELS, CLASS_BLOCK, GL_IMAGE_FORMAT, GRID_SIZES, IMAGE_UNIT, LIST_GROUP, MAX_INTERLEAVE, STORAGE_BINDING, TEXTURE_UNIT,
                         VOXEL_FACES, VOXEL_FORMAT, VOXEL_MEMORY_BUDGET, VOXEL_SUM_CHANNELS)
 from .errors import VctError
 
-MAX_LEVELS = 16  # header of the cell-list buffer: one count per level
 TEXEL_BYTES = 8  # RGBA16F
 MIP_CHAIN = 8 / 7  # a full mip chain adds a seventh
 
@@ -109,7 +108,7 @@ class VoxelGrid:
         sizes = [(n >> level) ** 3 for level in range(self.mip_count)]
         self.level_first = [int(sum(sizes[1:level])) for level in range(self.mip_count)]
         self.level_counts = [0] * self.mip_count
-        self.cells = self._keep(ctx.buffer(data=bytes(4 * (MAX_LEVELS + sum(sizes[1:])))))
+        self.cells = self._keep(ctx.buffer(data=bytes(4 * (CELL_LIST_LEVELS + sum(sizes[1:])))))
         self.cell_stamps = self._keep(ctx.buffer(data=bytes(4 * sum(sizes[1:]))))
         self.cell_generation = 0
         # Covered voxels sorted by interleave class and block, the buckets of that counting sort,
@@ -153,8 +152,7 @@ class VoxelGrid:
     # -- binding ---------------------------------------------------------------------------
 
     def uniforms(self):
-        center, size = self.region.center, self.region.size
-        return dict(voxel_region_min=tuple(np.asarray(center, float) - size / 2.0), voxel_region_size=float(size),
+        return dict(voxel_region_min=tuple(self.bounds()[0]), voxel_region_size=float(self.region.size),
                     voxel_grid=self.n, voxel_size=self.voxel_size, voxel_max_mip=float(self.mip_count - 1))
 
     def bind_sums(self):

@@ -5,7 +5,7 @@
 
 layout(local_size_x = LIST_GROUP) in;
 layout(std430, binding = SSBO_COVERED) readonly buffer CoveredVoxels { uint covered_count; uint covered[]; };
-layout(std430, binding = SSBO_CELLS) buffer Cells { uint cell_count[16]; uint cells[]; };
+layout(std430, binding = SSBO_CELLS) buffer Cells { uint cell_count[CELL_LIST_LEVELS]; uint cells[]; };
 layout(std430, binding = SSBO_CELL_STAMPS) buffer CellStamps { uint stamps[]; };
 uniform int level;
 uniform uint source_first;  // first entry of level - 1 in `cells` (unused for level 1)

@@ -8,7 +8,7 @@
 layout(local_size_x = LIST_GROUP) in;
 layout(binding = TEX_VOXEL_FACES) uniform sampler3D voxel_faces;
 layout(binding = IMG_FACES_OUT, rgba16f) uniform writeonly image3D faces_out;
-layout(std430, binding = SSBO_CELLS) readonly buffer Cells { uint cell_count[16]; uint cells[]; };
+layout(std430, binding = SSBO_CELLS) readonly buffer Cells { uint cell_count[CELL_LIST_LEVELS]; uint cells[]; };
 uniform int level;
 uniform uint first;
 

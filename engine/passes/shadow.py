@@ -84,7 +84,7 @@ class ShadowPass:
     def _views(self, light, bounds):
         """[(view_projection, texel_world_per_w)] of one light."""
         lo, hi = bounds
-        corners = np.array([[x, y, z] for x in (lo[0], hi[0]) for y in (lo[1], hi[1]) for z in (lo[2], hi[2])])
+        corners = transforms.box_corners(lo, hi)
         margin = 2.0 / self.maps.tile_size  # a border of texels so 2x2 filtering never leaves its tile
         if light.type == "directional":
             center = (lo + hi) / 2.0

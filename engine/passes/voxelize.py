@@ -11,7 +11,7 @@ Afterwards the covered-voxel list and the covered cells of every mip level are b
 date."""
 import numpy as np
 
-from ..constants import IMAGE_UNIT, STORAGE_BINDING, TEXTURE_UNIT
+from ..constants import CELL_LIST_LEVELS, IMAGE_UNIT, STORAGE_BINDING, TEXTURE_UNIT
 from ..voxel_grid import bind_image
 
 STAGES = {"MARK": 0, "FRONT": 1, "ADD": 2}  # glsl/voxelize.frag VOXELIZE_*
@@ -78,7 +78,6 @@ class VoxelizePass:
         grid.covered.read_count()
         self._relist_cells(grid)
         grid.version += 1
-        return touched
 
     def _relist_cells(self, grid):
         """Zero the face views over the old covered cells of every level, then list the cells
@@ -89,7 +88,7 @@ class VoxelizePass:
             grid.bind_faces(level)
             self.clear_cells.set(**uniforms, level=level, first=grid.level_first[level])
             grid.dispatch(self.clear_cells, grid.level_counts[level])
-        grid.cells.write(bytes(4 * 16))
+        grid.cells.write(bytes(4 * CELL_LIST_LEVELS))
         grid.cell_generation += 1
         grid.covered.bind("COVERED")
         grid.cell_stamps.bind_to_storage_buffer(STORAGE_BINDING["CELL_STAMPS"])
