@@ -102,7 +102,6 @@ class VoxelGrid:
         self.emission = self._volume()
         self.gathered = [self._volume() for _ in range(2)]
         self.faces = self._volume(mipmapped=True, views=VOXEL_FACES)
-        self.faces.filter = (ctx.LINEAR_MIPMAP_NEAREST, ctx.LINEAR)  # cones read the nearest level of their footprint
         self.touched, self.covered, self.covered_next = (self._keep(VoxelList(ctx, voxels)) for _ in range(3))
         # Covered cells of levels 1..log2(n), one segment per level after a count per level.
         sizes = [(n >> level) ** 3 for level in range(self.mip_count)]

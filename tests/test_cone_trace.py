@@ -117,9 +117,11 @@ def test_emissive_ceiling_alone_lights_the_floor_by_its_view_factor(tmp_path):
         x, _, z = position[row, col, :3]
         expected = sum(corner_factor(X / 2.0, Z / 2.0) for X in (1 - x, 1 + x) for Z in (1 - z, 1 + z))
         errors.append(gi[row, col, 0] / expected - 1.0)
-    # Measured here: +15% on average, at most +26%: the known bias of the 6-cone voxel estimate
-    # for a uniform emitter over black walls (walls along a cone's axis occlude too little).
-    assert abs(np.mean(errors)) < 0.2 and np.max(np.abs(errors)) < 0.3, (np.mean(errors), np.max(np.abs(errors)))
+    # Measured here: +2.7 % on average, 95 % of the floor within -7 % .. +10 %, and -32 % at the
+    # sample nearest a corner, where the two black walls fill more of the side cones than they
+    # should. (Cones that let half of each wall through at coarse levels: +8 %, up to +30 %.)
+    errors = np.array(errors)
+    assert abs(errors.mean()) < 0.05 and np.percentile(np.abs(errors), 90) < 0.15 and np.abs(errors).max() < 0.35, errors
     ceiling = gi[:3].reshape(-1, 3)
     assert np.allclose(ceiling[ceiling[:, 0] > 0.5], 1.0, atol=1e-3)  # the emitter itself (0 bounces)
 
@@ -210,22 +212,27 @@ def test_one_bounce_matches_the_path_traced_reference(renderer, cornell, referen
 
 
 def test_converged_gi_matches_the_path_traced_reference(renderer, cornell, reference):
+    """All bounces at grid 128: within 8 % (relative MAE), luminance within 5 % (measured 0.058,
+    0.958); a cone that lets half of each wall through at coarse levels reads 0.101, 0.902."""
     radiance = renderer.render(cornell, grid=128)  # default: gi, bounces to convergence
     gi = reference("gi")
     error, ratio = rel_mae(radiance, gi), luminance_ratio(radiance, gi)
-    assert error <= 0.20 and 0.9 <= ratio <= 1.1, f"relMAE {error:.3f}, luminance ratio {ratio:.3f}"
+    assert error <= 0.08 and 0.95 <= ratio <= 1.05, f"relMAE {error:.3f}, luminance ratio {ratio:.3f}"
 
 
 def test_feedback_frames_converge_to_the_converged_image(cornell):
     """In the viewer each frame adds one bounce (re-gathering 1 in 4 voxels) on top of the
-    previous frame: after enough frames the image equals the headless converged one."""
+    previous frame: after enough frames the image equals 24 bounces within 1 %; the headless
+    render, which closes the geometric series after a few bounces, is within 2 % of it."""
     with engine.Renderer(64, 64) as r:
+        many_bounces = r.render(cornell, mode="gi", grid=32, bounces=24)
         converged = r.render(cornell, mode="gi", grid=32)
     with engine.Renderer(64, 64) as r:
         r.progressive = True
         frames = [r.render(cornell, mode="gi", grid=32, bounce_interleave=4) for _ in range(40)]
-    assert rel_mae(frames[0], converged) > 0.1          # the first frame has one bounce only
-    assert rel_mae(frames[-1], converged) < 0.01
+    assert rel_mae(frames[0], many_bounces) > 0.1          # the first frame has one bounce only
+    assert rel_mae(frames[-1], many_bounces) < 0.01
+    assert rel_mae(converged, many_bounces) < 0.02
 
 
 @pytest.mark.parametrize("name", sorted(p.name for p in SCENES.glob("*.json")))

@@ -26,9 +26,11 @@ float ray_share(float c, float spread) {
 // The faces of a cell that a cone along w sees. Rays travelling along +k meet the faces looking
 // along -k: per axis, the face looking against w_k (`face`) takes the share of rays going its
 // way, and where |w_k| < spread the face looking along w_k (`back`) takes the rays that diverge
-// the other way; each share is over max_j |w_j|, so a plane crossed at angle theta from its
-// normal covers min(1, cot theta) of a cell, as it does geometrically. The back faces are kept
-// minor axes first: the dominant axis (|w_k| >= 1/sqrt 3) has one only in cones wider than
+// the other way. A ray along w crosses the voxels of a plane with normal n over a path of
+// max_j |n_j| / |n.w| voxels, where the face views hold |n_k| / max_j |n_j| (face_coverage):
+// with weights |w_k| the plane adds up to sum_k |w_k n_k| / |n.w| = 1 layer at any angle, and a
+// small surface to the share of the cone it projects onto. The back faces are kept minor axes
+// first: the dominant axis (|w_k| >= 1/sqrt 3) has one only in cones wider than
 // 35.3 degrees. Constant along a cone.
 struct FaceWeights {
     ivec3 face;
@@ -41,28 +43,27 @@ FaceWeights face_weights(vec3 w, float spread) {
     vec3 c = abs(w);
     int major = c.x >= c.y ? (c.x >= c.z ? 0 : 2) : (c.y >= c.z ? 1 : 2);
     ivec3 order = ivec3((major + 1) % 3, (major + 2) % 3, major);
-    float scale = 1.0 / c[major];
     FaceWeights f;
     f.face = ivec3(0, 2, 4) + ivec3(greaterThan(w, vec3(0.0)));
     for (int k = 0; k < 3; ++k) {
-        f.weight[k] = ray_share(c[k], spread) * scale;
+        f.weight[k] = ray_share(c[k], spread);
         int axis = order[k];
         f.back[k] = 2 * axis + int(w[axis] <= 0.0);
-        f.back_weight[k] = ray_share(-c[axis], spread) * scale;
+        f.back_weight[k] = ray_share(-c[axis], spread);
     }
     return f;
 }
 
-// One face view around uvw at an integer mip level, filtered within the view: the depth
-// coordinate is clamped to the view's own texels (the views are stacked along z).
+// One face view around uvw at a fractional mip level, filtered within the view and between the
+// two levels around it: the depth coordinate is clamped to the coarser level's own texels (the
+// views are stacked along z).
 vec4 face_lod(int face, vec3 uvw, float mip) {
-    float side = float(voxel_grid >> int(mip));
+    float side = float(voxel_grid >> int(ceil(mip)));
     float w = clamp(uvw.z, 0.5 / side, 1.0 - 0.5 / side);
     return textureLod(voxel_faces, vec3(uvw.xy, (float(face) + w) / float(VOXEL_FACES)), mip);
 }
 
-// Premultiplied radiance (rgb) and coverage (a) of the cell around uvw at an integer mip
-// level, as seen by a cone with the given face weights; `wide`: a cone wider than 35.3 degrees.
+// Premultiplied radiance (rgb) and coverage (a) of the cell around uvw at a mip level, as seen by a cone with the given face weights; `wide`: a cone wider than 35.3 degrees.
 vec4 sample_faces(vec3 uvw, float mip, FaceWeights f, bool wide) {
     vec4 sum = f.weight.x * face_lod(f.face.x, uvw, mip) + f.weight.y * face_lod(f.face.y, uvw, mip)
              + f.weight.z * face_lod(f.face.z, uvw, mip)
@@ -75,12 +76,15 @@ vec4 sample_faces(vec3 uvw, float mip, FaceWeights f, bool wide) {
 // (`wide`: a half-angle over 35.3 degrees), starting one voxel out along the normal and along the cone, one sample per step:
 //   d = max(voxel, 2 tan(a/2) t)                 the cone's diameter at distance t
 //   mip = log2(d / voxel) - 1                    a trilinear lookup averages over a tent two
-//                                                cells wide, so cells of d/2 span d; the
-//                                                nearest level is read
+//                                                cells wide, so cells of d/2 span d; the two
+//                                                levels around it are blended, so that
+//                                                neighbouring receivers do not switch levels
+//                                                at once (bands)
 //   c = min(1, a 2^mip)                          a mip cell 2^mip voxels wide with mean coverage
 //                                                a holds a 2^mip voxel layers of surface across
 //                                                the cone: a plane stays opaque at every level
-//   alpha += min(c step / d, 1 - alpha)          the covered fraction, front to back, which
+//   alpha += min(c step / (2^mip voxel), 1 - alpha)  the covered fraction of a step through
+//                                                cells 2^mip voxels wide, front to back, which
 //                                                makes the result independent of the step
 //   t += step = cone_step * d
 vec4 trace_cone(vec3 p, vec3 n, vec3 direction, float tan_half_angle, float max_distance, bool wide) {
@@ -91,16 +95,17 @@ vec4 trace_cone(vec3 p, vec3 n, vec3 direction, float tan_half_angle, float max_
     float t = voxel_size;  // start one voxel out along the cone
     while (gathered.a < 1.0 && t < max_distance) {
         float diameter = max(voxel_size, 2.0 * tan_half_angle * t);
-        float mip = round(min(max(log2(diameter / voxel_size) - 1.0, 0.0), voxel_max_mip));  // 1^3 spans the region
+        float mip = min(max(log2(diameter / voxel_size) - 1.0, 0.0), voxel_max_mip);  // 1^3 spans the region
         vec3 uvw = voxel_uvw(start + direction * t);
-        // Stop once the cone's footprint has left [0,1]^3 (outside reads as empty).
-        float footprint = 0.5 * diameter / voxel_region_size;
+        // Stop half a cell past [0,1]^3: the lookups clamp to the outer cells, which hold the
+        // surfaces at the region's edge once; further out they would repeat them.
+        float footprint = 0.25 * diameter / voxel_region_size;
         if (any(lessThan(uvw, vec3(-footprint))) || any(greaterThan(uvw, vec3(1.0 + footprint)))) break;
         vec4 s = sample_faces(uvw, mip, weights, wide);
         float step_length = cone_step * diameter;
         if (s.a > 0.0) {
             // Covered fraction of the cross-section added by this step, front to back.
-            float coverage = min(1.0, s.a * exp2(mip)) * step_length / diameter;
+            float coverage = min(1.0, s.a * exp2(mip)) * step_length / (exp2(mip) * voxel_size);
             float alpha = min(coverage, 1.0 - gathered.a);
             gathered.rgb += alpha * (s.rgb / s.a);
             gathered.a += alpha;
