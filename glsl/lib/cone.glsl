@@ -54,16 +54,17 @@ FaceWeights face_weights(vec3 w, float spread) {
     return f;
 }
 
-// One face view around uvw at a fractional mip level, filtered within the view and between the
-// two levels around it: the depth coordinate is clamped to the coarser level's own texels (the
-// views are stacked along z).
+// One face view around uvw at a mip level (a fractional one blends the two levels around it),
+// filtered within the view: the depth coordinate is clamped to the coarser level's own texels
+// (the views are stacked along z).
 vec4 face_lod(int face, vec3 uvw, float mip) {
     float side = float(voxel_grid >> int(ceil(mip)));
     float w = clamp(uvw.z, 0.5 / side, 1.0 - 0.5 / side);
     return textureLod(voxel_faces, vec3(uvw.xy, (float(face) + w) / float(VOXEL_FACES)), mip);
 }
 
-// Premultiplied radiance (rgb) and coverage (a) of the cell around uvw at a mip level, as seen by a cone with the given face weights; `wide`: a cone wider than 35.3 degrees.
+// Premultiplied radiance (rgb) and coverage (a) of the cell around uvw at a mip level, as seen
+// by a cone with the given face weights; `wide`: a cone wider than 35.3 degrees.
 vec4 sample_faces(vec3 uvw, float mip, FaceWeights f, bool wide) {
     vec4 sum = f.weight.x * face_lod(f.face.x, uvw, mip) + f.weight.y * face_lod(f.face.y, uvw, mip)
              + f.weight.z * face_lod(f.face.z, uvw, mip)
@@ -75,8 +76,9 @@ vec4 sample_faces(vec3 uvw, float mip, FaceWeights f, bool wide) {
 // Radiance (rgb) and opacity (a) gathered along a cone from surface point p with normal n
 // (`wide`: a half-angle over 35.3 degrees), starting one voxel out along the normal and along
 // the cone, one sample per step. `blend_levels`: read the two mip levels around the footprint
-// blended, or the nearest one. The diffuse cones blend: at the nearest level, receivers band
-// where neighbours switch levels (one bounce at 128^3: relMAE 0.059 instead of 0.050). The
+// blended, or the nearest one. The diffuse cones blend: at the nearest level the reading jumps
+// where the distance to a surface crosses from one level to the next, which draws bands on the
+// receivers (one bounce at 128^3: relMAE 0.059 instead of 0.050). The
 // specular cones read the nearest level: they are narrow and long, so most of their steps fall
 // between levels 0 and 1, where blending doubles the texel reads, and the images differ by
 // 0.3-0.5 % (Sponza, cornell_spheres).
