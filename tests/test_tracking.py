@@ -131,3 +131,27 @@ def test_a_mesh_given_new_vertices_is_drawn_and_voxelized_anew():
         edited = r.render(scene, grid=32, bounces=1)
     with engine.Renderer(64, 64) as fresh:
         assert np.array_equal(fresh.render(scene, grid=32, bounces=1), edited)
+
+
+def test_an_emission_edit_in_the_viewer_lights_the_room_over_the_next_frames():
+    """The inspector turns the short box into a lamp while the viewer's bounces are settled:
+    the next frame shows it glowing, and the room converges to the edited scene's image (24
+    bounces) within 1 % as the progressive bounces carry its light."""
+    from engine.viewer import inspector
+    scene = engine.load_scene(SCENES / "cornell_box.json")
+    with engine.Renderer(64, 64) as r:
+        r.progressive = True
+        for _ in range(80):
+            before = r.render(scene, grid=32)
+            if r.bounces.settled:
+                break
+        assert r.bounces.settled
+        inspector.make_material_unique(scene, "Short Box")
+        inspector.set_emission(scene, "Short Box", [4.0, 4.0, 4.0])
+        frames = [r.render(scene, grid=32) for _ in range(60)]
+    with engine.Renderer(64, 64) as r:
+        expected = r.render(scene, grid=32, bounces=24)
+    glowing = frames[0].mean(axis=2) > 4.0          # the box's own pixels, from the next frame on
+    assert glowing.sum() > 100 and not (before.mean(axis=2) > 4.0).any()
+    assert frames[0].mean() < frames[-1].mean()      # its light reaches the room over the frames
+    assert rel_mae(frames[-1], expected) < 0.01
