@@ -10,11 +10,12 @@ from .errors import VctError
 from .settings import MAX_BOUNCES, MAX_EXPOSURE, MODES, TONEMAPS, RenderSettings
 
 
-class _Parser(argparse.ArgumentParser):
-    """Usage errors as one line like every other error (`vct: error: ...`, exit code 2)."""
+class OneLineErrorParser(argparse.ArgumentParser):
+    """Usage errors as one line like every other error (`vct: error: ...`, exit code 2), named
+    by the program: the first word of `prog` (`vct render` -> `vct`)."""
 
     def error(self, message):
-        self.exit(2, f"vct: error: {message} (see `{self.prog} --help`)\n")
+        self.exit(2, f"{self.prog.split()[0]}: error: {message} (see `{self.prog} --help`)\n")
 
 
 def _finite_float(text):
@@ -42,7 +43,7 @@ def _whole_number(minimum, maximum=None):
     return parse
 
 
-_positive_int = _whole_number(1)
+positive_int = _whole_number(1)
 _nonnegative_int = _whole_number(0)
 # Upper bounds of the frame counts: every loop a command line controls is bounded.
 MAX_VIEW_FRAMES = 10000
@@ -51,8 +52,8 @@ MAX_BENCH_FRAMES = 1000
 
 def _add_settings_arguments(parser, default_mode="gi"):
     d = RenderSettings()
-    parser.add_argument("--width", type=_positive_int, help="image width (default: the scene camera's)")
-    parser.add_argument("--height", type=_positive_int, help="image height (default: the scene camera's)")
+    parser.add_argument("--width", type=positive_int, help="image width (default: the scene camera's)")
+    parser.add_argument("--height", type=positive_int, help="image height (default: the scene camera's)")
     parser.add_argument("--mode", choices=MODES, default=default_mode,
                         help=f"what to show (default {default_mode}): gi = direct + diffuse and specular indirect + emission; "
                              "direct; indirect (diffuse); specular; ao; albedo/normal/depth (G-buffer); "
@@ -62,7 +63,7 @@ def _add_settings_arguments(parser, default_mode="gi"):
                         help=f"diffuse bounces: 1 = direct + one indirect bounce, K = K bounces (at most {MAX_BOUNCES}), "
                              "0 = iterate until converged, which also stops after at most "
                              f"{MAX_BOUNCES} (default 0)")
-    parser.add_argument("--bounce-interleave", type=_positive_int, default=d.bounce_interleave,
+    parser.add_argument("--bounce-interleave", type=positive_int, default=d.bounce_interleave,
                         help="viewer and bench with --bounces 0: each frame 1 in K covered voxels gathers light "
                              f"again, the others reuse their last gather (default {d.bounce_interleave}; 1 = all)")
     parser.add_argument("--mip", type=_nonnegative_int, default=d.voxel_mip, help="mip level for the voxel views (default 0)")
@@ -90,7 +91,7 @@ def settings_from_args(args):
 
 
 def build_parser():
-    parser = _Parser(prog="vct", description="Voxel cone tracing renderer (OpenGL 4.5 via moderngl).")
+    parser = OneLineErrorParser(prog="vct", description="Voxel cone tracing renderer (OpenGL 4.5 via moderngl).")
     commands = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
 
     render = commands.add_parser("render", help="render a scene headless to PNG (and linear HDR .npy or .exr)",

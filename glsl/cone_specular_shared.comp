@@ -39,7 +39,7 @@ void main() {
         if (bilinear.x * bilinear.y == 0.0 || any(greaterThanEqual(anchor, size))) continue;
         Surface a = read_gbuffer(anchor);
         // An anchor traced a cone where its surface reflects specularly.
-        if (!any(greaterThan(specular_f0(a.albedo, a.metalness, a.dielectric_f0), vec3(0.0)))) continue;
+        if (!has_specular_layer(specular_f0(a.albedo, a.metalness, a.dielectric_f0))) continue;
         float weight = bilinear.x * bilinear.y * anchor_similarity(a, s);
         sum += weight * imageLoad(specular_in, base + corner).rgb;
         total += weight;

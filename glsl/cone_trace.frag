@@ -78,7 +78,7 @@ void main() {
         else cones |= PIXEL_DIFFUSE_CONES;
     }
     ivec2 pixel = ivec2(gl_FragCoord.xy);
-    if (include_specular && any(greaterThan(specular_f0(s.albedo, s.metalness, s.dielectric_f0), vec3(0.0)))) {
+    if (include_specular && has_specular_layer(specular_f0(s.albedo, s.metalness, s.dielectric_f0))) {
         // Between anchors two pixels apart the reflected direction turns by about four pixels'
         // angle: a cone at least that wide is shared, a narrower one (near a mirror) is not.
         bool shared_cone = atan(specular_tan_half_angle(s.roughness)) >= 4.0 * pixel_angle;

@@ -1,8 +1,9 @@
 #version 450 core
-// Voxelization, fragment stage: one fragment = one surface sample in one voxel. Its
-// reflectance (diffuse albedo plus the specular layer's hemispherical albedo) and emission (the material's factors times its textures, sampled at the mip level of
-// a voxel's footprint), unit normal, offset along the normal from the voxel centre are added to
-// the voxel's fixed-point sums with atomics, with a fragment count (lib/voxel_sums.glsl).
+// Voxelization, fragment stage: one fragment = one surface sample in one voxel. Its reflectance
+// (diffuse albedo plus the specular layer's hemispherical albedo) and emission (the material's
+// factors times its textures, sampled at the mip level of a voxel's footprint), unit normal,
+// offset along the normal from the voxel centre are added to the voxel's fixed-point sums with
+// atomics, with a fragment count (lib/voxel_sums.glsl).
 //
 // Surfaces that share a voxel and face the same way (a lamp under a ceiling, a picture on a
 // wall, a rug on a floor) hide one another: seen from their front, only the front-most shows.

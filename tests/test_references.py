@@ -20,8 +20,9 @@ def test_textured_box_direct_light_matches_its_reference():
     scene = engine.load_scene(REFERENCES / "textured_box.json")
     with engine.Renderer(256, 256) as r:
         direct = r.render(scene, mode="direct")
-    assert rel_mae(direct, reference("textured_box_direct")) <= 0.05
-    assert luminance_ratio(direct, reference("textured_box_direct")) == pytest.approx(1.0, abs=0.02)
+    expected = reference("textured_box_direct")
+    assert rel_mae(direct, expected) <= 0.05
+    assert luminance_ratio(direct, expected) == pytest.approx(1.0, abs=0.02)
 
 
 def test_textured_box_converged_gi_matches_its_reference():
@@ -30,8 +31,9 @@ def test_textured_box_converged_gi_matches_its_reference():
     scene = engine.load_scene(REFERENCES / "textured_box.json")
     with engine.Renderer(256, 256) as r:
         gi = r.render(scene, grid=128)
-    assert rel_mae(gi, reference("textured_box_gi")) <= 0.20
-    assert luminance_ratio(gi, reference("textured_box_gi")) == pytest.approx(1.0, abs=0.10)
+    expected = reference("textured_box_gi")
+    assert rel_mae(gi, expected) <= 0.20
+    assert luminance_ratio(gi, expected) == pytest.approx(1.0, abs=0.10)
 
 
 # Measured at grid 128 (README, Accuracy): the bounds hold those figures with a margin and fail
@@ -57,5 +59,6 @@ def test_light_from_emissive_surfaces_matches_its_reference(name):
     scene = engine.load_scene(REFERENCES / f"{name}.json")
     with engine.Renderer(256, 256) as r:
         gi = r.render(scene, grid=128)
-    assert rel_mae(gi, reference(f"{name}_gi")) <= error_bound
-    assert luminance_ratio(gi, reference(f"{name}_gi")) == pytest.approx(1.0, abs=luminance_bound)
+    expected = reference(f"{name}_gi")
+    assert rel_mae(gi, expected) <= error_bound
+    assert luminance_ratio(gi, expected) == pytest.approx(1.0, abs=luminance_bound)

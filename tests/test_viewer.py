@@ -335,14 +335,14 @@ class _FakeRenderer:
 def test_shader_watcher_reports_each_change_once():
     import io
 
-    programs, out = _FakeRenderer(), io.StringIO()
-    watcher = ShaderWatcher(programs, stream=out)
+    renderer, out = _FakeRenderer(), io.StringIO()
+    watcher = ShaderWatcher(renderer, stream=out)
     error = engine.ShaderError("glsl/lib/brdf.glsl:21: error: no function with name 'x'")
-    programs.broken, programs.changed = [error, error], 2  # one file breaks two programs
+    renderer.broken, renderer.changed = [error, error], 2  # one file breaks two programs
     assert watcher.poll(force=True) == ["glsl/lib/brdf.glsl:21: error: no function with name 'x'"]
     watcher.poll(force=True)
     assert out.getvalue().count("brdf.glsl:21") == 1
-    programs.broken, programs.changed = [], 2
+    renderer.broken, renderer.changed = [], 2
     assert watcher.poll(force=True) == []
     assert "fixed, reloaded 2 programs" in out.getvalue()
     assert watcher.poll() == []  # within the interval: no reload

@@ -36,21 +36,17 @@ if ! mesa_present; then
     mesa_present || { echo "error: Mesa's EGL/GL libraries still missing after installing $mesa_packages" >&2; exit 1; }
 fi
 
+# want_for_tests NAME TESTS PACKAGE: install a missing library the tests use, or say which skip.
+want_for_tests() {
+    if can_install; then
+        echo "installing $1 for the $2"
+        apt_install "$3"
+    else
+        echo "note: $1 not found; the $2 will skip (Debian/Ubuntu: apt-get install $3)"
+    fi
+}
+
 if [ "${1:-}" = "--test" ]; then
-    if ! command -v Xvfb >/dev/null; then
-        if can_install; then
-            echo "installing Xvfb for the viewer tests"
-            apt_install xvfb
-        else
-            echo "note: Xvfb not found; the viewer tests will skip (Debian/Ubuntu: apt-get install xvfb)"
-        fi
-    fi
-    if ! grep -q 'libOSMesa\.so' <<<"$(ldconfig_cache)"; then
-        if can_install; then
-            echo "installing OSMesa for the fallback-context test"
-            apt_install libosmesa6
-        else
-            echo "note: OSMesa not found; the OSMesa fallback test will skip (Debian/Ubuntu: apt-get install libosmesa6)"
-        fi
-    fi
+    command -v Xvfb >/dev/null || want_for_tests Xvfb "viewer tests" xvfb
+    grep -q 'libOSMesa\.so' <<<"$(ldconfig_cache)" || want_for_tests OSMesa "OSMesa fallback test" libosmesa6
 fi

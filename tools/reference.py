@@ -88,7 +88,6 @@ rendered with `volpath` (whose shadow rays pass through masks; `path`'s do not).
 Refused with one line naming the field: normal textures, and metal-roughness textures whose
 metalness (B) varies across the image.
 """
-import argparse
 import datetime
 import functools
 import hashlib
@@ -106,6 +105,7 @@ sys.path.insert(0, str(ROOT))
 
 import engine  # noqa: E402
 from engine import transforms  # noqa: E402
+from engine.cli import OneLineErrorParser, positive_int  # noqa: E402
 
 TOOL_VERSION = 2  # 1: Lambertian only; 2: specular layer, textures, alpha masks, meta/png/halves
 MIN_ROUGHNESS = 0.05  # glsl/lib/brdf.glsl clamps the roughness the same way
@@ -275,7 +275,7 @@ class Converter:
 
     def opacity(self, material, mesh, field):
         """None (opaque), 0.0 (cut out everywhere) or (H, W) 0/1 opacity of the texels."""
-        if material.alpha_mode == "OPAQUE":
+        if not material.alpha_tested:
             return None
         alpha = np.full((1, 1), float(material.alpha))
         if material.base_color_texture is not None and self.alpha_of(material.base_color_texture) is not None:
@@ -509,28 +509,13 @@ def _display_path(path):
         return str(path)
 
 
-class _Parser(argparse.ArgumentParser):
-    def error(self, message):
-        self.exit(2, f"reference.py: error: {message} (see `{self.prog} --help`)\n")
-
-
-def _positive(text):
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a whole number, got {text!r}") from None
-    if value <= 0:
-        raise argparse.ArgumentTypeError(f"must be positive, got {value}")
-    return value
-
-
 def main(argv=None):
-    parser = _Parser(description=__doc__.splitlines()[0])
+    parser = OneLineErrorParser(prog="reference.py", description=__doc__.splitlines()[0])
     parser.add_argument("scene")
     parser.add_argument("out", help="output .npy (linear float32 radiance, row 0 at the top); .meta.json and .png beside it")
-    parser.add_argument("--spp", type=_positive, default=1024, help="samples per pixel in all (two halves of spp/2)")
+    parser.add_argument("--spp", type=positive_int, default=1024, help="samples per pixel in all (two halves of spp/2)")
     parser.add_argument("--max-depth", type=int, default=-1, help="-1: all bounces; 2: direct only; 3: + one bounce")
-    parser.add_argument("--pass-spp", type=_positive, default=64, help="samples per pixel of one render call")
+    parser.add_argument("--pass-spp", type=positive_int, default=64, help="samples per pixel of one render call")
     parser.add_argument("--seed", type=int, default=0, help="seeds of the passes derive from it (0..9999)")
     parser.add_argument("--sampler", default="independent", choices=["independent", "stratified", "multijitter"])
     parser.add_argument("--variant", default="scalar_rgb", choices=["scalar_rgb", "llvm_ad_rgb"])

@@ -28,10 +28,15 @@ float specular_tan_half_angle(float roughness) {
     return sigma2 >= 1.0 ? 1e4 : sqrt(sigma2 / (1.0 - sigma2));
 }
 
+// Whether a surface with this F0 has a specular layer at all (F0 = 0: Lambert alone).
+bool has_specular_layer(vec3 f0) {
+    return any(greaterThan(f0, vec3(0.0)));
+}
+
 // Hemispherical albedo of the specular layer: Schlick's F averaged over the cosine-weighted
 // hemisphere, F0 + (1 - F0) 2 int (1 - mu)^5 mu dmu = F0 + (1 - F0) / 21; none without one (F0 = 0).
 vec3 specular_albedo(vec3 f0) {
-    return any(greaterThan(f0, vec3(0.0))) ? f0 + (1.0 - f0) / 21.0 : vec3(0.0);
+    return has_specular_layer(f0) ? f0 + (1.0 - f0) / 21.0 : vec3(0.0);
 }
 
 // BRDF times pi-free cosine-less form: f(l, v) = (1 - m) k_d / pi + F (s + 2) / (8 pi) (n.h)^s.

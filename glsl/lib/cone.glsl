@@ -78,10 +78,10 @@ vec4 sample_faces(vec3 uvw, float mip, FaceWeights f, bool wide) {
 // the cone, one sample per step. `blend_levels`: read the two mip levels around the footprint
 // blended, or the nearest one. The diffuse cones blend: at the nearest level the reading jumps
 // where the distance to a surface crosses from one level to the next, which draws bands on the
-// receivers (one bounce at 128^3: relMAE 0.059 instead of 0.050). The
-// specular cones read the nearest level: they are narrow and long, so most of their steps fall
-// between levels 0 and 1, where blending doubles the texel reads, and the images differ by
-// 0.3-0.5 % (Sponza, cornell_spheres).
+// receivers (one bounce at 128^3: relMAE 0.059 instead of 0.050). The specular cones read the
+// nearest level: they are narrow and long, so most of their steps fall between levels 0 and 1,
+// where blending doubles the texel reads, and the images differ by 0.3-0.5 % (Sponza,
+// cornell_spheres).
 //   d = max(voxel, 2 tan(a/2) t)                 the cone's diameter at distance t
 //   mip = log2(d / voxel) - 1                    a trilinear lookup averages over a tent two
 //                                                cells wide, so cells of d/2 span d
