@@ -18,11 +18,12 @@ import time
 
 import numpy as np
 
+from .emitters import is_emissive
 from .settings import MODE_TABLE
 
 FRAME_KINDS = ("static", "light", "object")
-PASS_ORDER = ("shadow", "gbuffer", "lighting", "voxelize", "inject", "gather", "faces", "mipmap", "cone_trace",
-              "voxel_view", "gbuffer_view")
+PASS_ORDER = ("shadow", "gbuffer", "lighting", "emitters", "voxelize", "emission_mipmap", "emitter_light", "inject",
+              "gather", "faces", "mipmap", "cone_trace", "voxel_view", "gbuffer_view")
 SETTLE_FRAMES = 400  # progressive frames allowed for the radiance to settle before timing
 
 
@@ -121,7 +122,7 @@ def benchmark(scene, renderer, settings, grids, frames, warmup, kinds=FRAME_KIND
     """Records {"scene", "grid", "frame", "width", "height", "total_ms", "passes", ...} for every
     grid and frame kind."""
     rows = []
-    uses_voxels = MODE_TABLE[settings.mode].uses_voxels
+    uses_voxels = MODE_TABLE[settings.mode].uses_voxels(any(is_emissive(node.material) for node, _ in scene.drawables()))
     for grid in grids if uses_voxels else [settings.grid]:
         s = settings.replace(grid=grid)
         renderer.progressive = True

@@ -70,7 +70,7 @@ class BounceSchedule:
             self.settled, self.series = False, None
             return
         self.settled = True
-        self._compose(grid, None, timed)
+        self.compose(grid, None, timed)
         if settings.bounces:
             self._fixed(grid, settings.bounces, cone_uniforms, timed)
         else:
@@ -85,7 +85,7 @@ class BounceSchedule:
             return
         interleave = settings.bounce_interleave
         self.phase %= interleave
-        self._compose(grid, self.gathered(grid), timed)
+        self.compose(grid, self.gathered(grid), timed)
         if self.phase == 0:
             total = self.faces.totals(grid)
             outcome = None if self.series is None else self.series.add(total)
@@ -104,7 +104,7 @@ class BounceSchedule:
         self.phase = (self.phase + 1) % interleave
         self.iterations += 1
 
-    def _compose(self, grid, gathered, timed):
+    def compose(self, grid, gathered, timed):
         with timed("faces"):
             self.faces.compose(grid, gathered)
         with timed("mipmap"):
@@ -115,7 +115,7 @@ class BounceSchedule:
         with timed("gather"):
             self.gather.extrapolate(grid, self.gathered(grid), grid.gathered[1 - self.latest], gain)
         self.latest = 1 - self.latest
-        self._compose(grid, self.gathered(grid), timed)
+        self.compose(grid, self.gathered(grid), timed)
 
     def _gather_all(self, grid, cone_uniforms, timed):
         self.gather.sort_classes(grid, 1)
@@ -126,7 +126,7 @@ class BounceSchedule:
         for k in range(1, bounces + 1):
             self._gather_all(grid, cone_uniforms, timed)
             if k < bounces:
-                self._compose(grid, self.gathered(grid), timed)
+                self.compose(grid, self.gathered(grid), timed)
         self.iterations = bounces
 
     def _converge(self, grid, cone_uniforms, timed):
@@ -134,7 +134,7 @@ class BounceSchedule:
         for iteration in range(1, MAX_BOUNCES + 1):
             self.latest = 1 - self.latest  # the other volume holds the previous gather
             self._gather_all(grid, cone_uniforms, timed)
-            self._compose(grid, self.gathered(grid), timed)
+            self.compose(grid, self.gathered(grid), timed)
             self.iterations = iteration
             outcome = series.add(self.faces.totals(grid))
             if outcome is Series.CONVERGED:

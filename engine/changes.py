@@ -8,6 +8,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .emitters import is_emissive
+
 
 def material_values(material):
     """Everything about a material the passes read, as a comparable tuple (textures compare
@@ -81,6 +83,10 @@ class FrameInputs:
         else:
             self.bounds = (np.zeros(3), np.zeros(3))
         self.region = scene.region(self.bounds)
+
+    def emissive_draws(self):
+        """The draws whose material emits light."""
+        return tuple(d for d in self.draws if is_emissive(d.material))
 
     def casters(self):
         """What shadow maps depend on besides the lights: every draw's mesh, transform and cut-out."""

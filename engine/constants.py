@@ -27,6 +27,8 @@ TEXTURE_UNIT = {
     "HDR_INPUT": 12,
     "DIRECT_LIGHT": 13,
     "VOXEL_INSPECT": 14,    # the volume a voxel view or a readback reads
+    "VOXEL_EMITTED": 15,    # emission (rgb) and coverage (a) of every voxel, mipmapped: what specular cones add
+    "VOXEL_EMITTER_LIGHT": 16,  # the emitters' shadowed irradiance per voxel (rgb), its visible fraction (a)
     "BASE_COLOR_MAP": 20,   # the textures of the material being drawn (glsl/lib/material.glsl)
     "METAL_ROUGH_MAP": 21,
     "EMISSIVE_MAP": 22,
@@ -41,6 +43,8 @@ IMAGE_UNIT = {
     "ALBEDO_OUT": 0,
     "NORMAL_OUT": 1,
     "EMISSION_OUT": 2,
+    "EMITTED_OUT": 4,
+    "EMITTER_LIGHT_OUT": 5,
     "FRONT": 3,             # the voxelizer's front-layer keys, per voxel and facing direction
     "INSPECT_OUT": 0,
     "IMAGE_OUT": 0,         # a screen target a compute pass adds to
@@ -68,6 +72,20 @@ STORAGE_BINDING = {
     "READBACK": 21,
     "CONE_PIXELS": 22,      # pixels that trace cones of their own: dispatch size, count, pixels
     "SHARED_PIXELS": 23,    # pixels that take their specular cone from the anchors around them
+    "EMITTER_TRIANGLES": 24,  # the emissive triangles (GLSL_STRUCTS["EmitterTriangle"])
+    "EMITTER_PATCHES": 25,    # groups of them that share a visibility cone (GLSL_STRUCTS["EmitterPatch"])
+}
+
+# Struct layouts shared with GLSL (std430, vec4-sized fields): name -> ((GLSL type, field), ...).
+# glsl_header() declares them, struct_dtype() gives the matching numpy record.
+GLSL_STRUCTS = {
+    # An emissive triangle in world space, front side by the right-hand rule: corners (xyz, w
+    # unused) and its radiance (rgb, W/(m^2 sr); a unused).
+    "EmitterTriangle": (("vec4", "a"), ("vec4", "b"), ("vec4", "c"), ("vec4", "radiance")),
+    # Triangles of one emitter facing about one way: a sphere around them (centre xyz, radius
+    # w), their mean plane through the centre (unit normal xyz, w: distance of the farthest
+    # corner from it) and their range of the triangle list (first, count).
+    "EmitterPatch": (("vec4", "sphere"), ("vec4", "plane"), ("uvec4", "triangles")),
 }
 
 # Uniform block bindings (lights are read by every shaded pixel and voxel: uniform blocks are
@@ -159,6 +177,12 @@ def diffuse_cones():
     return np.array(directions), np.array(weights), half_angle
 
 
+def struct_dtype(name):
+    """The numpy record of a GLSL_STRUCTS layout."""
+    kinds = {"vec4": ("<f4", 4), "uvec4": ("<u4", 4)}
+    return np.dtype([(field, kinds[kind][0], (kinds[kind][1],)) for kind, field in GLSL_STRUCTS[name]])
+
+
 def glsl_header():
     """GLSL source of the virtual include "engine_constants.glsl"."""
     lines = ["// Generated from engine/constants.py: edit there, not here."]
@@ -182,6 +206,8 @@ def glsl_header():
         f"#define VOXEL_MAX_EMISSION {VOXEL_MAX_EMISSION:.1f}",
         "#define PI 3.14159265358979",
     ]
+    for name, members in GLSL_STRUCTS.items():
+        lines.append(f"struct {name} {{ " + " ".join(f"{kind} {field};" for kind, field in members) + " };")
     directions, weights, half_angle = diffuse_cones()
     lines.append(f"#define DIFFUSE_CONE_COUNT {len(weights)}")
     lines.append(f"#define DIFFUSE_CONE_HALF_ANGLE {half_angle:.9f}")

@@ -18,10 +18,12 @@ import numpy as np
 from . import transforms
 from .bounces import BounceSchedule
 from .changes import BoundsCache, FrameInputs, Stage, voxel_update
+from .emitters import frame_emitters
 from .errors import VctError
 from .gl import create_headless_context
 from .output import save_png
 from .passes.cone_trace import ConeTracePass
+from .passes.emitter_light import EmitterLightPass
 from .passes.faces import FaceViewsPass
 from .passes.gather import GatherPass
 from .passes.gbuffer import GBufferPass
@@ -32,7 +34,7 @@ from .passes.shadow import ShadowPass
 from .passes.tonemap import TonemapPass
 from .passes.voxel_view import VoxelViewPass, shown_volume
 from .passes.voxelize import VoxelizePass
-from .scene_gpu import SceneGeometry
+from .scene_gpu import EmitterBuffers, SceneGeometry
 from .settings import RenderSettings
 from .shaders import GLSL_ROOT, ProgramLibrary
 from .voxel_grid import VoxelGrid
@@ -98,6 +100,7 @@ class Renderer:
         self.programs = ProgramLibrary(self.ctx, glsl_root)
         self.geometry = SceneGeometry(self.ctx)
         self.grid = VoxelGrid(self.ctx)
+        self.emitters = EmitterBuffers(self.ctx)
         self._passes = []
         try:
             with self._creating_targets(self.size):
@@ -107,7 +110,8 @@ class Renderer:
             raise
         self.bounces = BounceSchedule(self.gather, self.faces)
         self.bounds_cache = BoundsCache()
-        self.stages = {name: Stage() for name in ("shadows", "gbuffer", "lighting", "voxels", "radiance", "bounces")}
+        self.stages = {name: Stage() for name in ("shadows", "gbuffer", "lighting", "emitters", "voxels",
+                                                  "emitter_light", "radiance", "bounces")}
 
     def _create_passes(self):
         """The passes of a frame, each with its programs and targets."""
@@ -116,6 +120,7 @@ class Renderer:
         self.lighting = self._add(LightingPass(self.ctx, self.programs, self.size))
         self.gbuffer_view = self._add(GBufferViewPass(self.ctx, self.programs, self.size))
         self.voxelize = self._add(VoxelizePass(self.ctx, self.programs, self.geometry))
+        self.emitter_light = self._add(EmitterLightPass(self.ctx, self.programs))
         self.inject = self._add(InjectPass(self.ctx, self.programs))
         self.gather = self._add(GatherPass(self.ctx, self.programs))
         self.faces = self._add(FaceViewsPass(self.ctx, self.programs))
@@ -217,16 +222,20 @@ class Renderer:
             with self.timed("gbuffer_view"):
                 return self.gbuffer_view.render(gbuffer, s.mode, camera)
         direct = self._lighting(gbuffer, shadow_maps, camera)
-        if not s.shown.uses_voxels:
+        emitters = self._emitters(frame)
+        if not s.shown.uses_voxels(emitters.count > 0):
             return direct
-        self._voxels(frame, s, scene.source)
-        self._radiance(shadow_maps)
-        self._bounces(s)
+        self._voxels(frame, s, scene.source, emitters)
+        if emitters.count:
+            self._emitter_light(emitters, s)
+        if s.shown.uses_radiance:
+            self._radiance(shadow_maps)
+            self._bounces(s)
         if s.shown.stage == "voxel_view":
             with self.timed("voxel_view"):
                 return self.voxel_view.render(self.grid, s.mode, s.voxel_mip, camera)
         with self.timed("cone_trace"):
-            return self.cone_trace.render(gbuffer, direct, self.grid, self.bounces.gathered(self.grid),
+            return self.cone_trace.render(gbuffer, direct, self.grid, self.bounces.gathered(self.grid), emitters,
                                           s.cone_uniforms(), camera, s.image_terms(), s.ao_distance)
 
     def _shadows(self, frame, source):
@@ -265,9 +274,20 @@ class Renderer:
             stage.ran(inputs)
         return self.lighting.target
 
-    def _voxels(self, frame, s, source):
+    def _emitters(self, frame):
+        """The emissive triangles, again when an emissive draw changed."""
+        stage = self.stages["emitters"]
+        inputs = frame.emissive_draws()
+        if stage.stale(inputs, self.track_changes):
+            with self.timed("emitters"):
+                self.emitters.upload(frame_emitters(inputs))
+            stage.ran(inputs)
+        return self.emitters
+
+    def _voxels(self, frame, s, source, emitters):
         """Voxelize what changed: the draws whose mesh, transform or material differ from the
-        ones the grid holds (all of them on a new grid)."""
+        ones the grid holds (all of them on a new grid); where surfaces emit, the emission
+        volume's mip chain follows."""
         stage = self.stages["voxels"]
         if self.grid.ensure(s.grid, frame.region, source):
             stage.forget()
@@ -278,12 +298,29 @@ class Renderer:
             if update.full or update.removed or update.added:
                 with self.timed("voxelize"):
                     self.voxelize.update(self.grid, update, frame.draws)
+            self.grid.emitting = emitters.count > 0
+            if self.grid.emitting:
+                with self.timed("emission_mipmap"):
+                    self.grid.emitted.build_mipmaps()
+            stage.ran(inputs)
+
+    def _emitter_light(self, emitters, s):
+        """The emitters' light at the voxels, when the voxels, the emitters or the cones that
+        shadow it changed. Its cones read the face views' coverage, so the face views are
+        composed first (the light they hold follows with the bounces, which this restarts)."""
+        stage = self.stages["emitter_light"]
+        inputs = (self.stages["voxels"].version, self.stages["emitters"].version, s.cone_step, s.cone_offset)
+        if stage.stale(inputs, self.track_changes):
+            self.bounces.compose(self.grid, None, self.timed)
+            with self.timed("emitter_light"):
+                self.emitter_light.run(self.grid, emitters, s.cone_uniforms())
             stage.ran(inputs)
 
     def _radiance(self, shadow_maps):
-        """Inject direct light into the voxels when the voxels or the lights changed."""
+        """Inject direct light into the voxels when the voxels, the lights or the emitters'
+        light changed."""
         stage = self.stages["radiance"]
-        inputs = (self.stages["voxels"].version, self.stages["shadows"].version)
+        inputs = (self.stages["voxels"].version, self.stages["shadows"].version, self.stages["emitter_light"].version)
         if stage.stale(inputs, self.track_changes):
             with self.timed("inject"):
                 self.inject.run(self.grid, shadow_maps)
@@ -345,6 +382,7 @@ class Renderer:
             if hasattr(self, "readback"):
                 self.readback.release()
             self.grid.release()
+            self.emitters.release()
             self.geometry.release()
         if self._owns_context:
             self.ctx.release()

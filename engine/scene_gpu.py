@@ -13,7 +13,8 @@ import ctypes.util
 import numpy as np
 
 from . import transforms
-from .constants import TEXTURE_UNIT
+from .constants import STORAGE_BINDING, TEXTURE_UNIT
+from .emitters import frame_emitters
 from .errors import VctError
 
 # Vertex attributes in buffer order, with their float counts. Meshes without texture
@@ -229,6 +230,35 @@ class SceneGeometry:
             self._release_mesh(key)
         self.vertex_arrays.clear()
         self.textures.release()
+
+
+class EmitterBuffers:
+    """The frame's emitters (engine/emitters.py) in storage buffers, for the passes that light
+    surfaces with them."""
+
+    def __init__(self, ctx):
+        self.ctx = ctx
+        self.triangles = self.patches = None
+        self.count = 0
+        self.upload(frame_emitters([]))
+
+    def upload(self, emitters):
+        self.release()
+        # An empty storage buffer cannot be made: hold one zero record.
+        self.triangles = self.ctx.buffer(emitters.triangles.tobytes() or bytes(emitters.triangles.dtype.itemsize))
+        self.patches = self.ctx.buffer(emitters.patches.tobytes() or bytes(emitters.patches.dtype.itemsize))
+        self.count = emitters.count
+
+    def bind(self, handle):
+        self.triangles.bind_to_storage_buffer(STORAGE_BINDING["EMITTER_TRIANGLES"])
+        self.patches.bind_to_storage_buffer(STORAGE_BINDING["EMITTER_PATCHES"])
+        handle.set(emitter_patch_count=self.count)
+
+    def release(self):
+        for buffer in (self.triangles, self.patches):
+            if buffer is not None:
+                buffer.release()
+        self.triangles = self.patches = None
 
 
 def _rgba(image):

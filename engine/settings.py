@@ -15,21 +15,27 @@ MAX_EXPOSURE = 1e6
 @dataclass(frozen=True)
 class Mode:
     """What a mode shows: the stage of the frame that makes its image ("gbuffer" views,
-    "direct" light, "voxel_view", "cone_trace"), whether it is encoded data shown as stored (no
+    "voxel_view", "cone_trace"), whether it is encoded data shown as stored (no
     exposure, curve or sRGB), and the terms a cone-traced image adds."""
 
     stage: str
     data: bool = False
     terms: tuple = ()
 
+    def uses_voxels(self, lit_by_emitters):
+        """Whether the image reads the voxels: voxel views and cone-traced terms; direct light
+        alone only where emissive surfaces light the scene (their shadows are cones)."""
+        return self.uses_radiance or (self.stage == "cone_trace" and lit_by_emitters)
+
     @property
-    def uses_voxels(self):
-        return self.stage in ("voxel_view", "cone_trace")
+    def uses_radiance(self):
+        """Whether the image reads the voxels' light: voxel views, indirect light and AO."""
+        return self.stage == "voxel_view" or any(term != "direct" for term in self.terms)
 
 
 MODE_TABLE = {
     "gi": Mode("cone_trace", terms=("direct", "diffuse", "specular")),
-    "direct": Mode("direct"),
+    "direct": Mode("cone_trace", terms=("direct",)),
     "indirect": Mode("cone_trace", terms=("diffuse",)),
     "specular": Mode("cone_trace", terms=("specular",)),
     "ao": Mode("cone_trace", terms=("ao",)),

@@ -3,7 +3,11 @@ passed to the passes that read and write it.
 
 - the voxelizer's fixed-point sums, one storage buffer per channel (lib/voxel_sums.glsl), and
   its front-layer keys, per voxel and facing direction (stacked like the face views);
-- the resolved surface of each voxel: albedo, mean normal, emission and surface offset;
+- the resolved surface of each voxel: albedo, mean normal, emission and surface offset; and
+  `emitted` (emission, a = 1 where covered) with its hardware mip chain, the emission specular
+  cones see;
+- `emitter_light`: the emitters' shadowed irradiance at each voxel's surface and the fraction
+  of it that arrives;
 - the radiance: `base` (emission + injected direct light), the diffuse `gathered` by each
   voxel (two volumes, the latest and the one before, for closing the bounce series), and the
   six one-sided face views cones read, stacked along z in one volume `faces` (n x n x 6n,
@@ -29,8 +33,8 @@ def voxel_memory_bytes(n):
     """GPU bytes a grid of n^3 needs: sums, volumes (surface, radiance, faces with mips) and lists."""
     voxels = n ** 3
     sums = 4 * len(VOXEL_SUM_CHANNELS) + 4 * VOXEL_FACES  # and the front-layer keys
-    surface = TEXEL_BYTES * (2 * MIP_CHAIN + 1)              # albedo, normal (viewable), emission
-    radiance = TEXEL_BYTES * (MIP_CHAIN + 2)                 # base (viewable), two gathers
+    surface = TEXEL_BYTES * (3 * MIP_CHAIN + 1)              # albedo, normal (viewable), emitted; emission
+    radiance = TEXEL_BYTES * (MIP_CHAIN + 3)                 # base (viewable), two gathers, emitters' light
     faces = TEXEL_BYTES * VOXEL_FACES * MIP_CHAIN
     lists = 4 * 4 + 2 * 4 / 7                                # touched, covered x2, classes; cells, stamps
     return int(voxels * (sums + surface + radiance + faces + lists))
@@ -79,6 +83,7 @@ class VoxelGrid:
         self.region = None
         self._resources = []
         self.version = 0  # bumped whenever the covered voxels change (lists rebuilt)
+        self.emitting = False  # whether any surface emits (`emitted` has its mip chain, `emitter_light` holds their light)
 
     # -- allocation ----------------------------------------------------------------------
 
@@ -100,7 +105,9 @@ class VoxelGrid:
         self.front = self._keep(ctx.texture3d((n, n, VOXEL_FACES * n), 1, data=bytes(4 * VOXEL_FACES * voxels), dtype="u4"))
         self.albedo, self.normal, self.base = (self._volume(mipmapped=True) for _ in range(3))
         self.emission = self._volume()
+        self.emitted = self._volume(mipmapped=True)
         self.gathered = [self._volume() for _ in range(2)]
+        self.emitter_light = self._volume()
         self.faces = self._volume(mipmapped=True, views=VOXEL_FACES)
         self.touched, self.covered, self.covered_next = (self._keep(VoxelList(ctx, voxels)) for _ in range(3))
         # Covered cells of levels 1..log2(n), one segment per level after a count per level.
@@ -152,7 +159,8 @@ class VoxelGrid:
 
     def uniforms(self):
         return dict(voxel_region_min=tuple(self.bounds()[0]), voxel_region_size=float(self.region.size),
-                    voxel_grid=self.n, voxel_size=self.voxel_size, voxel_max_mip=float(self.mip_count - 1))
+                    voxel_grid=self.n, voxel_size=self.voxel_size, voxel_max_mip=float(self.mip_count - 1),
+                    voxel_emitters=self.emitting)
 
     def bind_sums(self):
         """The voxelizer's sums and front-layer keys."""
@@ -161,12 +169,16 @@ class VoxelGrid:
         self.front.bind_to_image(IMAGE_UNIT["FRONT"], read=True, write=True, format=GL_IMAGE_FORMAT["r32ui"])
 
     def use_surface(self):
+        """The resolved surface volumes and the emitters' light at them."""
         self.albedo.use(TEXTURE_UNIT["VOXEL_ALBEDO"])
         self.normal.use(TEXTURE_UNIT["VOXEL_NORMAL"])
         self.emission.use(TEXTURE_UNIT["VOXEL_EMISSION"])
+        self.emitter_light.use(TEXTURE_UNIT["VOXEL_EMITTER_LIGHT"])
 
     def use_faces(self):
+        """The face views and the emission volume: what cones read."""
         self.faces.use(TEXTURE_UNIT["VOXEL_FACES"])
+        self.emitted.use(TEXTURE_UNIT["VOXEL_EMITTED"])
 
     def bind_faces(self, level=0):
         bind_image(self.faces, IMAGE_UNIT["FACES_OUT"], level=level)

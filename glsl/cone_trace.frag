@@ -1,5 +1,9 @@
 #version 450 core
-// The image over the G-buffer: direct light (with emission) plus cone-traced indirect light.
+// The image over the G-buffer: direct light (with emission and the light of emissive surfaces)
+// plus cone-traced indirect light.
+//   direct:   the lighting pass's image + (1 - m) k_d / pi V E_emitters(p, n): the emitters'
+//             light exact at p (lib/emitters.glsl), times the fraction V of it that arrives,
+//             interpolated from the voxels around p (voxel_emitter_light.comp)
 //   diffuse:  Lo = (1 - m) k_d sum_j w_j Lv(p, w_j, a_j), the lecture's 6 cones. They are
 //             traced once per voxel whenever the voxel radiance changes (voxel_gather.comp);
 //             a pixel interpolates the gathers of the voxels around p whose surfaces face its
@@ -15,6 +19,14 @@
 #include "lib/cone.glsl"
 #include "lib/brdf.glsl"
 #include "lib/cone_pixels.glsl"
+// EMITTERS is defined in the program for scenes where surfaces emit (passes/cone_trace.py): on
+// llvmpipe the emitters' code costs the other scenes' pixels 5 ms a frame even when skipped.
+#ifdef EMITTERS
+#include "lib/emitters.glsl"
+#define EMITTER_LIGHT true
+#else
+#define EMITTER_LIGHT false
+#endif
 
 #define OUTPUT_RADIANCE 0
 #define OUTPUT_AO 1
@@ -28,34 +40,53 @@ uniform float ao_distance;
 uniform float pixel_angle;  // radians between neighbouring pixels' rays
 layout(location = 0) out vec4 out_radiance;
 
-// How much a voxel's gather stands for the gather at a surface with normal n: max(0, n . n_v)^8
+// How much a voxel's values stand for those at a surface with normal n: max(0, n . n_v)^8
 // times the coherence |mean normal| (voxels of mixed surfaces count less).
 #define FACING_EXPONENT 8.0
 
-// The diffuse gather sum_j w_j Lv(p, w_j) at surface s from the gathers of the 8 voxels whose
-// centres surround p, weighted trilinearly and by facing; false where no voxel faces n.
-bool interpolated_gather(Surface s, out vec3 gathered) {
+// What a pixel takes from the 8 voxels whose centres surround its point p, each weighted
+// trilinearly and by how its surface faces the pixel's normal n: the diffuse gather
+// sum_j w_j Lv(p, w_j) of the voxels that reflect light (`gathered`; `gathered_found` false
+// where none faces n) and the fraction of the emitters' light that arrives
+// (`emitter_visibility`; 1 where no voxel faces n, a thin surface seen from behind).
+struct VoxelInterpolation {
+    vec3 gathered;
+    bool gathered_found;
+    float emitter_visibility;
+};
+
+VoxelInterpolation interpolate_voxels(Surface s, bool want_gathered, bool want_visibility) {
     vec3 c = voxel_uvw(s.position) * float(voxel_grid) - 0.5;  // in units of voxels, from voxel centres
     ivec3 base = ivec3(floor(c));
     vec3 f = c - vec3(base);
-    vec3 sum = vec3(0.0);
-    float total = 0.0;
+    vec3 gathered_sum = vec3(0.0);
+    float gathered_total = 0.0, visibility_sum = 0.0, visibility_total = 0.0;
     for (int k = 0; k < 8; ++k) {
         ivec3 corner = ivec3(k & 1, (k >> 1) & 1, k >> 2);
         ivec3 v = base + corner;
         if (any(lessThan(v, ivec3(0))) || any(greaterThanEqual(v, ivec3(voxel_grid)))) continue;
-        vec4 g = texelFetch(voxel_gathered, v, 0);
-        if (g.a <= 0.0) continue;  // no surface, or none that reflects diffuse light
+        vec4 g = want_gathered ? texelFetch(voxel_gathered, v, 0) : vec4(0.0);
+        if (g.a <= 0.0 && !want_visibility) continue;  // no surface, or none that reflects diffuse light
         vec3 n_v = texelFetch(voxel_normal, v, 0).xyz;
         float coherence = length(n_v);
-        float facing = pow(max(dot(s.normal, n_v) / max(coherence, 1e-6), 0.0), FACING_EXPONENT) * coherence;
+        if (coherence <= 0.0) continue;  // no surface
+        float facing = pow(max(dot(s.normal, n_v) / coherence, 0.0), FACING_EXPONENT) * coherence;
         vec3 trilinear = mix(1.0 - f, f, vec3(corner));
         float weight = trilinear.x * trilinear.y * trilinear.z * facing;
-        sum += weight * g.rgb;
-        total += weight;
+        if (g.a > 0.0) {
+            gathered_sum += weight * g.rgb;
+            gathered_total += weight;
+        }
+        if (want_visibility) {
+            visibility_sum += weight * texelFetch(voxel_emitter_light, v, 0).a;
+            visibility_total += weight;
+        }
     }
-    gathered = total > 1e-4 ? sum / total : vec3(0.0);
-    return total > 1e-4;
+    VoxelInterpolation result;
+    result.gathered_found = gathered_total > 1e-4;
+    result.gathered = result.gathered_found ? gathered_sum / gathered_total : vec3(0.0);
+    result.emitter_visibility = visibility_total > 1e-4 ? visibility_sum / visibility_total : 1.0;
+    return result;
 }
 
 void main() {
@@ -66,15 +97,21 @@ void main() {
         out_radiance = vec4(vec3(1.0 - clamp(occlusion, 0.0, 1.0)), 1.0);
         return;
     }
+    vec3 diffuse_albedo = (1.0 - s.metalness) * s.albedo;
+    bool diffuse = any(greaterThan(diffuse_albedo, vec3(0.0)));
+    bool lit_by_emitters = EMITTER_LIGHT && include_direct && diffuse;
+    VoxelInterpolation voxels = interpolate_voxels(s, include_diffuse && diffuse, lit_by_emitters);
     vec3 radiance = include_direct ? texelFetch(direct_light, ivec2(gl_FragCoord.xy), 0).rgb : vec3(0.0);
+#ifdef EMITTERS
+    if (lit_by_emitters)
+        radiance += diffuse_albedo / PI * emitter_irradiance(s.position, s.normal) * voxels.emitter_visibility;
+#endif
     // Pixels that need cones of their own are listed (lib/cone_pixels.glsl): a diffuse gather
     // where no voxel faces its way; where the surface reflects specularly, a specular cone at
     // the anchors (even x and y) and the anchors' cones shared between them.
     uint cones = 0u;
-    vec3 diffuse_albedo = (1.0 - s.metalness) * s.albedo;
-    if (include_diffuse && any(greaterThan(diffuse_albedo, vec3(0.0)))) {
-        vec3 gathered;
-        if (interpolated_gather(s, gathered)) radiance += diffuse_albedo * gathered;
+    if (include_diffuse && diffuse) {
+        if (voxels.gathered_found) radiance += diffuse_albedo * voxels.gathered;
         else cones |= PIXEL_DIFFUSE_CONES;
     }
     ivec2 pixel = ivec2(gl_FragCoord.xy);

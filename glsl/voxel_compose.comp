@@ -1,8 +1,10 @@
 #version 450 core
-// The radiance cones read, over the covered voxels: each voxel sends out its base radiance
-// plus the light it gathered, L = L_base + rho sum_j w_j L_in(p, w_j) (rho: its reflectance), into the
-// six one-sided face views premultiplied by how much of the voxel's surface faces each way
-// (coverage in a), level 0; voxel_mipmap.comp builds the coarser levels.
+// The radiance cones read, over the covered voxels: the light each voxel's surface reflects,
+// its base radiance less its emission plus the light it gathered,
+// L = L_base - L_e + rho sum_j w_j L_in(p, w_j) (rho: its reflectance), into the six one-sided
+// face views premultiplied by how much of the voxel's surface faces each way (coverage in a),
+// level 0; voxel_mipmap.comp builds the coarser levels. Emitted light reaches the surfaces as
+// direct light (lib/emitters.glsl) and the specular cones from the emission volume.
 #include "lib/voxel_surface.glsl"
 
 layout(local_size_x = LIST_GROUP) in;
@@ -15,7 +17,7 @@ uniform bool include_gathered;  // false before the first bounce
 void main() {
     if (gl_GlobalInvocationID.x >= covered_count) return;
     ivec3 v = unpack_voxel(covered[gl_GlobalInvocationID.x]);
-    vec3 radiance = texelFetch(voxel_base, v, 0).rgb;
+    vec3 radiance = max(texelFetch(voxel_base, v, 0).rgb - texelFetch(voxel_emission, v, 0).rgb, vec3(0.0));
     vec3 mean_normal = texelFetch(voxel_normal, v, 0).xyz;
     if (include_gathered) radiance += texelFetch(voxel_albedo, v, 0).rgb * texelFetch(voxel_gathered, v, 0).rgb;
     for (int f = 0; f < VOXEL_FACES; ++f) {

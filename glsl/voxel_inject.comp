@@ -1,9 +1,10 @@
 #version 450 core
 // Light injection, over the covered voxels: the base radiance each voxel's surface sends out
 // before any bounce, evaluated at its surface point with its mean normal:
-//   L_base = L_e + rho / pi * sum_lights E_l, rho the voxel's reflectance (voxelize.frag)
-// where dot(mean normal, l) in E_l is the mean of the fragments' cosines. Runs when a light or
-// a shadow map changes, without revoxelizing.
+//   L_base = L_e + rho / pi * (sum_lights E_l + E_emitters), rho the voxel's reflectance
+// (voxelize.frag), where dot(mean normal, l) in E_l is the mean of the fragments' cosines, and
+// E_emitters the emitters' shadowed light (voxel_emitter_light.comp). Runs when a light or a
+// shadow map changes, without revoxelizing.
 #include "lib/voxel_surface.glsl"
 #include "lib/lights.glsl"
 
@@ -21,6 +22,7 @@ void main() {
             vec3 l;
             irradiance += light_irradiance(i, s.position, s.mean_normal, l);
         }
+        if (voxel_emitters) irradiance += texelFetch(voxel_emitter_light, v, 0).rgb;
     }
     imageStore(base_out, v, vec4(s.emission + s.albedo / PI * irradiance, 1.0));
 }

@@ -1,7 +1,8 @@
 #version 450 core
 // Voxel resolve, over the voxels the last voxelization touched: divide the fixed-point sums by
 // the fragment count into the surface volumes (albedo, normal, emission with the surface offset
-// in a; a = 1 marks a covered voxel), zero the sums and front-layer keys for the next update,
+// in a; a = 1 marks a covered voxel) and the emission volume specular cones read (emission,
+// a = 1 where covered), zero the sums and front-layer keys for the next update,
 // and list the voxels that were empty before and are covered now, for the new covered list.
 #include "lib/voxel.glsl"
 #include "lib/voxel_sums.glsl"
@@ -10,6 +11,7 @@ layout(local_size_x = LIST_GROUP) in;
 layout(binding = IMG_ALBEDO_OUT, rgba16f) uniform image3D albedo_out;
 layout(binding = IMG_NORMAL_OUT, rgba16f) uniform writeonly image3D normal_out;
 layout(binding = IMG_EMISSION_OUT, rgba16f) uniform writeonly image3D emission_out;
+layout(binding = IMG_EMITTED_OUT, rgba16f) uniform writeonly image3D emitted_out;
 layout(binding = IMG_FRONT, r32ui) uniform writeonly uimage3D front;
 layout(std430, binding = SSBO_TOUCHED) readonly buffer TouchedVoxels { uint touched_count; uint touched[]; };
 layout(std430, binding = SSBO_COVERED_NEXT) buffer NextCovered { uint next_count; uint next_covered[]; };
@@ -32,6 +34,7 @@ void main() {
         imageStore(albedo_out, v, vec4(0.0));
         imageStore(normal_out, v, vec4(0.0));
         imageStore(emission_out, v, vec4(0.0));
+        imageStore(emitted_out, v, vec4(0.0));
     } else {
         float samples = float(min(count, VOXEL_MAX_FRAGMENTS));
         float to_unit = 1.0 / (samples * VOXEL_UNIT_SCALE);
@@ -49,6 +52,7 @@ void main() {
         imageStore(albedo_out, v, vec4(albedo, 1.0));
         imageStore(normal_out, v, vec4(normal, 1.0));
         imageStore(emission_out, v, vec4(emission, surface_offset));
+        imageStore(emitted_out, v, vec4(emission, 1.0));
         if (!was_covered) next_covered[atomicAdd(next_count, 1u)] = pack_voxel(v);
     }
     for (int channel = 0; channel < VOXEL_SUM_CHANNELS; ++channel) voxel_sums[channel].value[i] = 0u;

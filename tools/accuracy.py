@@ -6,8 +6,9 @@ path-traced references (relative MAE, relative MSE, mean-luminance ratio).
 
 The Cornell box is compared with ../shared/reference (`bounces 1` with cornell_box_1bounce.npy,
 every other count with cornell_box_gi.npy, and direct light alone with cornell_box_direct.npy);
-the scenes of scenes/references with their NAME_gi.npy (and NAME_direct.npy, direct light
-alone, where a scene has a point light or a sun). 0 bounces means iterate to convergence."""
+the scenes of scenes/references with their NAME_gi.npy and NAME_direct.npy (direct light
+alone: from lights and emissive surfaces, at the renderer's default grid where surfaces emit,
+since the voxels shadow their light). 0 bounces means iterate to convergence."""
 import argparse
 import json
 import time
@@ -17,6 +18,7 @@ import numpy as np
 
 import engine
 from engine.bench import relative_errors
+from engine.emitters import is_emissive
 
 ROOT = Path(__file__).resolve().parent.parent
 SHARED = ROOT.parent / "shared" / "reference"
@@ -47,12 +49,14 @@ def main():
         scene = engine.load_scene(scene_file)
         references = {k: np.load(path).astype(np.float64) for k, path in refs.items()}
         with engine.Renderer(scene.camera.width, scene.camera.height) as renderer:
-            if "direct" in references and scene.lights():
+            if "direct" in references:
+                # Emitters' shadows are cones through the voxels: their direct light depends on the grid.
+                grid = renderer.settings.grid if any(is_emissive(n.material) for n, _ in scene.drawables()) else None
                 direct = renderer.render(scene, mode="direct")
-                row = {"scene": name, "grid": None, "bounces": "direct", "reference": "direct",
+                row = {"scene": name, "grid": grid, "bounces": "direct", "reference": "direct",
                        **relative_errors(direct, references["direct"])}
-                print(f"| {name} | - | direct only | direct | {row['rel_mae']:.4f} | {row['rel_mse']:.5f} | "
-                      f"{row['luminance_ratio']:.3f} | - |", flush=True)
+                print(f"| {name} | {f'{grid}^3' if grid else '-'} | direct only | direct | {row['rel_mae']:.4f} | "
+                      f"{row['rel_mse']:.5f} | {row['luminance_ratio']:.3f} | - |", flush=True)
                 rows.append(row)
             for grid in [int(g) for g in args.grids.split(",")]:
                 for bounces in [int(b) for b in args.bounces.split(",")]:

@@ -106,6 +106,7 @@ sys.path.insert(0, str(ROOT))
 import engine  # noqa: E402
 from engine import transforms  # noqa: E402
 from engine.cli import OneLineErrorParser, positive_int  # noqa: E402
+from engine.emitters import srgb_to_linear  # noqa: E402
 
 TOOL_VERSION = 2  # 1: Lambertian only; 2: specular layer, textures, alpha masks, meta/png/halves
 MIN_ROUGHNESS = 0.05  # glsl/lib/brdf.glsl clamps the roughness the same way
@@ -128,11 +129,6 @@ class ReferenceError_(engine.VctError):
 
 
 # ---- colour and Fresnel ---------------------------------------------------------------------
-
-def srgb_to_linear(c):
-    c = np.asarray(c, np.float64)
-    return np.where(c <= 0.04045, c / 12.92, ((c + 0.055) / 1.055) ** 2.4)
-
 
 def schlick(f0, cos):
     return f0 + (1.0 - f0) * (1.0 - cos) ** 5

@@ -1,8 +1,9 @@
-"""Cone-tracing pass: the image over the G-buffer. Direct light (with emission) plus the
-diffuse gather of the voxels interpolated per pixel, plus a specular cone traced at every other
-pixel in x and y and shared with the pixels between; or per-pixel AO cones. Pixels that need
-cones of their own (specular surfaces, and thin surfaces seen from behind, which no voxel
-faces) are listed and traced by compute passes, so the other pixels never wait on them."""
+"""Cone-tracing pass: the image over the G-buffer. Direct light (with emission, and the light of
+emissive surfaces shadowed through the voxels) plus the diffuse gather of the voxels
+interpolated per pixel, plus a specular cone traced at every other pixel in x and y and shared
+with the pixels between; or per-pixel AO cones. Pixels that need cones of their own (specular
+surfaces, and thin surfaces seen from behind, which no voxel faces) are listed and traced by
+compute passes, so the other pixels never wait on them."""
 import numpy as np
 
 from ..constants import GL_IMAGE_FORMAT, IMAGE_UNIT, STORAGE_BINDING, TEXTURE_UNIT
@@ -14,7 +15,9 @@ OUTPUT_KIND = {"radiance": 0, "ao": 1}
 class ConeTracePass:
     def __init__(self, ctx, programs, size):
         self.ctx = ctx
-        self.program = programs.program(vertex_shader="fullscreen.vert", fragment_shader="cone_trace.frag")
+        # The image's program for scenes without emitters and for scenes with them (EMITTERS).
+        self.programs = {lit: programs.program({"EMITTERS": 1} if lit else None, vertex_shader="fullscreen.vert",
+                                               fragment_shader="cone_trace.frag") for lit in (False, True)}
         self.pixels_program = programs.compute("cone_pixels.comp")
         self.shared_program = programs.compute("cone_specular_shared.comp")
         self.target = ScreenTarget(ctx, size)
@@ -31,21 +34,23 @@ class ConeTracePass:
         # The anchors' specular Lv: one texel per anchor pixel (even x and y).
         self.specular_in = self.ctx.texture(((size[0] + 1) // 2, (size[1] + 1) // 2), 4, dtype="f4")
 
-    def render(self, gbuffer, direct, grid, gathered, cone_uniforms, camera, terms, ao_distance):
-        """`camera`: renderer.FrameCamera; `terms`: settings.ImageTerms (which of direct, diffuse,
-        specular, or AO)."""
+    def render(self, gbuffer, direct, grid, gathered, emitters, cone_uniforms, camera, terms, ao_distance):
+        """`camera`: renderer.FrameCamera; `emitters`: scene_gpu.EmitterBuffers; `terms`:
+        settings.ImageTerms (which of direct, diffuse, specular, or AO)."""
+        program = self.programs[emitters.count > 0]
         gbuffer.use()
+        emitters.bind(program)
         grid.use_surface()
         grid.use_faces()
         gathered.use(TEXTURE_UNIT["VOXEL_GATHERED"])
         direct.texture.use(TEXTURE_UNIT["DIRECT_LIGHT"])
-        self.program.set(**grid.uniforms(), **cone_uniforms, output_kind=OUTPUT_KIND["ao" if terms.ao else "radiance"], include_direct=terms.direct,
+        program.set(**grid.uniforms(), **cone_uniforms, output_kind=OUTPUT_KIND["ao" if terms.ao else "radiance"], include_direct=terms.direct,
                          include_diffuse=terms.diffuse, include_specular=terms.specular, ao_distance=float(ao_distance),
                          pixel_angle=float(camera.pixel_angle))
         for name, pixel_list in (("CONE_PIXELS", self.cone_pixels), ("SHARED_PIXELS", self.shared_pixels)):
             pixel_list.write(np.array([0, 1, 1, 0], dtype="u4").tobytes())  # no group, no pixel yet
             pixel_list.bind_to_storage_buffer(STORAGE_BINDING[name])
-        self.target.draw(self.program)
+        self.target.draw(program)
         if terms.diffuse or terms.specular:
             self.ctx.memory_barrier(self.ctx.SHADER_STORAGE_BARRIER_BIT | self.ctx.COMMAND_BARRIER_BIT)
             self.target.texture.bind_to_image(IMAGE_UNIT["IMAGE_OUT"], read=True, write=True, format=GL_IMAGE_FORMAT["rgba32f"])
@@ -57,6 +62,6 @@ class ConeTracePass:
         return self.target
 
     def release(self):
-        for resource in (self.target, self.program, self.pixels_program, self.shared_program, self.cone_pixels,
-                         self.shared_pixels, self.specular_in):
+        for resource in (self.target, *self.programs.values(), self.pixels_program, self.shared_program,
+                         self.cone_pixels, self.shared_pixels, self.specular_in):
             resource.release()

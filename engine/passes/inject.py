@@ -1,6 +1,7 @@
 """Light injection: the base radiance of every covered voxel, emission plus the direct light
 its surface receives from every light (with the shadow maps), evaluated per voxel at its
-surface point. Runs when lights, shadows or the voxels change."""
+surface point, and from the emitters (passes/emitter_light.py). Runs when lights, shadows,
+the emitters' light or the voxels change."""
 from ..constants import IMAGE_UNIT
 from ..voxel_grid import bind_image
 

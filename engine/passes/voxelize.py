@@ -63,7 +63,8 @@ class VoxelizePass:
         touched = grid.touched.read_count()
         grid.covered_next.clear()
         grid.covered_next.bind("COVERED_NEXT")
-        for unit, volume in (("ALBEDO_OUT", grid.albedo), ("NORMAL_OUT", grid.normal), ("EMISSION_OUT", grid.emission)):
+        for unit, volume in (("ALBEDO_OUT", grid.albedo), ("NORMAL_OUT", grid.normal), ("EMISSION_OUT", grid.emission),
+                             ("EMITTED_OUT", grid.emitted)):
             bind_image(volume, IMAGE_UNIT[unit], read=unit == "ALBEDO_OUT")
         self.resolve.set(**uniforms)
         grid.dispatch(self.resolve, touched)

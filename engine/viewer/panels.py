@@ -55,7 +55,7 @@ def draw_overlay(frames, process, renderer, vsync, panels_shown=True):
             for name, ms in renderer.timings.items():
                 imgui.text(f"{name:<12}{ms:8.1f} ms")
             imgui.text_colored(DIM, f"{'all passes':<12}{sum(renderer.timings.values()):8.1f} ms")
-        if s.shown.uses_voxels and s.bounces == 0:
+        if s.shown.uses_radiance and s.bounces == 0:
             state = "settled" if renderer.bounces.settled else "converging"
             imgui.text_colored(DIM, f"bounces {state} ({renderer.bounce_iterations} so far)")
         if not panels_shown:

@@ -1,8 +1,11 @@
 // Cone marching through the mipmapped face views of the voxel radiance (premultiplied rgb,
-// coverage in a).
+// coverage in a). The face views hold the light surfaces reflect; emitted light reaches the
+// diffuse cones' receivers as direct light (lib/emitters.glsl), and the specular cones add it
+// from the emission volume.
 #include "lib/voxel.glsl"
 
-layout(binding = TEX_VOXEL_FACES) uniform sampler3D voxel_faces;  // the face views, stacked along z
+layout(binding = TEX_VOXEL_FACES) uniform sampler3D voxel_faces;      // the face views, stacked along z
+layout(binding = TEX_VOXEL_EMITTED) uniform sampler3D voxel_emitted;  // emission (rgb), coverage (a)
 uniform float cone_step;      // step length as a fraction of the cone diameter
 uniform float cone_offset;    // start offset along the surface normal, in voxels
 uniform float voxel_max_mip;  // log2(N): the 1^3 level
@@ -81,7 +84,8 @@ vec4 sample_faces(vec3 uvw, float mip, FaceWeights f, bool wide) {
 // receivers (one bounce at 128^3: relMAE 0.059 instead of 0.050). The specular cones read the
 // nearest level: they are narrow and long, so most of their steps fall between levels 0 and 1,
 // where blending doubles the texel reads, and the images differ by 0.3-0.5 % (Sponza,
-// cornell_spheres).
+// cornell_spheres). `emitted`: add the emission of the surfaces met (the specular cones), from the
+// emission volume: its mean over the covered voxels of the cell, e.rgb / e.a, seen from every side.
 //   d = max(voxel, 2 tan(a/2) t)                 the cone's diameter at distance t
 //   mip = log2(d / voxel) - 1                    a trilinear lookup averages over a tent two
 //                                                cells wide, so cells of d/2 span d
@@ -93,7 +97,7 @@ vec4 sample_faces(vec3 uvw, float mip, FaceWeights f, bool wide) {
 //                                                makes the result independent of the step
 //   t += step = cone_step * d
 vec4 trace_cone(vec3 p, vec3 n, vec3 direction, float tan_half_angle, float max_distance, bool wide,
-                bool blend_levels) {
+                bool blend_levels, bool emitted) {
     vec3 start = p + n * (cone_offset * voxel_size);
     vec4 gathered = vec4(0.0);
     float spread = tan_half_angle / sqrt(1.0 + tan_half_angle * tan_half_angle);  // sin(half-angle)
@@ -114,7 +118,12 @@ vec4 trace_cone(vec3 p, vec3 n, vec3 direction, float tan_half_angle, float max_
             // Covered fraction of the cross-section added by this step, front to back.
             float coverage = min(1.0, s.a * exp2(mip)) * step_length / (exp2(mip) * voxel_size);
             float alpha = min(coverage, 1.0 - gathered.a);
-            gathered.rgb += alpha * (s.rgb / s.a);
+            vec3 radiance = s.rgb / s.a;
+            if (emitted && voxel_emitters) {
+                vec4 e = textureLod(voxel_emitted, uvw, mip);
+                if (e.a > 0.0) radiance += e.rgb / e.a;
+            }
+            gathered.rgb += alpha * radiance;
             gathered.a += alpha;
         }
         t += step_length;
@@ -129,7 +138,7 @@ vec4 trace_diffuse(vec3 p, vec3 n, float max_distance) {
     float tan_half = tan(DIFFUSE_CONE_HALF_ANGLE);
     vec4 sum = vec4(0.0);
     for (int j = 0; j < DIFFUSE_CONE_COUNT; ++j) {
-        vec4 cone = trace_cone(p, n, frame * DIFFUSE_CONE_DIRECTIONS[j], tan_half, max_distance, false, true);
+        vec4 cone = trace_cone(p, n, frame * DIFFUSE_CONE_DIRECTIONS[j], tan_half, max_distance, false, true, false);
         sum += DIFFUSE_CONE_WEIGHTS[j] * cone;
     }
     return sum;

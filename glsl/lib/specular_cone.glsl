@@ -13,7 +13,7 @@ uniform vec3 camera_position;
 vec3 specular_incoming(Surface s) {
     vec3 wo = normalize(camera_position - s.position);
     vec3 ws = 2.0 * max(dot(wo, s.normal), 0.0) * s.normal - wo;
-    return trace_cone(s.position, s.normal, ws, specular_tan_half_angle(s.roughness), 1e9, true, false).rgb;
+    return trace_cone(s.position, s.normal, ws, specular_tan_half_angle(s.roughness), 1e9, true, false, true).rgb;
 }
 
 // Schlick's F(w_o . n) of surface s.

@@ -5,6 +5,9 @@
 layout(binding = TEX_VOXEL_ALBEDO) uniform sampler3D voxel_albedo;     // rgb, a = 1 where covered
 layout(binding = TEX_VOXEL_NORMAL) uniform sampler3D voxel_normal;     // xyz mean normal, w = 1 where covered
 layout(binding = TEX_VOXEL_EMISSION) uniform sampler3D voxel_emission; // rgb, a = surface offset in voxels
+// The emitters' shadowed irradiance at each voxel's surface (rgb) and the fraction of their
+// unshadowed light that arrives (a), where voxel_emitters (voxel_emitter_light.comp).
+layout(binding = TEX_VOXEL_EMITTER_LIGHT) uniform sampler3D voxel_emitter_light;
 
 struct VoxelSurface {
     bool covered;

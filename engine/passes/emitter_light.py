@@ -1,0 +1,25 @@
+"""The emitters' light at the voxels: per covered voxel, the irradiance from every emissive
+triangle at its surface point (Lambert's polygon formula), shadowed by one cone per patch
+through the face views (which must hold the grid's current coverage), and the fraction of it
+that arrives, which the image interpolates per pixel. Runs when the voxels or the emitters
+change; light injection adds it to the base radiance."""
+from ..constants import IMAGE_UNIT
+from ..voxel_grid import bind_image
+
+
+class EmitterLightPass:
+    def __init__(self, ctx, programs):
+        self.program = programs.compute("voxel_emitter_light.comp")
+
+    def run(self, grid, emitters, cone_uniforms):
+        """`emitters`: scene_gpu.EmitterBuffers. Writes grid.emitter_light."""
+        grid.use_surface()
+        grid.use_faces()
+        grid.covered.bind("COVERED")
+        emitters.bind(self.program)
+        bind_image(grid.emitter_light, IMAGE_UNIT["EMITTER_LIGHT_OUT"])
+        self.program.set(**grid.uniforms(), **cone_uniforms)
+        grid.dispatch(self.program, grid.covered.count)
+
+    def release(self):
+        self.program.release()
