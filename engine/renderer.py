@@ -112,6 +112,8 @@ class Renderer:
         self.bounds_cache = BoundsCache()
         self.stages = {name: Stage() for name in ("shadows", "gbuffer", "lighting", "emitters", "voxels",
                                                   "emitter_light", "radiance", "bounces")}
+        self._emitter_light_classes = (1, [])  # (interleave, classes still to light) since the last change
+        self._emitter_light_phase = 0          # the class to light first after the next change
 
     def _create_passes(self):
         """The passes of a frame, each with its programs and targets."""
@@ -307,13 +309,25 @@ class Renderer:
     def _emitter_light(self, emitters, s):
         """The emitters' light at the voxels, when the voxels, the emitters or the cones that
         shadow it changed. Its cones read the face views' coverage, so the face views are
-        composed first (the light they hold follows with the bounces, which this restarts)."""
+        composed first (the light they hold follows with the bounces). Progressive frames (the
+        viewer, converging bounces) spread it over the interleave classes, one a frame, as the
+        bounce is spread: an emitter edit makes no frame pay for more than 1 voxel in K. The
+        classes go round from where the last change left them, so while an emitter keeps
+        moving every voxel is still relit once every K frames."""
         stage = self.stages["emitter_light"]
         inputs = (self.stages["voxels"].version, self.stages["emitters"].version, s.cone_step, s.cone_offset)
         if stage.stale(inputs, self.track_changes):
             self.bounces.compose(self.grid, None, self.timed)
+            spread = self.progressive and s.bounces == 0 and self.track_changes
+            interleave = s.bounce_interleave if spread else 1
+            self._emitter_light_classes = (interleave, [(self._emitter_light_phase + k) % interleave
+                                                        for k in range(interleave)])
+        interleave, pending = self._emitter_light_classes
+        if pending:
+            self.gather.sort_classes(self.grid, interleave)
+            self._emitter_light_phase = (pending[0] + 1) % interleave
             with self.timed("emitter_light"):
-                self.emitter_light.run(self.grid, emitters, s.cone_uniforms())
+                self.emitter_light.run(self.grid, emitters, s.cone_uniforms(), self.grid.class_segments[pending.pop(0)])
             stage.ran(inputs)
 
     def _radiance(self, shadow_maps):

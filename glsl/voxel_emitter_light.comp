@@ -5,15 +5,18 @@
 // furnace's edge voxels get 0.98 of their light at 64^3 instead of about 0.68),
 //   E = sum_patches V_patch E_patch   (rgb; lib/emitters.glsl)
 // and the fraction of the unshadowed light that arrives, E / E_unshadowed (a; 1 where none
-// arrives), which the pixels interpolate. Light injection adds rho / pi E. Runs when the
-// voxels or the emitters change, not when a light moves.
+// arrives), which the pixels interpolate. Light injection adds rho / pi E. Runs over a segment
+// of the class list (all covered voxels, or one interleave class a frame in the viewer) when
+// the voxels or the emitters change, not when a light moves.
 #include "lib/voxel_surface.glsl"
 #include "lib/cone.glsl"
 #include "lib/emitters.glsl"
 
 layout(local_size_x = LIST_GROUP) in;
 layout(binding = IMG_EMITTER_LIGHT_OUT, rgba16f) uniform writeonly image3D emitter_light_out;
-layout(std430, binding = SSBO_COVERED) readonly buffer CoveredVoxels { uint covered_count; uint covered[]; };
+layout(std430, binding = SSBO_CLASS_LIST) readonly buffer ClassList { uint class_list[]; };
+uniform uint first;  // the segment of the class list to light
+uniform uint count;
 
 // Fraction of a patch p sees, from one cone towards the patch's centre as wide as its sphere.
 // The cone stops before its lookups reach the patch's plane, behind which its own voxels and
@@ -37,8 +40,8 @@ float patch_visibility(vec3 p, vec3 n, EmitterPatch e) {
 }
 
 void main() {
-    if (gl_GlobalInvocationID.x >= covered_count) return;
-    ivec3 v = unpack_voxel(covered[gl_GlobalInvocationID.x]);
+    if (gl_GlobalInvocationID.x >= count) return;
+    ivec3 v = unpack_voxel(class_list[first + gl_GlobalInvocationID.x]);
     VoxelSurface s = voxel_surface(v);
     vec3 shadowed = vec3(0.0), unshadowed = vec3(0.0);
     if (dot(s.mean_normal, s.mean_normal) > 0.0) {

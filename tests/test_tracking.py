@@ -99,6 +99,29 @@ def test_tracked_frames_lit_by_an_emitter_equal_recomputed_frames_bit_for_bit():
     assert images[True][2].mean() < 0.6 * images[True][1].mean()  # the dimmed panel lights the room less
 
 
+def test_a_moved_emitter_in_the_viewer_relights_the_voxels_over_the_next_frames():
+    """Progressive frames (the viewer): after the panel of cornell_spheres moves, the emitters'
+    light at the voxels is recomputed one interleave class a frame (no frame pays for the whole
+    grid), and the room converges to the headless image of the edited scene within 1 %."""
+    scene = engine.load_scene(SCENES / "cornell_spheres.json")
+    with engine.Renderer(64, 64) as r:
+        r.progressive = True
+        for _ in range(200):
+            r.render(scene, grid=32)
+            if r.bounces.settled:
+                break
+        panel = scene.root.find("Ceiling Panel")
+        panel.translation = panel.translation + [0.3, -0.2, 0.1]
+        lit = []
+        for _ in range(80):
+            image = r.render(scene, grid=32)
+            lit.append("emitter_light" in r.passes_ran)
+        interleave = r.settings.bounce_interleave
+    assert interleave > 1 and lit[:interleave] == [True] * interleave and not any(lit[interleave:])
+    with engine.Renderer(64, 64) as fresh:
+        assert rel_mae(image, fresh.render(scene, grid=32)) < 0.01
+
+
 def test_progressive_tracked_frames_stay_within_a_percent_of_recomputed_frames():
     """Progressive bounces (the viewer): a tracked frame stops bouncing once the radiance has
     settled, a recomputing one keeps bouncing; after each edit has had 12 frames to converge

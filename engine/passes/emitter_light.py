@@ -1,9 +1,9 @@
 """The emitters' light at the voxels: per covered voxel, the irradiance from every emissive
 triangle at its surface point (Lambert's polygon formula), shadowed by one cone per patch
 through the face views (which must hold the grid's current coverage), and the fraction of it
-that arrives, which the image interpolates per pixel. Runs when the voxels or the emitters
-change; light injection adds it to the base radiance."""
-from ..constants import IMAGE_UNIT
+that arrives, which the image interpolates per pixel. Runs over a segment of the grid's class
+list when the voxels or the emitters change; light injection adds it to the base radiance."""
+from ..constants import IMAGE_UNIT, STORAGE_BINDING
 from ..voxel_grid import bind_image
 
 
@@ -11,15 +11,17 @@ class EmitterLightPass:
     def __init__(self, ctx, programs):
         self.program = programs.compute("voxel_emitter_light.comp")
 
-    def run(self, grid, emitters, cone_uniforms):
-        """`emitters`: scene_gpu.EmitterBuffers. Writes grid.emitter_light."""
+    def run(self, grid, emitters, cone_uniforms, segment):
+        """`emitters`: scene_gpu.EmitterBuffers; `segment`: (first, count) of grid.class_list.
+        Writes grid.emitter_light for those voxels."""
         grid.use_surface()
         grid.use_faces()
-        grid.covered.bind("COVERED")
+        grid.class_list.bind_to_storage_buffer(STORAGE_BINDING["CLASS_LIST"])
         emitters.bind(self.program)
         bind_image(grid.emitter_light, IMAGE_UNIT["EMITTER_LIGHT_OUT"])
-        self.program.set(**grid.uniforms(), **cone_uniforms)
-        grid.dispatch(self.program, grid.covered.count)
+        first, count = segment
+        self.program.set(**grid.uniforms(), **cone_uniforms, first=first, count=count)
+        grid.dispatch(self.program, count)
 
     def release(self):
         self.program.release()
