@@ -2,7 +2,7 @@
 (emission + direct light) changed, and the state that carries from frame to frame.
 
 A bounce gathers light at every voxel with the 6 diffuse cones (passes/gather.py) and composes
-the face views again with it, L = L_base + rho G (passes/faces.py). The gathers live in two
+the face views again with it (passes/faces.py). The gathers live in two
 volumes: `latest` is the one the image and the face views use, the other keeps an earlier
 gather for closing the series.
 
@@ -13,6 +13,10 @@ gather for closing the series.
   each frame, on top of the previous frames' gathers; a cycle of K frames gathers every voxel
   once, and the series closes over cycles as it does over bounces. Then no bounce work until
   the next change.
+
+The face views hold L = L_base - L_e + rho G: the light surfaces reflect (emitters light the
+surfaces directly, passes/emitter_light.py). `ClassRounds` spreads other per-voxel work over
+the same classes (the emitters' light at the voxels).
 """
 import numpy as np
 
@@ -48,6 +52,31 @@ class Series:
             r = np.clip(self.ratios[-1], 0.0, 0.99)
             return r / (1.0 - r)
         return None
+
+
+class ClassRounds:
+    """Work over the covered voxels spread over their interleave classes, one class a frame (the
+    viewer), or all of them at once (interleave 1). A restart queues every class, starting
+    where the last round stopped, so work restarted every frame still reaches every class
+    once every K frames."""
+
+    def __init__(self):
+        self.interleave = 1
+        self.pending = []  # the classes still to do since the last restart
+        self.phase = 0     # the class to do first after the next restart
+
+    def restart(self, interleave):
+        self.interleave = interleave
+        self.phase %= interleave
+        self.pending = [(self.phase + k) % interleave for k in range(interleave)]
+
+    def next_class(self):
+        """The class to do this frame, or None once every class is done."""
+        if not self.pending:
+            return None
+        chosen = self.pending.pop(0)
+        self.phase = (chosen + 1) % self.interleave
+        return chosen
 
 
 class BounceSchedule:

@@ -16,7 +16,7 @@ import moderngl
 import numpy as np
 
 from . import transforms
-from .bounces import BounceSchedule
+from .bounces import BounceSchedule, ClassRounds
 from .changes import BoundsCache, FrameInputs, Stage, voxel_update
 from .emitters import frame_emitters
 from .errors import VctError
@@ -112,8 +112,7 @@ class Renderer:
         self.bounds_cache = BoundsCache()
         self.stages = {name: Stage() for name in ("shadows", "gbuffer", "lighting", "emitters", "voxels",
                                                   "emitter_light", "radiance", "bounces")}
-        self._emitter_light_classes = (1, [])  # (interleave, classes still to light) since the last change
-        self._emitter_light_phase = 0          # the class to light first after the next change
+        self.emitter_light_rounds = ClassRounds()
 
     def _create_passes(self):
         """The passes of a frame, each with its programs and targets."""
@@ -311,23 +310,20 @@ class Renderer:
         shadow it changed. Its cones read the face views' coverage, so the face views are
         composed first (the light they hold follows with the bounces). Progressive frames (the
         viewer, converging bounces) spread it over the interleave classes, one a frame, as the
-        bounce is spread: an emitter edit makes no frame pay for more than 1 voxel in K. The
-        classes go round from where the last change left them, so while an emitter keeps
-        moving every voxel is still relit once every K frames."""
+        bounce is spread: an emitter edit makes no frame pay for more than 1 voxel in K, and
+        while an emitter keeps moving every voxel is still relit once every K frames."""
         stage = self.stages["emitter_light"]
         inputs = (self.stages["voxels"].version, self.stages["emitters"].version, s.cone_step, s.cone_offset)
+        rounds = self.emitter_light_rounds
         if stage.stale(inputs, self.track_changes):
             self.bounces.compose(self.grid, None, self.timed)
             spread = self.progressive and s.bounces == 0 and self.track_changes
-            interleave = s.bounce_interleave if spread else 1
-            self._emitter_light_classes = (interleave, [(self._emitter_light_phase + k) % interleave
-                                                        for k in range(interleave)])
-        interleave, pending = self._emitter_light_classes
-        if pending:
-            self.gather.sort_classes(self.grid, interleave)
-            self._emitter_light_phase = (pending[0] + 1) % interleave
+            rounds.restart(s.bounce_interleave if spread else 1)
+        chosen = rounds.next_class()
+        if chosen is not None:
+            self.gather.sort_classes(self.grid, rounds.interleave)
             with self.timed("emitter_light"):
-                self.emitter_light.run(self.grid, emitters, s.cone_uniforms(), self.grid.class_segments[pending.pop(0)])
+                self.emitter_light.run(self.grid, emitters, s.cone_uniforms(), self.grid.class_segments[chosen])
             stage.ran(inputs)
 
     def _radiance(self, shadow_maps):

@@ -5,6 +5,7 @@ import pytest
 
 import engine
 from conftest import SCENES, rel_mae
+from engine.bounces import ClassRounds
 
 SCREEN_PASSES = ["gbuffer", "lighting", "cone_trace"]
 BOUNCE_PASSES = {"gather", "faces", "mipmap"}
@@ -120,6 +121,21 @@ def test_a_moved_emitter_in_the_viewer_relights_the_voxels_over_the_next_frames(
     assert interleave > 1 and lit[:interleave] == [True] * interleave and not any(lit[interleave:])
     with engine.Renderer(64, 64) as fresh:
         assert rel_mae(image, fresh.render(scene, grid=32)) < 0.01
+
+
+def test_work_spread_over_the_classes_reaches_every_class_even_when_restarted_every_frame():
+    """Restarted every frame (an emitter moving), the rounds still go through every class, one
+    a frame; restarted once, they do each class once and stop."""
+    rounds = ClassRounds()
+    chosen = []
+    for _ in range(8):
+        rounds.restart(4)
+        chosen.append(rounds.next_class())
+    assert chosen == [0, 1, 2, 3, 0, 1, 2, 3]
+    rounds.restart(4)
+    assert [rounds.next_class() for _ in range(5)] == [0, 1, 2, 3, None]
+    rounds.restart(1)
+    assert [rounds.next_class() for _ in range(2)] == [0, None]
 
 
 def test_progressive_tracked_frames_stay_within_a_percent_of_recomputed_frames():
