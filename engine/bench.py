@@ -18,7 +18,7 @@ import time
 
 import numpy as np
 
-from .emitters import is_emissive
+from .emitters import scene_emits
 from .settings import MODE_TABLE
 
 FRAME_KINDS = ("static", "light", "object")
@@ -122,7 +122,7 @@ def benchmark(scene, renderer, settings, grids, frames, warmup, kinds=FRAME_KIND
     """Records {"scene", "grid", "frame", "width", "height", "total_ms", "passes", ...} for every
     grid and frame kind."""
     rows = []
-    uses_voxels = MODE_TABLE[settings.mode].uses_voxels(any(is_emissive(node.material) for node, _ in scene.drawables()))
+    uses_voxels = MODE_TABLE[settings.mode].uses_voxels(scene_emits(scene))
     for grid in grids if uses_voxels else [settings.grid]:
         s = settings.replace(grid=grid)
         renderer.progressive = True

@@ -40,12 +40,15 @@ def is_emissive(material):
     return bool(np.any(np.asarray(material.emission) > 0.0))
 
 
+def scene_emits(scene):
+    """Whether any surface of the scene emits light."""
+    return any(is_emissive(node.material) for node, _ in scene.drawables())
+
+
 def frame_emitters(draws):
-    """The Emitters of the emissive draws among `draws` (changes.Draw)."""
+    """The Emitters of a frame's emissive draws (changes.FrameInputs.emissive_draws)."""
     triangles, patches = [], []
     for draw in draws:
-        if not is_emissive(draw.material):
-            continue
         corners, radiance = _emissive_triangles(draw)
         normals = np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])
         areas = 0.5 * np.linalg.norm(normals, axis=1)

@@ -5,10 +5,19 @@ import pytest
 
 import engine
 from conftest import SCENES, rel_mae
+from engine.bench import settle
 from engine.bounces import ClassRounds
 
 SCREEN_PASSES = ["gbuffer", "lighting", "cone_trace"]
 BOUNCE_PASSES = {"gather", "faces", "mipmap"}
+
+
+def settle_viewer(renderer, scene):
+    """Progressive frames (the viewer) at grid 32 until the bounces settle; the last image."""
+    renderer.progressive = True
+    settle(scene, renderer, renderer.settings.replace(grid=32))
+    assert renderer.bounces.settled
+    return renderer.radiance()
 
 
 def edits():
@@ -106,11 +115,7 @@ def test_a_moved_emitter_in_the_viewer_relights_the_voxels_over_the_next_frames(
     grid), and the room converges to the headless image of the edited scene within 1 %."""
     scene = engine.load_scene(SCENES / "cornell_spheres.json")
     with engine.Renderer(64, 64) as r:
-        r.progressive = True
-        for _ in range(200):
-            r.render(scene, grid=32)
-            if r.bounces.settled:
-                break
+        settle_viewer(r, scene)
         panel = scene.root.find("Ceiling Panel")
         panel.translation = panel.translation + [0.3, -0.2, 0.1]
         lit = []
@@ -155,12 +160,7 @@ def test_a_settled_progressive_frame_runs_no_bounce():
     cost of a static frame."""
     scene = engine.load_scene(SCENES / "cornell_box.json")
     with engine.Renderer(64, 64) as r:
-        r.progressive = True
-        for _ in range(200):
-            r.render(scene, grid=32)
-            if r.bounces.settled:
-                break
-        assert r.bounces.settled
+        settle_viewer(r, scene)
         r.render(scene, grid=32)
         assert r.passes_ran == ["cone_trace"]
 
@@ -212,12 +212,7 @@ def test_an_emission_edit_in_the_viewer_lights_the_room_over_the_next_frames():
     from engine.viewer import inspector
     scene = engine.load_scene(SCENES / "cornell_box.json")
     with engine.Renderer(64, 64) as r:
-        r.progressive = True
-        for _ in range(80):
-            before = r.render(scene, grid=32)
-            if r.bounces.settled:
-                break
-        assert r.bounces.settled
+        before = settle_viewer(r, scene)
         inspector.make_material_unique(scene, "Short Box")
         inspector.set_emission(scene, "Short Box", [4.0, 4.0, 4.0])
         frames = [r.render(scene, grid=32) for _ in range(60)]

@@ -18,7 +18,7 @@ import numpy as np
 
 import engine
 from engine.bench import relative_errors
-from engine.emitters import is_emissive
+from engine.emitters import scene_emits
 
 ROOT = Path(__file__).resolve().parent.parent
 SHARED = ROOT.parent / "shared" / "reference"
@@ -51,7 +51,7 @@ def main():
         with engine.Renderer(scene.camera.width, scene.camera.height) as renderer:
             if "direct" in references:
                 # Emitters' shadows are cones through the voxels: their direct light depends on the grid.
-                grid = renderer.settings.grid if any(is_emissive(n.material) for n, _ in scene.drawables()) else None
+                grid = renderer.settings.grid if scene_emits(scene) else None
                 direct = renderer.render(scene, mode="direct")
                 row = {"scene": name, "grid": grid, "bounces": "direct", "reference": "direct",
                        **relative_errors(direct, references["direct"])}
