@@ -244,3 +244,19 @@ def test_what_the_tool_cannot_convert_fails_with_one_line_naming_the_field(tmp_p
     assert_one_line_error(run_tool(scene, out, "--spp", 100), "--spp")
     assert_one_line_error(run_tool(scene, tmp_path / "out.exr"), "out", ".npy")
     assert not list(tmp_path.glob("out*"))
+
+
+def test_a_render_writes_the_radiance_its_preview_and_its_metadata_together(tmp_path):
+    """A small render (30x30, 8 samples in two halves) writes out.npy (linear float32, row 0 at
+    the top), out.png and out.meta.json with the samples, the depth and the measured noise."""
+    scene = write_scene(tmp_path, [quad()], {"m": {"albedo": [0.5, 0.5, 0.5]}},
+                        [{"type": "point", "position": [0.5, 0.5, 0.5], "intensity": [1, 1, 1]}])
+    out = tmp_path / "out.npy"
+    result = run_tool(scene, out, "--spp", 8, "--pass-spp", 4, "--max-depth", 2)
+    assert result.returncode == 0, result.stderr
+    image = np.load(out)
+    assert image.shape == (30, 30, 3) and image.dtype == np.float32 and image.mean() > 0.0
+    meta = json.loads((tmp_path / "out.meta.json").read_text())
+    assert meta["spp"] == 8 and meta["max_depth"] == 2 and meta["row0"] == "top"
+    assert meta["convergence"]["halves_spp"] == 4
+    assert (tmp_path / "out.png").stat().st_size > 0

@@ -584,10 +584,10 @@ def main(argv=None):
             "mean_radiance_rgb": [float(v) for v in image.reshape(-1, 3).mean(axis=0)],
             "shape": list(image.shape), "dtype": "float32", "row0": "top",
         }
-        engine.save_npy(out, image)
-        engine.save_png(out.with_suffix(".png"), preview(image, args.png_exposure))
         text = json.dumps(meta, indent=1) + "\n"
-        engine.output.write_atomically(out.with_suffix(".meta.json"), lambda f: f.write(text.encode()))
+        engine.output.write_files([(out, engine.output.npy_writer(image)),
+                                   (out.with_suffix(".png"), engine.output.png_writer(preview(image, args.png_exposure))),
+                                   (out.with_suffix(".meta.json"), lambda f: f.write(text.encode()))])
     except engine.VctError as exc:
         print(f"reference.py: error: {exc}", file=sys.stderr)
         return 2
