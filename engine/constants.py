@@ -49,6 +49,7 @@ IMAGE_UNIT = {
     "INSPECT_OUT": 0,
     "IMAGE_OUT": 0,         # a screen target a compute pass adds to
     "SPECULAR_IN": 1,       # the specular cones' incoming radiance at the anchor pixels (half resolution)
+    "DIFFUSE_IN": 2,        # the diffuse cones' gather at the anchor pixels that traced them (a = 1; half resolution)
 }
 
 # Per-voxel fixed-point sums the voxelizer accumulates with atomics: one storage block per
@@ -71,7 +72,7 @@ STORAGE_BINDING = {
     "CLASS_BUCKETS": 20,
     "READBACK": 21,
     "CONE_PIXELS": 22,      # pixels that trace cones of their own: dispatch size, count, pixels
-    "SHARED_PIXELS": 23,    # pixels that take their specular cone from the anchors around them
+    "SHARED_PIXELS": 23,    # pixels that take their cones' light from the anchors around them
     "EMITTER_TRIANGLES": 24,  # the emissive triangles (GLSL_STRUCTS["EmitterTriangle"])
     "EMITTER_PATCHES": 25,    # groups of them that share a visibility cone (GLSL_STRUCTS["EmitterPatch"])
 }

@@ -109,6 +109,7 @@ def load_scene(path):
             metalness=reader.number(spec, "metalness", field, 0.0, minimum=0.0, maximum=1.0),
             specular=reader.number(spec, "specular", field, 0.0, minimum=0.0, maximum=1.0),
             emission=reader.vector(spec, "emission", field, [0.0, 0.0, 0.0], nonnegative=True, maximum=MAX_EMISSION),
+            double_sided=reader.get(spec, "double_sided", field, False, bool),
         )
         if np.any(materials[key].albedo > 1.0):
             reader.fail(f"{field}.albedo", "must be at most 1 per channel (energy conservation)")

@@ -1,9 +1,10 @@
 #version 450 core
 // The cones of the pixels cone_trace.frag listed, added to the image:
-//   diffuse:  (1 - m) k_d sum_j w_j Lv(p, w_j, a_j), where no voxel around p faces its way
+//   diffuse:  (1 - m) k_d sum_j w_j Lv(p, w_j, a_j), where no voxel around p faces its way, at
+//             the anchor pixels, whose gather is kept for the pixels between them
+//             (cone_shared.comp)
 //   specular: F(w_o . n) Lv(p, w_s, a_s) at the anchor pixels (lib/specular_cone.glsl), whose
-//             Lv is kept for the pixels between them (cone_specular_shared.comp), and at
-//             every pixel whose cone is too narrow to share
+//             Lv is kept likewise, and at every pixel whose cone is too narrow to share
 // Dispatched indirectly with the group count the listing counted.
 #include "lib/gbuffer.glsl"
 #include "lib/cone.glsl"
@@ -20,11 +21,14 @@ void main() {
     ivec2 pixel = unpack_pixel(entry.x);
     Surface s = read_gbuffer(pixel);
     vec3 radiance = vec3(0.0);
-    if ((entry.y & PIXEL_DIFFUSE_CONES) != 0u)
-        radiance += (1.0 - s.metalness) * s.albedo * trace_diffuse(s.position, s.normal, 1e9).rgb;
+    if ((entry.y & PIXEL_DIFFUSE_CONES) != 0u) {  // only anchors list them
+        vec3 gathered = trace_diffuse(s.position, s.normal, 1e9).rgb;
+        imageStore(diffuse_in, pixel / 2, vec4(gathered, 1.0));
+        radiance += (1.0 - s.metalness) * s.albedo * gathered;
+    }
     if ((entry.y & PIXEL_SPECULAR_CONE) != 0u) {
         vec3 incoming = specular_incoming(s);
-        if (all(equal(pixel % 2, ivec2(0)))) imageStore(specular_in, pixel / 2, vec4(incoming, 1.0));  // an anchor
+        if (is_anchor(pixel)) imageStore(specular_in, pixel / 2, vec4(incoming, 1.0));
         radiance += specular_fresnel(s) * incoming;
     }
     imageStore(image_out, pixel, imageLoad(image_out, pixel) + vec4(radiance, 0.0));

@@ -1,11 +1,17 @@
 #version 450 core
-// The specular term of the pixels between anchors (the shared list): Lv from the
-// anchors around the pixel (even x and y, two pixels apart; cone_pixels.comp traced them),
-// weighted bilinearly and by how well each stands for the pixel (same roughness, same plane,
-// facing the same way), times the pixel's own F(w_o . n); a pixel no anchor stands for traces
-// its own cone. A specular cone spans many pixels' worth of directions, so its Lv varies
-// little from pixel to pixel on one surface.
+// The cones' light of the pixels between anchors (the shared list), from the anchors around
+// the pixel (even x and y, two pixels apart; cone_pixels.comp traced them), weighted
+// bilinearly and by how well each stands for the pixel (same plane, facing the same way; for
+// the specular cone the same roughness too):
+//   diffuse:  (1 - m) k_d times the anchors' sum_j w_j Lv(p, w_j), where no voxel faces the
+//             pixel's way (a thin surface seen from behind)
+//   specular: F(w_o . n), the pixel's own, times the anchors' Lv(p, w_s, a_s)
+// A pixel no anchor stands for traces its own cones. The diffuse cones span a hemisphere and a
+// specular cone many pixels' worth of directions, so what they gather varies little from pixel
+// to pixel on one surface.
 #include "lib/gbuffer.glsl"
+#include "lib/cone.glsl"
+#include "lib/brdf.glsl"
 #include "lib/specular_cone.glsl"
 #include "lib/cone_pixels.glsl"
 
@@ -15,35 +21,55 @@ layout(binding = IMG_IMAGE_OUT, rgba32f) uniform image2D image_out;
 #define NORMAL_EXPONENT 32.0   // an anchor whose normal is 10 degrees off counts 0.6
 #define PLANE_TOLERANCE 0.01   // of the distance to the camera
 #define ROUGHNESS_TOLERANCE 0.02
+#define SHARED_WEIGHT_MIN 0.05 // of the bilinear weights' sum, 1: less, and the pixel traces its own
 
-// How well the Lv of anchor a stands for surface s's.
+// How well the cones of anchor a stand for surface s's: same plane, facing the same way.
 float anchor_similarity(Surface a, Surface s) {
-    if (!a.covered || abs(a.roughness - s.roughness) > ROUGHNESS_TOLERANCE) return 0.0;
+    if (!a.covered) return 0.0;
     if (abs(dot(a.position - s.position, s.normal)) > PLANE_TOLERANCE * distance(camera_position, s.position)) return 0.0;
     return pow(max(dot(a.normal, s.normal), 0.0), NORMAL_EXPONENT);
 }
 
 void main() {
     if (gl_GlobalInvocationID.x >= shared_count) return;
-    ivec2 pixel = unpack_pixel(shared_pixels[gl_GlobalInvocationID.x]);
+    uvec2 entry = shared_pixels[gl_GlobalInvocationID.x];
+    ivec2 pixel = unpack_pixel(entry.x);
+    bool diffuse = (entry.y & PIXEL_DIFFUSE_CONES) != 0u, specular = (entry.y & PIXEL_SPECULAR_CONE) != 0u;
     Surface s = read_gbuffer(pixel);
     ivec2 size = textureSize(gbuffer_position, 0);
     ivec2 base = pixel / 2;                    // the anchor at or before the pixel, in anchors
     vec2 f = vec2(pixel - 2 * base) * 0.5;     // 0 on an anchor's row or column, 0.5 between
-    vec3 sum = vec3(0.0);
-    float total = 0.0;
+    vec3 diffuse_sum = vec3(0.0), specular_sum = vec3(0.0);
+    float diffuse_total = 0.0, specular_total = 0.0;
     for (int k = 0; k < 4; ++k) {
         ivec2 corner = ivec2(k & 1, k >> 1);
         vec2 bilinear = mix(1.0 - f, f, vec2(corner));
         ivec2 anchor = 2 * (base + corner);
         if (bilinear.x * bilinear.y == 0.0 || any(greaterThanEqual(anchor, size))) continue;
         Surface a = read_gbuffer(anchor);
-        // An anchor traced a cone where its surface reflects specularly.
-        if (!has_specular_layer(specular_f0(a.albedo, a.metalness, a.dielectric_f0))) continue;
         float weight = bilinear.x * bilinear.y * anchor_similarity(a, s);
-        sum += weight * imageLoad(specular_in, base + corner).rgb;
-        total += weight;
+        if (weight <= 0.0) continue;
+        vec4 gathered = diffuse ? imageLoad(diffuse_in, base + corner) : vec4(0.0);
+        if (gathered.a > 0.0) {  // the anchor traced diffuse cones
+            diffuse_sum += weight * gathered.rgb;
+            diffuse_total += weight;
+        }
+        // An anchor traced a specular cone where its surface reflects specularly.
+        if (specular && has_specular_layer(specular_f0(a.albedo, a.metalness, a.dielectric_f0))
+                && abs(a.roughness - s.roughness) <= ROUGHNESS_TOLERANCE) {
+            specular_sum += weight * imageLoad(specular_in, base + corner).rgb;
+            specular_total += weight;
+        }
     }
-    vec3 incoming = total > 0.05 ? sum / total : specular_incoming(s);
-    imageStore(image_out, pixel, imageLoad(image_out, pixel) + vec4(specular_fresnel(s) * incoming, 0.0));
+    vec3 radiance = vec3(0.0);
+    if (diffuse) {
+        vec3 gathered = diffuse_total > SHARED_WEIGHT_MIN ? diffuse_sum / diffuse_total
+                                                          : trace_diffuse(s.position, s.normal, 1e9).rgb;
+        radiance += (1.0 - s.metalness) * s.albedo * gathered;
+    }
+    if (specular) {
+        vec3 incoming = specular_total > SHARED_WEIGHT_MIN ? specular_sum / specular_total : specular_incoming(s);
+        radiance += specular_fresnel(s) * incoming;
+    }
+    imageStore(image_out, pixel, imageLoad(image_out, pixel) + vec4(radiance, 0.0));
 }

@@ -7,13 +7,14 @@
 //   diffuse:  Lo = (1 - m) k_d sum_j w_j Lv(p, w_j, a_j), the lecture's 6 cones. They are
 //             traced once per voxel whenever the voxel radiance changes (voxel_gather.comp);
 //             a pixel interpolates the gathers of the voxels around p whose surfaces face its
-//             way; where none does (a thin surface seen from behind) it traces its own.
+//             way; where none does (a thin surface seen from behind) the cones are traced at
+//             the anchors (even x and y) and shared with the pixels between where they match
 //   specular: Lo = F(w_o . n) Lv(p, w_s, a_s), w_s = 2 (w_o . n) n - w_o, traced at every
 //             other pixel in x and y and shared with the pixels between where they match
 //   AO:       1 - sum_j w_j alpha_j within ao_distance, traced per pixel
-// The per-pixel diffuse and specular cones run in cone_pixels.comp and
-// cone_specular_shared.comp over the pixels listed here, so pixels that need none never wait
-// on them.
+// The cones run in cone_pixels.comp (the anchors' and the unshared ones) and cone_shared.comp
+// (the pixels between anchors) over the pixels listed here, so pixels that need none never
+// wait on them.
 #include "lib/gbuffer.glsl"
 #include "lib/voxel_surface.glsl"
 #include "lib/cone.glsl"
@@ -90,7 +91,9 @@ VoxelInterpolation interpolate_voxels(Surface s, bool want_gathered, bool want_v
 }
 
 void main() {
-    Surface s = read_gbuffer(ivec2(gl_FragCoord.xy));
+    ivec2 pixel = ivec2(gl_FragCoord.xy);
+    if (is_anchor(pixel)) imageStore(diffuse_in, pixel / 2, vec4(0.0));  // no diffuse cones traced (yet)
+    Surface s = read_gbuffer(pixel);
     if (!s.covered) { out_radiance = vec4(0.0); return; }
     if (output_kind == OUTPUT_AO) {
         float occlusion = trace_diffuse(s.position, s.normal, ao_distance).a;
@@ -101,36 +104,38 @@ void main() {
     bool diffuse = any(greaterThan(diffuse_albedo, vec3(0.0)));
     bool lit_by_emitters = EMITTER_LIGHT && include_direct && diffuse;
     VoxelInterpolation voxels = interpolate_voxels(s, include_diffuse && diffuse, lit_by_emitters);
-    vec3 radiance = include_direct ? texelFetch(direct_light, ivec2(gl_FragCoord.xy), 0).rgb : vec3(0.0);
+    vec3 radiance = include_direct ? texelFetch(direct_light, pixel, 0).rgb : vec3(0.0);
 #ifdef EMITTERS
     if (lit_by_emitters)
         radiance += diffuse_albedo / PI * emitter_irradiance(s.position, s.normal) * voxels.emitter_visibility;
 #endif
-    // Pixels that need cones of their own are listed (lib/cone_pixels.glsl): a diffuse gather
-    // where no voxel faces its way; where the surface reflects specularly, a specular cone at
-    // the anchors (even x and y) and the anchors' cones shared between them.
-    uint cones = 0u;
+    // Pixels that need cones are listed (lib/cone_pixels.glsl): the diffuse cones where no
+    // voxel faces the pixel's way, the specular cone where the surface reflects specularly;
+    // traced at the anchors (even x and y) and shared with the pixels between them.
+    uint cones = 0u, shared_cones = 0u;
+    bool anchor = is_anchor(pixel);
     if (include_diffuse && diffuse) {
         if (voxels.gathered_found) radiance += diffuse_albedo * voxels.gathered;
-        else cones |= PIXEL_DIFFUSE_CONES;
+        else if (anchor) cones |= PIXEL_DIFFUSE_CONES;
+        else shared_cones |= PIXEL_DIFFUSE_CONES;
     }
-    ivec2 pixel = ivec2(gl_FragCoord.xy);
     if (include_specular && has_specular_layer(specular_f0(s.albedo, s.metalness, s.dielectric_f0))) {
         // Between anchors two pixels apart the reflected direction turns by about four pixels'
         // angle: a cone at least that wide is shared, a narrower one (near a mirror) is not.
         bool shared_cone = atan(specular_tan_half_angle(s.roughness)) >= 4.0 * pixel_angle;
-        if (all(equal(pixel % 2, ivec2(0))) || !shared_cone) {
-            cones |= PIXEL_SPECULAR_CONE;
-        } else {  // a dispatch size grows by a group every LIST_GROUP pixels
-            uint k = atomicAdd(shared_count, 1u);
-            if (k % uint(LIST_GROUP) == 0u) atomicAdd(shared_groups.x, 1u);
-            shared_pixels[k] = pack_pixel(pixel);
-        }
+        if (anchor || !shared_cone) cones |= PIXEL_SPECULAR_CONE;
+        else shared_cones |= PIXEL_SPECULAR_CONE;
     }
+    // A dispatch size grows by a group every LIST_GROUP pixels.
     if (cones != 0u) {
         uint k = atomicAdd(pixel_count, 1u);
         if (k % uint(LIST_GROUP) == 0u) atomicAdd(pixel_groups.x, 1u);
         pixels[k] = uvec2(pack_pixel(pixel), cones);
+    }
+    if (shared_cones != 0u) {
+        uint k = atomicAdd(shared_count, 1u);
+        if (k % uint(LIST_GROUP) == 0u) atomicAdd(shared_groups.x, 1u);
+        shared_pixels[k] = uvec2(pack_pixel(pixel), shared_cones);
     }
     out_radiance = vec4(radiance, 1.0);
 }

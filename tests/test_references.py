@@ -82,3 +82,27 @@ def test_direct_light_from_emissive_surfaces_matches_its_reference(name):
     expected = reference(f"{name}_direct")
     assert rel_mae(direct, expected) <= 0.03
     assert luminance_ratio(direct, expected) == pytest.approx(1.0, abs=0.02)
+
+
+# The panel's back side, in the image (rows and columns inside its outline).
+THIN_PANEL_BACK = (slice(110, 245), slice(60, 195))
+
+
+def test_a_thin_panel_seen_from_behind_is_lit_by_its_own_cones_like_the_path_tracer():
+    """A double-sided panel whose voxels face the light, seen from its other side, which only
+    reflected light reaches: no voxel faces those pixels, so their diffuse cones are traced at
+    every other pixel in x and y and shared with the pixels between. The image is within 7 %
+    of the path tracer (measured 0.049 at 128^3); the back side receives no direct light and
+    reads 8 % bright (measured 1.081: cones that start beside a one-voxel sheet lit on its other
+    side read some of that light, README, Accuracy); a back side without its indirect light, or
+    lit as if it faced the light, fails."""
+    scene = engine.load_scene(REFERENCES / "thin_panel.json")
+    with engine.Renderer(256, 256) as r:
+        direct = r.render(scene, mode="direct")
+        gi = r.render(scene, grid=128)
+    expected = reference("thin_panel_gi")
+    assert rel_mae(gi, expected) <= 0.07
+    assert np.all(direct[THIN_PANEL_BACK] == 0.0)
+    assert np.all(reference("thin_panel_direct")[THIN_PANEL_BACK] == 0.0)
+    back_ratio = gi[THIN_PANEL_BACK].mean() / expected[THIN_PANEL_BACK].mean()
+    assert back_ratio == pytest.approx(1.0, abs=0.12)

@@ -96,6 +96,14 @@ def test_cornell_box_materials_have_the_file_albedos_and_are_lambertian():
         np.testing.assert_array_equal(material.emission, [0.0, 0.0, 0.0])
 
 
+def test_a_material_is_single_sided_unless_the_file_says_double_sided():
+    """Quads are one-sided (their back faces culled) as the spec says; `double_sided` makes a thin
+    sheet whose both sides reflect (scenes/references/thin_panel.json)."""
+    assert not any(m.double_sided for m in load_scene(CORNELL).materials.values())
+    thin = load_scene(CORNELL.parent / "references" / "thin_panel.json").materials
+    assert thin["thin white"].double_sided and not thin["white"].double_sided
+
+
 def test_cornell_box_camera_has_the_file_fields():
     camera = load_scene(CORNELL).camera
     np.testing.assert_array_equal(camera.position, [0.0, 0.0, 0.95])
@@ -341,6 +349,7 @@ BAD_SCENES = [
     BadScene("vertex-of-four", _set(["objects", 0, "vertices", 2], [-1, 1, 1, 1]), f"{LEFT_PLANE}.vertices[2]", "3 numbers"),
     BadScene("missing-camera", _edit(lambda data: data.pop("camera")), "camera", "missing"),
     BadScene("albedo-above-one", _set(["materials", "red", "albedo"], [1.2, 0.05, 0.05]), "materials.red.albedo", "at most 1"),
+    BadScene("double-sided-not-a-boolean", _set(["materials", "red", "double_sided"], "yes"), "materials.red.double_sided", "must be"),
     BadScene("negative-albedo", _set(["materials", "red", "albedo"], [0.65, -0.05, 0.05]), "materials.red.albedo[1]", "negative"),
     BadScene("fractional-image-width", _set(["camera", "width"], 0.5), "camera.width", "whole number"),
     BadScene("negative-light-intensity", _set(["lights", 0, "intensity"], [3, -3, 3]), 'lights[0] "Omni Light".intensity[1]', "negative"),

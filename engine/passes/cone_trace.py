@@ -1,9 +1,9 @@
 """Cone-tracing pass: the image over the G-buffer. Direct light (with emission, and the light of
 emissive surfaces shadowed through the voxels) plus the diffuse gather of the voxels
 interpolated per pixel, plus a specular cone traced at every other pixel in x and y and shared
-with the pixels between; or per-pixel AO cones. Pixels that need cones of their own (specular
-surfaces, and thin surfaces seen from behind, which no voxel faces) are listed and traced by
-compute passes, so the other pixels never wait on them."""
+with the pixels between; or per-pixel AO cones. Pixels that need cones (specular surfaces, and
+thin surfaces seen from behind, which no voxel faces and whose diffuse cones are shared the
+same way) are listed and traced by compute passes, so the other pixels never wait on them."""
 import numpy as np
 
 from ..constants import GL_IMAGE_FORMAT, IMAGE_UNIT, STORAGE_BINDING, TEXTURE_UNIT
@@ -19,20 +19,21 @@ class ConeTracePass:
         self.programs = {lit: programs.program({"EMITTERS": 1} if lit else None, vertex_shader="fullscreen.vert",
                                                fragment_shader="cone_trace.frag") for lit in (False, True)}
         self.pixels_program = programs.compute("cone_pixels.comp")
-        self.shared_program = programs.compute("cone_specular_shared.comp")
+        self.shared_program = programs.compute("cone_shared.comp")
         self.target = ScreenTarget(ctx, size)
-        self.cone_pixels = self.shared_pixels = self.specular_in = None
+        self.cone_pixels = self.shared_pixels = self.specular_in = self.diffuse_in = None
         self.resize(size)
 
     def resize(self, size):
         self.target.resize(size)
-        for resource in (self.cone_pixels, self.shared_pixels, self.specular_in):
+        for resource in (self.cone_pixels, self.shared_pixels, self.specular_in, self.diffuse_in):
             if resource is not None:
                 resource.release()
         self.cone_pixels = self.ctx.buffer(reserve=16 + 8 * size[0] * size[1])
-        self.shared_pixels = self.ctx.buffer(reserve=16 + 4 * size[0] * size[1])
-        # The anchors' specular Lv: one texel per anchor pixel (even x and y).
-        self.specular_in = self.ctx.texture(((size[0] + 1) // 2, (size[1] + 1) // 2), 4, dtype="f4")
+        self.shared_pixels = self.ctx.buffer(reserve=16 + 8 * size[0] * size[1])
+        # The anchors' specular Lv and diffuse gather: one texel per anchor pixel (even x and y).
+        anchors = ((size[0] + 1) // 2, (size[1] + 1) // 2)
+        self.specular_in, self.diffuse_in = (self.ctx.texture(anchors, 4, dtype="f4") for _ in range(2))
 
     def render(self, gbuffer, direct, grid, gathered, emitters, cone_uniforms, camera, terms, ao_distance):
         """`camera`: renderer.FrameCamera; `emitters`: scene_gpu.EmitterBuffers; `terms`:
@@ -50,11 +51,13 @@ class ConeTracePass:
         for name, pixel_list in (("CONE_PIXELS", self.cone_pixels), ("SHARED_PIXELS", self.shared_pixels)):
             pixel_list.write(np.array([0, 1, 1, 0], dtype="u4").tobytes())  # no group, no pixel yet
             pixel_list.bind_to_storage_buffer(STORAGE_BINDING[name])
+        for name, anchor_image in (("SPECULAR_IN", self.specular_in), ("DIFFUSE_IN", self.diffuse_in)):
+            anchor_image.bind_to_image(IMAGE_UNIT[name], read=True, write=True, format=GL_IMAGE_FORMAT["rgba32f"])
         self.target.draw(program)
         if terms.diffuse or terms.specular:
-            self.ctx.memory_barrier(self.ctx.SHADER_STORAGE_BARRIER_BIT | self.ctx.COMMAND_BARRIER_BIT)
+            self.ctx.memory_barrier(self.ctx.SHADER_STORAGE_BARRIER_BIT | self.ctx.COMMAND_BARRIER_BIT
+                                    | self.ctx.SHADER_IMAGE_ACCESS_BARRIER_BIT)
             self.target.texture.bind_to_image(IMAGE_UNIT["IMAGE_OUT"], read=True, write=True, format=GL_IMAGE_FORMAT["rgba32f"])
-            self.specular_in.bind_to_image(IMAGE_UNIT["SPECULAR_IN"], read=True, write=True, format=GL_IMAGE_FORMAT["rgba32f"])
             for program, pixel_list in ((self.pixels_program, self.cone_pixels), (self.shared_program, self.shared_pixels)):
                 program.set(**grid.uniforms(), **cone_uniforms, camera_position=tuple(camera.position))
                 program.program.run_indirect(pixel_list)  # the anchors first
@@ -63,5 +66,5 @@ class ConeTracePass:
 
     def release(self):
         for resource in (self.target, *self.programs.values(), self.pixels_program, self.shared_program,
-                         self.cone_pixels, self.shared_pixels, self.specular_in):
+                         self.cone_pixels, self.shared_pixels, self.specular_in, self.diffuse_in):
             resource.release()

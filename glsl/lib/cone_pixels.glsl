@@ -1,15 +1,23 @@
-// The pixels that need cones of their own, listed by cone_trace.frag in two lists, each with
-// the group count of its indirect dispatch and its length: the cone pixels (cone_pixels.comp
-// traces their diffuse cones and, at the anchors, even x and y, their specular cone), then the
-// shared pixels between the anchors (cone_specular_shared.comp). Apart, so that the lanes of a
-// group all trace, or all interpolate.
+// The pixels that need cones, listed by cone_trace.frag in two lists, each with the group count
+// of its indirect dispatch and its length, and each entry with the cones it needs: the cone
+// pixels (cone_pixels.comp traces their cones: the anchors, even x and y, and the pixels whose
+// specular cone is too narrow to share), then the shared pixels between the anchors
+// (cone_shared.comp takes the light of their cones from the anchors). Apart, so that the lanes
+// of a group all trace, or all interpolate.
 #include "engine_constants.glsl"
 
 #define PIXEL_DIFFUSE_CONES 1u
 #define PIXEL_SPECULAR_CONE 2u
 
 layout(std430, binding = SSBO_CONE_PIXELS) buffer ConePixels { uvec3 pixel_groups; uint pixel_count; uvec2 pixels[]; };
-layout(std430, binding = SSBO_SHARED_PIXELS) buffer SharedPixels { uvec3 shared_groups; uint shared_count; uint shared_pixels[]; };
+layout(std430, binding = SSBO_SHARED_PIXELS) buffer SharedPixels { uvec3 shared_groups; uint shared_count; uvec2 shared_pixels[]; };
+// Per anchor: sum_j w_j Lv(p, w_j) of the diffuse cones it traced, a = 1 (a = 0: it traced none).
+layout(binding = IMG_DIFFUSE_IN, rgba32f) uniform image2D diffuse_in;
+
+// The anchor pixels trace the cones the pixels between them share.
+bool is_anchor(ivec2 pixel) {
+    return all(equal(pixel % 2, ivec2(0)));
+}
 
 uint pack_pixel(ivec2 pixel) {
     return uint(pixel.x) | (uint(pixel.y) << 16);
