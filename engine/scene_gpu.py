@@ -108,7 +108,11 @@ class MeshClusters:
 
     def ranges(self, world, view_projection=None, box=None):
         """(first, count) index ranges of the clusters inside a view frustum and/or a world box
-        (all without either), adjacent ones merged."""
+        (all without either), adjacent ones merged. A mesh of one cluster is not tested against a
+        frustum alone: its few triangles cost the clipper less than the test costs Python (a point
+        light's six cube faces test every draw)."""
+        if len(self.first) == 1 and box is None:
+            return [(int(self.first[0]), int(self.count[0]))]
         keep = np.ones(len(self.first), bool)
         if view_projection is not None or box is not None:
             world_corners = transforms.box_corners(self.lo, self.hi) @ world[:3, :3].T + world[:3, 3]  # (clusters, 8, 3)
@@ -177,7 +181,6 @@ class SceneGeometry:
         handle.set(albedo=tuple(material.albedo), alpha=float(material.alpha), roughness=float(material.roughness),
                    metalness=float(material.metalness), dielectric_f0=float(material.specular),
                    emission=tuple(material.emission), normal_scale=float(material.normal_scale),
-                   has_normal_map=material.normal_texture is not None,
                    alpha_cutoff=float(material.alpha_cutoff) if material.alpha_tested else -1.0)
         for field, (unit, _) in MATERIAL_TEXTURES.items():
             texture = getattr(material, field)

@@ -171,3 +171,28 @@ def test_an_emissive_texture_lights_the_room_in_its_colour(tmp_path):
         red, green, blue = image[40:60, 24:40].reshape(-1, 3).mean(axis=0)
         assert red > 0.05 and blue < 1e-3 * red
         assert green / red == pytest.approx(expected[1], rel=0.1)
+
+
+def test_a_normal_map_tilts_the_shading_normal_in_its_tangent_frame_and_other_materials_keep_theirs(tmp_path):
+    """A quad facing +z whose normal texture holds (0.6, 0, 0.8) in tangent space (tangent along
+    +u, which is +x) shows the normal (0.6, 0, 0.8) in the G-buffer; a quad beside it without a
+    normal map shows its own +z. (The two are drawn by the G-buffer's two programs, with and
+    without the tangent, in one frame.)"""
+    g = Gltf()
+    texel = np.round((0.5 * np.array([0.6, 0.0, 0.8]) + 0.5) * 255).astype(np.uint8)
+    bumpy = g.add("materials", {"name": "Bumpy", "normalTexture": {"index": g.texture(g.image(png(np.tile(texel, (2, 2, 1)))))}})
+    plain = g.add("materials", {"name": "Plain"})
+    beside = {"POSITION": g.accessor(QUAD_POSITIONS - [1.1, 0.0, 0.0]), "NORMAL": g.accessor(np.tile([0, 0, 1], (4, 1))),
+              "TEXCOORD_0": g.accessor(QUAD_TEXCOORDS)}
+    mesh = g.add("meshes", {"primitives": [g.quad(bumpy), {"attributes": beside, "indices": g.accessor(QUAD_INDICES, 5125),
+                                                           "material": plain}]})
+    g.doc["scenes"][0]["nodes"].append(g.add("nodes", {"name": "Quads", "mesh": mesh}))
+    g.write(tmp_path / "quads.glb")
+    scene = write_scene(tmp_path, [{"name": "Model", "type": "mesh", "file": "quads.glb"}],
+                        camera={"position": [-0.05, 0.5, 2.6], "look_at": [-0.05, 0.5, 0.0], "vertical_fov_deg": 50.0,
+                                "width": 128, "height": 128})
+    with engine.Renderer(128, 128) as r:
+        normal = 2.0 * r.render(scene, mode="normal") - 1.0
+    mapped, unmapped = normal[64, 88], normal[64, 40]  # the quad at x 0..1, the one at x -1.1..-0.1
+    np.testing.assert_allclose(mapped, [0.6, 0.0, 0.8], atol=0.02)
+    np.testing.assert_allclose(unmapped, [0.0, 0.0, 1.0], atol=1e-3)

@@ -33,7 +33,9 @@ class GBufferPass:
     def __init__(self, ctx, programs, geometry, size):
         self.ctx = ctx
         self.geometry = geometry
-        self.program = programs.program(vertex_shader="gbuffer.vert", fragment_shader="gbuffer.frag")
+        # Per whether the material has a normal map: without one, no tangent is interpolated.
+        self.programs = {mapped: programs.program({"NORMAL_MAP": 1} if mapped else None, vertex_shader="gbuffer.vert",
+                                                  fragment_shader="gbuffer.frag") for mapped in (False, True)}
         self.target = GBuffer(ctx, size)
 
     def resize(self, size):
@@ -46,10 +48,14 @@ class GBufferPass:
         self.ctx.viewport = (0, 0, *gbuffer.size)
         gbuffer.framebuffer.clear(0.0, 0.0, 0.0, 0.0, depth=1.0)
         self.ctx.enable_only(self.ctx.DEPTH_TEST)
-        self.program.set(view_projection=transforms.gl_bytes(view_projection))
-        self.geometry.draw(self.program, draws, materials=True, cull_single_sided=True, view_projection=view_projection)
+        for mapped, program in self.programs.items():
+            subset = [draw for draw in draws if (draw.material.normal_texture is not None) == mapped]
+            if subset:
+                program.set(view_projection=transforms.gl_bytes(view_projection))
+                self.geometry.draw(program, subset, materials=True, cull_single_sided=True, view_projection=view_projection)
         return gbuffer
 
     def release(self):
         self.target.release()
-        self.program.release()
+        for program in self.programs.values():
+            program.release()

@@ -14,7 +14,6 @@ uniform float metalness;
 uniform float dielectric_f0;
 uniform vec3 emission;
 uniform float normal_scale;
-uniform bool has_normal_map;
 uniform float alpha_cutoff;  // cut out where alpha < alpha_cutoff; negative: opaque
 
 struct MaterialSample {
@@ -44,10 +43,11 @@ bool cut_out(float material_alpha) {
     return alpha_cutoff >= 0.0 && material_alpha < alpha_cutoff;
 }
 
-// The shading normal: the surface normal n, or the normal map's normal in the tangent frame
-// (tangent.xyz, bitangent tangent.w cross(n, tangent)), its x and y scaled by normal_scale.
+// The shading normal of a material with a normal map: its normal in the tangent frame
+// (tangent.xyz, bitangent tangent.w cross(n, tangent)), its x and y scaled by normal_scale; the
+// surface normal n where the mesh has no tangents.
 vec3 shading_normal(vec3 n, vec4 tangent, vec2 uv) {
-    if (!has_normal_map || dot(tangent.xyz, tangent.xyz) == 0.0) return n;
+    if (dot(tangent.xyz, tangent.xyz) == 0.0) return n;
     vec3 t = normalize(tangent.xyz - n * dot(n, tangent.xyz));
     vec3 b = tangent.w * cross(n, t);
     vec3 m = texture(normal_map, uv).xyz * 2.0 - 1.0;
