@@ -5,6 +5,8 @@
 //             (cone_shared.comp)
 //   specular: F(w_o . n) Lv(p, w_s, a_s) at the anchor pixels (lib/specular_cone.glsl), whose
 //             Lv is kept likewise, and at every pixel whose cone is too narrow to share
+// Run twice: over the list cone_trace.frag made, then over the pixels between anchors that
+// no anchor stood for (cone_shared.comp lists them).
 // Dispatched indirectly with the group count the listing counted.
 #include "lib/gbuffer.glsl"
 #include "lib/cone.glsl"
@@ -21,9 +23,9 @@ void main() {
     ivec2 pixel = unpack_pixel(entry.x);
     Surface s = read_gbuffer(pixel);
     vec3 radiance = vec3(0.0);
-    if ((entry.y & PIXEL_DIFFUSE_CONES) != 0u) {  // only anchors list them
+    if ((entry.y & PIXEL_DIFFUSE_CONES) != 0u) {
         vec3 gathered = trace_diffuse(s.position, s.normal, 1e9).rgb;
-        imageStore(diffuse_in, pixel / 2, vec4(gathered, 1.0));
+        if (is_anchor(pixel)) imageStore(diffuse_in, pixel / 2, vec4(gathered, 1.0));
         radiance += (1.0 - s.metalness) * s.albedo * gathered;
     }
     if ((entry.y & PIXEL_SPECULAR_CONE) != 0u) {

@@ -6,11 +6,11 @@
 //   diffuse:  (1 - m) k_d times the anchors' sum_j w_j Lv(p, w_j), where no voxel faces the
 //             pixel's way (a thin surface seen from behind)
 //   specular: F(w_o . n), the pixel's own, times the anchors' Lv(p, w_s, a_s)
-// A pixel no anchor stands for traces its own cones. The diffuse cones span a hemisphere and a
-// specular cone many pixels' worth of directions, so what they gather varies little from pixel
-// to pixel on one surface.
+// A term no anchor stands for is listed for cone_pixels.comp (the pixel traces its own cones
+// there, in groups of such pixels, not beside lanes that only read anchors). The diffuse cones
+// span a hemisphere and a specular cone many pixels' worth of directions, so what they gather
+// varies little from pixel to pixel on one surface.
 #include "lib/gbuffer.glsl"
-#include "lib/cone.glsl"
 #include "lib/brdf.glsl"
 #include "lib/specular_cone.glsl"
 #include "lib/cone_pixels.glsl"
@@ -62,14 +62,19 @@ void main() {
         }
     }
     vec3 radiance = vec3(0.0);
+    uint unshared = 0u;  // the terms this pixel traces itself
     if (diffuse) {
-        vec3 gathered = diffuse_total > SHARED_WEIGHT_MIN ? diffuse_sum / diffuse_total
-                                                          : trace_diffuse(s.position, s.normal, 1e9).rgb;
-        radiance += (1.0 - s.metalness) * s.albedo * gathered;
+        if (diffuse_total > SHARED_WEIGHT_MIN) radiance += (1.0 - s.metalness) * s.albedo * diffuse_sum / diffuse_total;
+        else unshared |= PIXEL_DIFFUSE_CONES;
     }
     if (specular) {
-        vec3 incoming = specular_total > SHARED_WEIGHT_MIN ? specular_sum / specular_total : specular_incoming(s);
-        radiance += specular_fresnel(s) * incoming;
+        if (specular_total > SHARED_WEIGHT_MIN) radiance += specular_fresnel(s) * specular_sum / specular_total;
+        else unshared |= PIXEL_SPECULAR_CONE;
     }
     imageStore(image_out, pixel, imageLoad(image_out, pixel) + vec4(radiance, 0.0));
+    if (unshared != 0u) {  // into the cone list bound here: the unshared pixels' own
+        uint k = atomicAdd(pixel_count, 1u);
+        if (k % uint(LIST_GROUP) == 0u) atomicAdd(pixel_groups.x, 1u);
+        pixels[k] = uvec2(entry.x, unshared);
+    }
 }

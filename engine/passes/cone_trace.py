@@ -3,7 +3,9 @@ emissive surfaces shadowed through the voxels) plus the diffuse gather of the vo
 interpolated per pixel, plus a specular cone traced at every other pixel in x and y and shared
 with the pixels between; or per-pixel AO cones. Pixels that need cones (specular surfaces, and
 thin surfaces seen from behind, which no voxel faces and whose diffuse cones are shared the
-same way) are listed and traced by compute passes, so the other pixels never wait on them."""
+same way) are listed and traced by compute passes, so the other pixels never wait on them: the
+anchors and unshared cones first, then the pixels between anchors, then those of them that no
+anchor stood for."""
 import numpy as np
 
 from ..constants import GL_IMAGE_FORMAT, IMAGE_UNIT, STORAGE_BINDING, TEXTURE_UNIT
@@ -21,16 +23,17 @@ class ConeTracePass:
         self.pixels_program = programs.compute("cone_pixels.comp")
         self.shared_program = programs.compute("cone_shared.comp")
         self.target = ScreenTarget(ctx, size)
-        self.cone_pixels = self.shared_pixels = self.specular_in = self.diffuse_in = None
+        self.cone_pixels = self.shared_pixels = self.unshared_pixels = self.specular_in = self.diffuse_in = None
         self.resize(size)
 
     def resize(self, size):
         self.target.resize(size)
-        for resource in (self.cone_pixels, self.shared_pixels, self.specular_in, self.diffuse_in):
+        for resource in (self.cone_pixels, self.shared_pixels, self.unshared_pixels, self.specular_in, self.diffuse_in):
             if resource is not None:
                 resource.release()
-        self.cone_pixels = self.ctx.buffer(reserve=16 + 8 * size[0] * size[1])
-        self.shared_pixels = self.ctx.buffer(reserve=16 + 8 * size[0] * size[1])
+        # The pixel lists (lib/cone_pixels.glsl): a header of 16 bytes, then 8 bytes a pixel.
+        self.cone_pixels, self.shared_pixels, self.unshared_pixels = (
+            self.ctx.buffer(reserve=16 + 8 * size[0] * size[1]) for _ in range(3))
         # The anchors' specular Lv and diffuse gather: one texel per anchor pixel (even x and y).
         anchors = ((size[0] + 1) // 2, (size[1] + 1) // 2)
         self.specular_in, self.diffuse_in = (self.ctx.texture(anchors, 4, dtype="f4") for _ in range(2))
@@ -48,9 +51,10 @@ class ConeTracePass:
         program.set(**grid.uniforms(), **cone_uniforms, output_kind=OUTPUT_KIND["ao" if terms.ao else "radiance"], include_direct=terms.direct,
                          include_diffuse=terms.diffuse, include_specular=terms.specular, ao_distance=float(ao_distance),
                          pixel_angle=float(camera.pixel_angle))
-        for name, pixel_list in (("CONE_PIXELS", self.cone_pixels), ("SHARED_PIXELS", self.shared_pixels)):
+        for pixel_list in (self.cone_pixels, self.shared_pixels, self.unshared_pixels):
             pixel_list.write(np.array([0, 1, 1, 0], dtype="u4").tobytes())  # no group, no pixel yet
-            pixel_list.bind_to_storage_buffer(STORAGE_BINDING[name])
+        self.cone_pixels.bind_to_storage_buffer(STORAGE_BINDING["CONE_PIXELS"])
+        self.shared_pixels.bind_to_storage_buffer(STORAGE_BINDING["SHARED_PIXELS"])
         for name, anchor_image in (("SPECULAR_IN", self.specular_in), ("DIFFUSE_IN", self.diffuse_in)):
             anchor_image.bind_to_image(IMAGE_UNIT[name], read=True, write=True, format=GL_IMAGE_FORMAT["rgba32f"])
         self.target.draw(program)
@@ -58,13 +62,20 @@ class ConeTracePass:
             self.ctx.memory_barrier(self.ctx.SHADER_STORAGE_BARRIER_BIT | self.ctx.COMMAND_BARRIER_BIT
                                     | self.ctx.SHADER_IMAGE_ACCESS_BARRIER_BIT)
             self.target.texture.bind_to_image(IMAGE_UNIT["IMAGE_OUT"], read=True, write=True, format=GL_IMAGE_FORMAT["rgba32f"])
-            for program, pixel_list in ((self.pixels_program, self.cone_pixels), (self.shared_program, self.shared_pixels)):
+            for program in (self.pixels_program, self.shared_program):
                 program.set(**grid.uniforms(), **cone_uniforms, camera_position=tuple(camera.position))
-                program.program.run_indirect(pixel_list)  # the anchors first
-                self.ctx.memory_barrier(self.ctx.SHADER_IMAGE_ACCESS_BARRIER_BIT | self.ctx.TEXTURE_FETCH_BARRIER_BIT)
+            barrier = (self.ctx.SHADER_IMAGE_ACCESS_BARRIER_BIT | self.ctx.TEXTURE_FETCH_BARRIER_BIT
+                       | self.ctx.SHADER_STORAGE_BARRIER_BIT | self.ctx.COMMAND_BARRIER_BIT)
+            self.pixels_program.program.run_indirect(self.cone_pixels)  # the anchors first
+            self.ctx.memory_barrier(barrier)
+            self.unshared_pixels.bind_to_storage_buffer(STORAGE_BINDING["CONE_PIXELS"])  # the shared pass lists them
+            self.shared_program.program.run_indirect(self.shared_pixels)
+            self.ctx.memory_barrier(barrier)
+            self.pixels_program.program.run_indirect(self.unshared_pixels)
+            self.ctx.memory_barrier(barrier)
         return self.target
 
     def release(self):
         for resource in (self.target, *self.programs.values(), self.pixels_program, self.shared_program,
-                         self.cone_pixels, self.shared_pixels, self.specular_in, self.diffuse_in):
+                         self.cone_pixels, self.shared_pixels, self.unshared_pixels, self.specular_in, self.diffuse_in):
             resource.release()
