@@ -39,6 +39,7 @@ TEXTURE_UNIT = {
 IMAGE_UNIT = {
     "FACES_OUT": 0,
     "BASE_OUT": 6,
+    "TOUCHED_FACES_OUT": 6, # level 0 of the face views, zeroed where a voxelization touched (resolve)
     "GATHERED_OUT": 7,
     "ALBEDO_OUT": 0,
     "NORMAL_OUT": 1,

@@ -2,8 +2,10 @@
 // Voxel resolve, over the voxels the last voxelization touched: divide the fixed-point sums by
 // the fragment count into the surface volumes (albedo, normal, emission with the surface offset
 // in a; a = 1 marks a covered voxel) and the emission volume specular cones read (emission,
-// a = 1 where covered), zero the sums and front-layer keys for the next update,
-// and list the voxels that were empty before and are covered now, for the new covered list.
+// a = 1 where covered), zero the sums and front-layer keys for the next update, zero the voxel's
+// six faces at level 0 of the face views (voxel_compose.comp writes only the faces its new
+// surface covers), and list the voxels that were empty before and are covered now, for the new
+// covered list.
 #include "lib/voxel.glsl"
 #include "lib/voxel_sums.glsl"
 
@@ -13,6 +15,7 @@ layout(binding = IMG_NORMAL_OUT, rgba16f) uniform writeonly image3D normal_out;
 layout(binding = IMG_EMISSION_OUT, rgba16f) uniform writeonly image3D emission_out;
 layout(binding = IMG_EMITTED_OUT, rgba16f) uniform writeonly image3D emitted_out;
 layout(binding = IMG_FRONT, r32ui) uniform writeonly uimage3D front;
+layout(binding = IMG_TOUCHED_FACES_OUT, rgba16f) uniform writeonly image3D faces_out;
 layout(std430, binding = SSBO_TOUCHED) readonly buffer TouchedVoxels { uint touched_count; uint touched[]; };
 layout(std430, binding = SSBO_COVERED_NEXT) buffer NextCovered { uint next_count; uint next_covered[]; };
 
@@ -56,5 +59,8 @@ void main() {
         if (!was_covered) next_covered[atomicAdd(next_count, 1u)] = pack_voxel(v);
     }
     for (int channel = 0; channel < VOXEL_SUM_CHANNELS; ++channel) voxel_sums[channel].value[i] = 0u;
-    for (int f = 0; f < VOXEL_FACES; ++f) imageStore(front, face_texel(v, f, voxel_grid), uvec4(0u));
+    for (int f = 0; f < VOXEL_FACES; ++f) {
+        imageStore(front, face_texel(v, f, voxel_grid), uvec4(0u));
+        imageStore(faces_out, face_texel(v, f, voxel_grid), vec4(0.0));
+    }
 }

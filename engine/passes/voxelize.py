@@ -64,7 +64,7 @@ class VoxelizePass:
         grid.covered_next.clear()
         grid.covered_next.bind("COVERED_NEXT")
         for unit, volume in (("ALBEDO_OUT", grid.albedo), ("NORMAL_OUT", grid.normal), ("EMISSION_OUT", grid.emission),
-                             ("EMITTED_OUT", grid.emitted)):
+                             ("EMITTED_OUT", grid.emitted), ("TOUCHED_FACES_OUT", grid.faces)):
             bind_image(volume, IMAGE_UNIT[unit], read=unit == "ALBEDO_OUT")
         self.resolve.set(**uniforms)
         grid.dispatch(self.resolve, touched)
