@@ -132,9 +132,11 @@ VOLUME_GROUP = 4
 MAX_INTERLEAVE = 8
 # The covered-cell lists of the mip levels share one buffer, headed by a count per level.
 CELL_LIST_LEVELS = 16
-# Within a class the gather list runs block by block of CLASS_BLOCK^3 voxels, so that the
-# invocations running side by side trace neighbouring voxels.
+# Within a class the gather list runs block by block of CLASS_BLOCK^3 voxels, and within a
+# block by facing (the mean normal's dominant axis and sign, or none: CLASS_FACINGS), so that
+# the invocations running side by side trace neighbouring voxels along the same directions.
 CLASS_BLOCK = 16
+CLASS_FACINGS = 7
 
 
 def cone_cosine_centroid_tilt(tilt, half_angle, samples=400):
@@ -201,6 +203,7 @@ def glsl_header():
         f"#define VOLUME_GROUP {VOLUME_GROUP}",
         f"#define MAX_INTERLEAVE {MAX_INTERLEAVE}",
         f"#define CLASS_BLOCK {CLASS_BLOCK}",
+        f"#define CLASS_FACINGS {CLASS_FACINGS}",
         f"#define CELL_LIST_LEVELS {CELL_LIST_LEVELS}",
         f"#define VOXEL_UNIT_SCALE {VOXEL_UNIT_SCALE:.1f}",
         f"#define VOXEL_MAX_FRAGMENTS {VOXEL_MAX_FRAGMENTS}u",

@@ -21,7 +21,7 @@ import math
 
 import numpy as np
 
-from .constants import (CELL_LIST_LEVELS, CLASS_BLOCK, GL_IMAGE_FORMAT, GRID_SIZES, IMAGE_UNIT, LIST_GROUP, MAX_INTERLEAVE, STORAGE_BINDING, TEXTURE_UNIT,
+from .constants import (CELL_LIST_LEVELS, CLASS_BLOCK, CLASS_FACINGS, GL_IMAGE_FORMAT, GRID_SIZES, IMAGE_UNIT, LIST_GROUP, MAX_INTERLEAVE, STORAGE_BINDING, TEXTURE_UNIT,
                         VOXEL_FACES, VOXEL_FORMAT, VOXEL_MEMORY_BUDGET, VOXEL_SUM_CHANNELS)
 from .errors import VctError
 
@@ -120,7 +120,7 @@ class VoxelGrid:
         # Covered voxels sorted by interleave class and block, the buckets of that counting sort,
         # and per class its first entry and count.
         self.class_list = self._keep(ctx.buffer(reserve=4 * voxels))
-        self.class_buckets = self._keep(ctx.buffer(reserve=4 * MAX_INTERLEAVE * max(n // CLASS_BLOCK, 1) ** 3))
+        self.class_buckets = self._keep(ctx.buffer(reserve=4 * MAX_INTERLEAVE * max(n // CLASS_BLOCK, 1) ** 3 * CLASS_FACINGS))
         self.class_segments = []  # (first, count) per class
         self.classes_for = None   # (grid version, interleave) the class list was sorted for
         self.framebuffer = self._keep(ctx.empty_framebuffer((n, n)))

@@ -5,7 +5,7 @@ pixel (passes/cone_trace.py). Also sorts the covered voxels into interleave clas
 progressive bounce, and closes the bounce series by extrapolation."""
 import numpy as np
 
-from ..constants import CLASS_BLOCK, IMAGE_UNIT, STORAGE_BINDING, TEXTURE_UNIT
+from ..constants import CLASS_BLOCK, CLASS_FACINGS, IMAGE_UNIT, STORAGE_BINDING, TEXTURE_UNIT
 from ..voxel_grid import bind_image
 
 
@@ -18,23 +18,24 @@ class GatherPass:
 
     def sort_classes(self, grid, interleave):
         """Sort the covered voxels into `interleave` classes (unless already sorted so), each
-        grouped by block: class c of the list is grid.class_segments[c] = (first, count)."""
+        grouped by block and facing: class c of the list is grid.class_segments[c] = (first, count)."""
         if grid.classes_for == (grid.version, interleave):
             return
-        blocks = max(grid.n // CLASS_BLOCK, 1) ** 3
+        buckets = max(grid.n // CLASS_BLOCK, 1) ** 3 * CLASS_FACINGS  # per class: (block, facing)
+        grid.normal.use(TEXTURE_UNIT["VOXEL_NORMAL"])
         grid.covered.bind("COVERED")
-        grid.class_buckets.write(bytes(4 * blocks * interleave))
+        grid.class_buckets.write(bytes(4 * buckets * interleave))
         grid.class_buckets.bind_to_storage_buffer(STORAGE_BINDING["CLASS_BUCKETS"])
         grid.class_list.bind_to_storage_buffer(STORAGE_BINDING["CLASS_LIST"])
         self.classes.set(**grid.uniforms(), interleave=interleave, scatter=False)
         grid.dispatch(self.classes, grid.covered.count)
-        counts = np.frombuffer(grid.class_buckets.read(4 * blocks * interleave), dtype="u4").astype(np.int64)
+        counts = np.frombuffer(grid.class_buckets.read(4 * buckets * interleave), dtype="u4").astype(np.int64)
         firsts = np.concatenate([[0], np.cumsum(counts)[:-1]])
         grid.class_buckets.write(firsts.astype("u4").tobytes())
         self.classes.set(scatter=True)
         grid.dispatch(self.classes, grid.covered.count)
-        per_class = counts.reshape(interleave, blocks).sum(axis=1)
-        grid.class_segments = [(int(firsts[c * blocks]), int(per_class[c])) for c in range(interleave)]
+        per_class = counts.reshape(interleave, buckets).sum(axis=1)
+        grid.class_segments = [(int(firsts[c * buckets]), int(per_class[c])) for c in range(interleave)]
         grid.classes_for = (grid.version, interleave)
 
     def run(self, grid, cone_uniforms, out, segment):
