@@ -7,9 +7,7 @@
 // A counting sort: a pass counting the entries of each bucket (class, block, facing), then,
 // once the host has turned the counts into each bucket's first entry, a pass scattering the
 // voxels into their buckets.
-#include "lib/voxel.glsl"
-
-layout(binding = TEX_VOXEL_NORMAL) uniform sampler3D voxel_normal;
+#include "lib/voxel_surface.glsl"
 
 layout(local_size_x = LIST_GROUP) in;
 layout(std430, binding = SSBO_COVERED) readonly buffer CoveredVoxels { uint covered_count; uint covered[]; };
@@ -26,9 +24,7 @@ void main() {
     ivec3 block = v / CLASS_BLOCK;
     int class_index = ((v.x & 1) | ((v.y & 1) << 1) | ((v.z & 1) << 2)) % interleave;
     vec3 n = texelFetch(voxel_normal, v, 0).xyz;
-    vec3 c = abs(n);
-    int major = c.x >= c.y ? (c.x >= c.z ? 0 : 2) : (c.y >= c.z ? 1 : 2);
-    int facing = dot(n, n) > 0.0 ? 2 * major + int(n[major] < 0.0) : CLASS_FACINGS - 1;
+    int facing = dot(n, n) > 0.0 ? facing_face(n) : CLASS_FACINGS - 1;
     uint block_index = uint(class_index * blocks * blocks * blocks + block.x + blocks * (block.y + blocks * block.z));
     uint bucket = block_index * uint(CLASS_FACINGS) + uint(facing);
     if (scatter) class_list[atomicAdd(buckets[bucket], 1u)] = entry;

@@ -71,9 +71,7 @@ void main() {
     }
     vec3 n = normalize(gs_normal);
     float offset = dot(gs_position - voxel_center(voxel), n) / voxel_size;  // in [-0.87, 0.87]
-    vec3 a = abs(n);
-    int axis = a.x >= a.y ? (a.x >= a.z ? 0 : 2) : (a.y >= a.z ? 1 : 2);
-    ivec3 front_texel = face_texel(voxel, 2 * axis + int(n[axis] < 0.0), voxel_grid);
+    ivec3 front_texel = face_texel(voxel, facing_face(n), voxel_grid);
     if (stage == VOXELIZE_FRONT) {
         imageAtomicMax(front, front_texel, layer_key(offset));
         return;

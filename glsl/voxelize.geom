@@ -25,8 +25,7 @@ vec3 project(vec3 uvw, int axis) {
 void main() {
     vec3 face_normal = cross(vs_position[1] - vs_position[0], vs_position[2] - vs_position[0]);
     if (dot(face_normal, face_normal) == 0.0) return;  // degenerate triangle
-    vec3 a = abs(face_normal);
-    int axis = (a.x >= a.y && a.x >= a.z) ? 0 : (a.y >= a.z ? 1 : 2);
+    int axis = dominant_axis(face_normal);
 
     vec2 corner[3];
     float depth[3];

@@ -22,7 +22,7 @@ class GatherPass:
         if grid.classes_for == (grid.version, interleave):
             return
         buckets = max(grid.n // CLASS_BLOCK, 1) ** 3 * CLASS_FACINGS  # per class: (block, facing)
-        grid.normal.use(TEXTURE_UNIT["VOXEL_NORMAL"])
+        grid.use_surface()
         grid.covered.bind("COVERED")
         grid.class_buckets.write(bytes(4 * buckets * interleave))
         grid.class_buckets.bind_to_storage_buffer(STORAGE_BINDING["CLASS_BUCKETS"])

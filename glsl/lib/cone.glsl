@@ -44,7 +44,7 @@ struct FaceWeights {
 
 FaceWeights face_weights(vec3 w, float spread) {
     vec3 c = abs(w);
-    int major = c.x >= c.y ? (c.x >= c.z ? 0 : 2) : (c.y >= c.z ? 1 : 2);
+    int major = dominant_axis(w);
     ivec3 order = ivec3((major + 1) % 3, (major + 2) % 3, major);
     FaceWeights f;
     f.face = ivec3(0, 2, 4) + ivec3(greaterThan(w, vec3(0.0)));

@@ -30,6 +30,19 @@ ivec3 face_texel(ivec3 v, int face, int side) {
     return ivec3(v.xy, v.z + face * side);
 }
 
+// The axis along which v is longest (the first of equals).
+int dominant_axis(vec3 v) {
+    vec3 a = abs(v);
+    return a.x >= a.y ? (a.x >= a.z ? 0 : 2) : (a.y >= a.z ? 1 : 2);
+}
+
+// The face view a surface with normal n belongs to: its dominant axis k and sign, 2k (+) or
+// 2k + 1 (-).
+int facing_face(vec3 n) {
+    int axis = dominant_axis(n);
+    return 2 * axis + int(n[axis] < 0.0);
+}
+
 // Fraction of a voxel's cross-section, seen against face f, that its surfaces cover. A plane
 // with unit normal n inside a voxel covers |n_k| / max_j |n_j| of the face perpendicular to
 // axis k, and only when it faces that way. The mean normal's length is the coherence of the
