@@ -129,7 +129,7 @@ class BounceSchedule:
                 self.gather.copy(grid, self.gathered(grid), grid.gathered[1 - self.latest])
         self.gather.sort_classes(grid, interleave)
         with timed("gather"):
-            self.gather.run(grid, cone_uniforms, self.gathered(grid), grid.class_segments[self.phase])
+            self.gather.run(grid, cone_uniforms, self.gathered(grid), self.phase)
         self.phase = (self.phase + 1) % interleave
         self.iterations += 1
 
@@ -149,7 +149,7 @@ class BounceSchedule:
     def _gather_all(self, grid, cone_uniforms, timed):
         self.gather.sort_classes(grid, 1)
         with timed("gather"):
-            self.gather.run(grid, cone_uniforms, self.gathered(grid), grid.class_segments[0])
+            self.gather.run(grid, cone_uniforms, self.gathered(grid), 0)
 
     def _fixed(self, grid, bounces, cone_uniforms, timed):
         for k in range(1, bounces + 1):

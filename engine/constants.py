@@ -71,6 +71,7 @@ STORAGE_BINDING = {
     "CELL_STAMPS": 18,
     "CLASS_LIST": 19,       # covered voxels sorted by interleave class, then by block
     "CLASS_BUCKETS": 20,
+    "GATHER_ANCHORS": 26,   # per voxel: whether it traces the gather, and the anchors it takes it from
     "READBACK": 21,
     "CONE_PIXELS": 22,      # pixels that trace cones of their own: dispatch size, count, pixels
     "SHARED_PIXELS": 23,    # pixels that take their cones' light from the anchors around them
@@ -137,6 +138,9 @@ CELL_LIST_LEVELS = 16
 # the invocations running side by side trace neighbouring voxels along the same directions.
 CLASS_BLOCK = 16
 CLASS_FACINGS = 7
+# The list's two parts: the voxels that trace the gather (anchors), then those that take it
+# from them (glsl/lib/gather_anchors.glsl).
+CLASS_PARTS = 2
 
 
 def cone_cosine_centroid_tilt(tilt, half_angle, samples=400):

@@ -323,7 +323,8 @@ class Renderer:
         if chosen is not None:
             self.gather.sort_classes(self.grid, rounds.interleave)
             with self.timed("emitter_light"):
-                self.emitter_light.run(self.grid, emitters, s.cone_uniforms(), self.grid.class_segments[chosen])
+                for segment in self.grid.class_segments[chosen]:
+                    self.emitter_light.run(self.grid, emitters, s.cone_uniforms(), segment)
             stage.ran(inputs)
 
     def _radiance(self, shadow_maps):

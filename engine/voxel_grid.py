@@ -13,7 +13,8 @@ passed to the passes that read and write it.
   six one-sided face views cones read, stacked along z in one volume `faces` (n x n x 6n,
   view f at z in [f n, (f + 1) n)), with their mip chain;
 - lists of voxels: `covered` (surface voxels), `touched` (by the last voxelization), the covered
-  cells of every mip level, and the covered voxels sorted by interleave class.
+  cells of every mip level, and the covered voxels sorted into the gather's anchors and the
+  others, by interleave class; per voxel, whether it is an anchor and the anchors around it.
 
 Every volume starts zero and every empty voxel stays zero: passes touch only listed voxels.
 """
@@ -21,7 +22,7 @@ import math
 
 import numpy as np
 
-from .constants import (CELL_LIST_LEVELS, CLASS_BLOCK, CLASS_FACINGS, GL_IMAGE_FORMAT, GRID_SIZES, IMAGE_UNIT, LIST_GROUP, MAX_INTERLEAVE, STORAGE_BINDING, TEXTURE_UNIT,
+from .constants import (CELL_LIST_LEVELS, CLASS_BLOCK, CLASS_FACINGS, CLASS_PARTS, GL_IMAGE_FORMAT, GRID_SIZES, IMAGE_UNIT, LIST_GROUP, MAX_INTERLEAVE, STORAGE_BINDING, TEXTURE_UNIT,
                         VOXEL_FACES, VOXEL_FORMAT, VOXEL_MEMORY_BUDGET, VOXEL_SUM_CHANNELS)
 from .errors import VctError
 
@@ -36,7 +37,7 @@ def voxel_memory_bytes(n):
     surface = TEXEL_BYTES * (3 * MIP_CHAIN + 1)              # albedo, normal (viewable), emitted; emission
     radiance = TEXEL_BYTES * (MIP_CHAIN + 3)                 # base (viewable), two gathers, emitters' light
     faces = TEXEL_BYTES * VOXEL_FACES * MIP_CHAIN
-    lists = 4 * 4 + 2 * 4 / 7                                # touched, covered x2, classes; cells, stamps
+    lists = 5 * 4 + 2 * 4 / 7                                # touched, covered x2, classes, anchors; cells, stamps
     return int(voxels * (sums + surface + radiance + faces + lists))
 
 
@@ -117,11 +118,14 @@ class VoxelGrid:
         self.cells = self._keep(ctx.buffer(data=bytes(4 * (CELL_LIST_LEVELS + sum(sizes[1:])))))
         self.cell_stamps = self._keep(ctx.buffer(data=bytes(4 * sum(sizes[1:]))))
         self.cell_generation = 0
-        # Covered voxels sorted by interleave class and block, the buckets of that counting sort,
-        # and per class its first entry and count.
+        # Covered voxels sorted into the gather's anchors and the others (the two parts), each by
+        # interleave class and block; the buckets of that counting sort; the list's segments.
         self.class_list = self._keep(ctx.buffer(reserve=4 * voxels))
-        self.class_buckets = self._keep(ctx.buffer(reserve=4 * MAX_INTERLEAVE * max(n // CLASS_BLOCK, 1) ** 3 * CLASS_FACINGS))
-        self.class_segments = []  # (first, count) per class
+        self.class_buckets = self._keep(ctx.buffer(reserve=4 * CLASS_PARTS * MAX_INTERLEAVE * max(n // CLASS_BLOCK, 1) ** 3 * CLASS_FACINGS))
+        self.gather_anchors = self._keep(ctx.buffer(reserve=4 * voxels))  # lib/gather_anchors.glsl, per voxel
+        self.anchor_segments = []  # (first, count) per class: the anchors, which trace the gather
+        self.class_segments = []   # per class: its segments of either part
+        self.filled_segment = (0, 0)  # the voxels that take their gather from the anchors
         self.classes_for = None   # (grid version, interleave) the class list was sorted for
         self.framebuffer = self._keep(ctx.empty_framebuffer((n, n)))
 

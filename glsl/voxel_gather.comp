@@ -1,8 +1,9 @@
 #version 450 core
-// The diffuse gather of each voxel of a list segment, with the lecture's 6 cones from its
-// surface point along its mean normal: G = sum_j w_j L(p, w_j). It feeds the next bounce
-// (voxel_compose.comp) and the image (cone_trace.frag interpolates it per pixel). Voxels that
-// reflect no light gather nothing and are marked so (a = 0).
+// The diffuse gather of each anchor of a list segment (lib/gather_anchors.glsl), with the
+// lecture's 6 cones from its surface point along its mean normal: G = sum_j w_j L(p, w_j). It
+// feeds the next bounce (voxel_compose.comp) and the image (cone_trace.frag interpolates it per
+// pixel); the other voxels take theirs from the anchors (voxel_fill.comp). a = 1: a voxel that
+// reflects light (the others hold 0).
 #include "lib/voxel_surface.glsl"
 #include "lib/cone.glsl"
 
@@ -16,8 +17,5 @@ void main() {
     if (gl_GlobalInvocationID.x >= count) return;
     ivec3 v = unpack_voxel(class_list[first + gl_GlobalInvocationID.x]);
     VoxelSurface s = voxel_surface(v);
-    vec4 gathered = vec4(0.0);
-    if (dot(s.mean_normal, s.mean_normal) > 1e-6 && any(greaterThan(s.albedo, vec3(0.0))))
-        gathered = vec4(trace_diffuse(s.position, normalize(s.mean_normal), 1e9).rgb, 1.0);
-    imageStore(gathered_out, v, gathered);
+    imageStore(gathered_out, v, vec4(trace_diffuse(s.position, normalize(s.mean_normal), 1e9).rgb, 1.0));
 }

@@ -1,11 +1,13 @@
-"""The diffuse gather of the voxels: each voxel of a list traces the lecture's 6 cones from its
-surface point through the face views, G = sum_j w_j L(p, w_j). A bounce is a gather followed
-by composing the face views again (passes/faces.py); the image interpolates the gathers per
-pixel (passes/cone_trace.py). Also sorts the covered voxels into interleave classes for the
+"""The diffuse gather of the voxels: the anchors (1 in 4 of a surface's voxels, and those with
+no anchor of a like facing around them: glsl/lib/gather_anchors.glsl) trace the lecture's 6
+cones from their surface point through the face views, G = sum_j w_j L(p, w_j), and the other
+voxels interpolate theirs. A bounce is a gather followed by composing the face views again
+(passes/faces.py); the image interpolates the gathers per pixel (passes/cone_trace.py). Also
+sorts the covered voxels into anchors and the others, each in interleave classes for the
 progressive bounce, and closes the bounce series by extrapolation."""
 import numpy as np
 
-from ..constants import CLASS_BLOCK, CLASS_FACINGS, IMAGE_UNIT, STORAGE_BINDING, TEXTURE_UNIT
+from ..constants import CLASS_BLOCK, CLASS_FACINGS, CLASS_PARTS, IMAGE_UNIT, STORAGE_BINDING, TEXTURE_UNIT
 from ..voxel_grid import bind_image
 
 
@@ -13,40 +15,59 @@ class GatherPass:
     def __init__(self, ctx, programs):
         self.ctx = ctx
         self.program = programs.compute("voxel_gather.comp")
+        self.anchors = programs.compute("voxel_anchors.comp")
         self.classes = programs.compute("voxel_classes.comp")
+        self.fill_program = programs.compute("voxel_fill.comp")
         self.extrapolate_program = programs.compute("voxel_extrapolate.comp")
 
     def sort_classes(self, grid, interleave):
-        """Sort the covered voxels into `interleave` classes (unless already sorted so), each
-        grouped by block and facing: class c of the list is grid.class_segments[c] = (first, count)."""
+        """Sort the covered voxels into the anchors and the others, each in `interleave`
+        classes grouped by block and facing (unless already sorted so). Sets
+        grid.anchor_segments[c] (the anchors of class c), grid.class_segments[c] (the segments
+        of class c in either part) and grid.filled_segment (every voxel that is not an anchor),
+        each (first, count) in grid.class_list."""
         if grid.classes_for == (grid.version, interleave):
             return
-        buckets = max(grid.n // CLASS_BLOCK, 1) ** 3 * CLASS_FACINGS  # per class: (block, facing)
+        buckets = max(grid.n // CLASS_BLOCK, 1) ** 3 * CLASS_FACINGS  # per part and class: (block, facing)
+        total = CLASS_PARTS * interleave * buckets
         grid.use_surface()
         grid.covered.bind("COVERED")
-        grid.class_buckets.write(bytes(4 * buckets * interleave))
+        grid.gather_anchors.bind_to_storage_buffer(STORAGE_BINDING["GATHER_ANCHORS"])
+        self.anchors.set(**grid.uniforms())
+        grid.dispatch(self.anchors, grid.covered.count)
+        grid.class_buckets.write(bytes(4 * total))
         grid.class_buckets.bind_to_storage_buffer(STORAGE_BINDING["CLASS_BUCKETS"])
         grid.class_list.bind_to_storage_buffer(STORAGE_BINDING["CLASS_LIST"])
         self.classes.set(**grid.uniforms(), interleave=interleave, scatter=False)
         grid.dispatch(self.classes, grid.covered.count)
-        counts = np.frombuffer(grid.class_buckets.read(4 * buckets * interleave), dtype="u4").astype(np.int64)
+        counts = np.frombuffer(grid.class_buckets.read(4 * total), dtype="u4").astype(np.int64)
         firsts = np.concatenate([[0], np.cumsum(counts)[:-1]])
         grid.class_buckets.write(firsts.astype("u4").tobytes())
         self.classes.set(scatter=True)
         grid.dispatch(self.classes, grid.covered.count)
-        per_class = counts.reshape(interleave, buckets).sum(axis=1)
-        grid.class_segments = [(int(firsts[c * buckets]), int(per_class[c])) for c in range(interleave)]
+        per_class = counts.reshape(CLASS_PARTS, interleave, buckets).sum(axis=2)
+        segments = [[(int(firsts[(part * interleave + c) * buckets]), int(per_class[part, c])) for c in range(interleave)]
+                    for part in range(CLASS_PARTS)]
+        grid.anchor_segments = segments[0]
+        grid.class_segments = [[segments[part][c] for part in range(CLASS_PARTS)] for c in range(interleave)]
+        grid.filled_segment = (segments[1][0][0], int(per_class[1].sum()))
         grid.classes_for = (grid.version, interleave)
 
-    def run(self, grid, cone_uniforms, out, segment):
-        """Gather the voxels of class-list `segment` (first, count) into volume `out`."""
+    def run(self, grid, cone_uniforms, out, class_index):
+        """Gather the anchors of interleave class `class_index` into volume `out`, then
+        interpolate every other voxel's gather in it from the anchors."""
         grid.use_surface()
         grid.use_faces()
         grid.class_list.bind_to_storage_buffer(STORAGE_BINDING["CLASS_LIST"])
         bind_image(out, IMAGE_UNIT["GATHERED_OUT"])
-        first, count = segment
+        first, count = grid.anchor_segments[class_index]
         self.program.set(**grid.uniforms(), **cone_uniforms, first=first, count=count)
         grid.dispatch(self.program, count)
+        bind_image(out, IMAGE_UNIT["GATHERED_OUT"], read=True)
+        grid.gather_anchors.bind_to_storage_buffer(STORAGE_BINDING["GATHER_ANCHORS"])
+        first, count = grid.filled_segment
+        self.fill_program.set(**grid.uniforms(), first=first, count=count)
+        grid.dispatch(self.fill_program, count)
 
     def extrapolate(self, grid, latest, older, gain):
         """older <- latest + (latest - older) * gain, per covered voxel."""
@@ -61,5 +82,5 @@ class GatherPass:
         self.extrapolate(grid, source, target, (0.0, 0.0, 0.0))
 
     def release(self):
-        for handle in (self.program, self.classes, self.extrapolate_program):
+        for handle in (self.program, self.anchors, self.classes, self.fill_program, self.extrapolate_program):
             handle.release()

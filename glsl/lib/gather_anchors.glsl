@@ -1,0 +1,61 @@
+// The voxels that trace the diffuse gather (the anchors) and the ones that take it from them.
+// A surface's gather varies slowly along it, so the voxels at even coordinates along the two
+// axes across their facing (1 in 4 of a plane's) trace the cones, and the others interpolate
+// the anchors around them: bilinearly along the surface, and weighted by how alike the
+// surfaces face, as the image interpolates the voxels (cone_trace.frag). A voxel with too few
+// anchors of a like facing around it (a thin part, an edge) is an anchor too.
+//
+// voxel_anchors.comp records per voxel (GATHER_ANCHORS, at voxel_index(v)) the bit
+// ANCHOR_SELF when it traces the gather itself, or else the bit k of each neighbour k
+// (`neighbour`) that is an anchor it takes its gather from.
+#include "lib/voxel_surface.glsl"
+
+layout(std430, binding = SSBO_GATHER_ANCHORS) buffer GatherAnchors { uint gather_anchors[]; };
+#define ANCHOR_SELF (1u << 26)
+
+// Voxels whose surface reflects no light gather nothing.
+bool reflects_light(ivec3 v) {
+    vec4 albedo = texelFetch(voxel_albedo, v, 0);
+    vec3 n = texelFetch(voxel_normal, v, 0).xyz;
+    return albedo.a > 0.0 && any(greaterThan(albedo.rgb, vec3(0.0))) && dot(n, n) > 1e-6;
+}
+
+// The axes along a surface with normal n: the two other than its dominant one.
+ivec2 tangent_axes(vec3 n) {
+    int axis = dominant_axis(n);
+    return ivec2((axis + 1) % 3, (axis + 2) % 3);
+}
+
+// Whether a voxel with mean normal n lies on the anchors' lattice: even along its surface.
+bool on_anchor_lattice(ivec3 v, vec3 n) {
+    ivec2 t = tangent_axes(n);
+    return ((v[t.x] | v[t.y]) & 1) == 0;
+}
+
+// Interleave class of an anchor for the progressive bounce: its position in the 2x2 block of
+// anchors along its surface, then its layer, so every class holds 1 in K of a plane's anchors.
+int anchor_class(ivec3 v, vec3 n, int interleave) {
+    int axis = dominant_axis(n);
+    ivec2 t = tangent_axes(n);
+    return (((v[t.x] >> 1) & 1) | (((v[t.y] >> 1) & 1) << 1) | ((v[axis] & 1) << 2)) % interleave;
+}
+
+// The k-th of the 26 neighbours of v (k < 26).
+ivec3 neighbour(ivec3 v, int k) {
+    int i = k < 13 ? k : k + 1;  // skip the centre, 13
+    return v + ivec3(i % 3, (i / 3) % 3, i / 9) - 1;
+}
+
+// How much an anchor with mean normal n_u at neighbour u stands for voxel v with unit normal n:
+// a tent two voxels wide per axis (0.5 for a neighbour along an axis, 0.25 across a diagonal)
+// times max(0, n . n_u)^8 times the coherence |n_u|.
+#define ANCHOR_FACING_EXPONENT 8.0
+float anchor_weight(ivec3 v, vec3 n, ivec3 u, vec3 n_u) {
+    float coherence = length(n_u);
+    vec3 d = abs(vec3(u - v));
+    float tent = (1.0 - 0.5 * d.x) * (1.0 - 0.5 * d.y) * (1.0 - 0.5 * d.z);
+    return tent * pow(max(dot(n, n_u) / coherence, 0.0), ANCHOR_FACING_EXPONENT) * coherence;
+}
+
+// Below this total anchor weight a voxel traces its own gather.
+#define MIN_ANCHOR_WEIGHT 0.2

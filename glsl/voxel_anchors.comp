@@ -1,0 +1,32 @@
+#version 450 core
+// Which covered voxels trace the diffuse gather, and which anchors the others take it from
+// (lib/gather_anchors.glsl): per voxel ANCHOR_SELF, or the bits of its anchor neighbours
+// (none where it reflects no light). Runs when the voxels change.
+#include "lib/gather_anchors.glsl"
+
+layout(local_size_x = LIST_GROUP) in;
+layout(std430, binding = SSBO_COVERED) readonly buffer CoveredVoxels { uint covered_count; uint covered[]; };
+
+void main() {
+    if (gl_GlobalInvocationID.x >= covered_count) return;
+    ivec3 v = unpack_voxel(covered[gl_GlobalInvocationID.x]);
+    uint record = 0u;
+    if (reflects_light(v)) {
+        vec3 n = texelFetch(voxel_normal, v, 0).xyz;
+        if (on_anchor_lattice(v, n)) {
+            record = ANCHOR_SELF;
+        } else {
+            float total = 0.0;
+            for (int k = 0; k < 26; ++k) {
+                ivec3 u = neighbour(v, k);
+                if (any(lessThan(u, ivec3(0))) || any(greaterThanEqual(u, ivec3(voxel_grid)))) continue;
+                vec3 n_u = texelFetch(voxel_normal, u, 0).xyz;
+                if (dot(n, n_u) <= 0.0 || !on_anchor_lattice(u, n_u) || !reflects_light(u)) continue;
+                record |= 1u << k;
+                total += anchor_weight(v, normalize(n), u, n_u);
+            }
+            if (total < MIN_ANCHOR_WEIGHT) record = ANCHOR_SELF;
+        }
+    }
+    gather_anchors[voxel_index(v)] = record;
+}

@@ -1,0 +1,32 @@
+#version 450 core
+// The gather of the voxels that are not anchors (lib/gather_anchors.glsl), from the anchors
+// voxel_anchors.comp found around them: G(v) = sum_u W(v, u) G(u) / sum_u W(v, u); 0 where
+// the voxel reflects no light (no anchors recorded). Reads and writes one volume: the anchors
+// it reads are not among the voxels it writes.
+#include "lib/gather_anchors.glsl"
+
+layout(local_size_x = LIST_GROUP) in;
+layout(binding = IMG_GATHERED_OUT, rgba16f) uniform image3D gathered;
+layout(std430, binding = SSBO_CLASS_LIST) readonly buffer ClassList { uint class_list[]; };
+uniform uint first;  // the voxels of the class list that take their gather from anchors
+uniform uint count;
+
+void main() {
+    if (gl_GlobalInvocationID.x >= count) return;
+    ivec3 v = unpack_voxel(class_list[first + gl_GlobalInvocationID.x]);
+    uint anchors = gather_anchors[voxel_index(v)];
+    vec4 result = vec4(0.0);
+    if (anchors != 0u) {
+        vec3 n = normalize(texelFetch(voxel_normal, v, 0).xyz);
+        vec3 sum = vec3(0.0);
+        float total = 0.0;
+        for (; anchors != 0u; anchors &= anchors - 1u) {
+            ivec3 u = neighbour(v, findLSB(anchors));
+            float weight = anchor_weight(v, n, u, texelFetch(voxel_normal, u, 0).xyz);
+            sum += weight * imageLoad(gathered, u).rgb;
+            total += weight;
+        }
+        result = vec4(sum / total, 1.0);  // total >= MIN_ANCHOR_WEIGHT
+    }
+    imageStore(gathered, v, result);
+}
