@@ -23,7 +23,7 @@ from .settings import MODE_TABLE
 
 FRAME_KINDS = ("static", "light", "object")
 PASS_ORDER = ("shadow", "gbuffer", "lighting", "emitters", "voxelize", "emission_mipmap", "emitter_light", "inject",
-              "gather", "faces", "mipmap", "cone_trace", "voxel_view", "gbuffer_view")
+              "classes", "gather", "faces", "mipmap", "cone_trace", "voxel_view", "gbuffer_view")
 SETTLE_FRAMES = 400  # progressive frames allowed for the radiance to settle before timing
 
 

@@ -127,11 +127,17 @@ class BounceSchedule:
                 return
             with timed("gather"):  # keep the gathers of this cycle's start, for closing the series
                 self.gather.copy(grid, self.gathered(grid), grid.gathered[1 - self.latest])
-        self.gather.sort_classes(grid, interleave)
+        self.sort_classes(grid, interleave, timed)
         with timed("gather"):
             self.gather.run(grid, cone_uniforms, self.gathered(grid), self.phase)
         self.phase = (self.phase + 1) % interleave
         self.iterations += 1
+
+    def sort_classes(self, grid, interleave, timed):
+        """The class list of the grid's voxels in `interleave` classes, unless already sorted so."""
+        if grid.classes_for != (grid.version, interleave):
+            with timed("classes"):
+                self.gather.sort_classes(grid, interleave)
 
     def compose(self, grid, gathered, timed):
         with timed("faces"):
@@ -147,7 +153,7 @@ class BounceSchedule:
         self.compose(grid, self.gathered(grid), timed)
 
     def _gather_all(self, grid, cone_uniforms, timed):
-        self.gather.sort_classes(grid, 1)
+        self.sort_classes(grid, 1, timed)
         with timed("gather"):
             self.gather.run(grid, cone_uniforms, self.gathered(grid), 0)
 

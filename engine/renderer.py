@@ -321,7 +321,7 @@ class Renderer:
             rounds.restart(s.bounce_interleave if spread else 1)
         chosen = rounds.next_class()
         if chosen is not None:
-            self.gather.sort_classes(self.grid, rounds.interleave)
+            self.bounces.sort_classes(self.grid, rounds.interleave, self.timed)
             with self.timed("emitter_light"):
                 for segment in self.grid.class_segments[chosen]:
                     self.emitter_light.run(self.grid, emitters, s.cone_uniforms(), segment)

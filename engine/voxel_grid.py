@@ -127,6 +127,7 @@ class VoxelGrid:
         self.class_segments = []   # per class: its segments of either part
         self.filled_segment = (0, 0)  # the voxels that take their gather from the anchors
         self.classes_for = None   # (grid version, interleave) the class list was sorted for
+        self.anchors_for = None   # the grid version gather_anchors was found for
         self.framebuffer = self._keep(ctx.empty_framebuffer((n, n)))
 
     def _keep(self, resource):

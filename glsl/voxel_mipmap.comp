@@ -22,6 +22,9 @@ void main() {
     vec3 finer_size = vec3(2 * side, 2 * side, 2 * side * VOXEL_FACES);
     for (int f = 0; f < VOXEL_FACES; ++f) {
         vec3 corner = vec3(face_texel(2 * cell + 1, f, 2 * side));
-        imageStore(faces_out, face_texel(cell, f, side), textureLod(voxel_faces, corner / finer_size, float(level - 1)));
+        vec4 mean = textureLod(voxel_faces, corner / finer_size, float(level - 1));
+        // A face no surface of the cell covers is zero, as it has been since the cell was
+        // cleared: not written (most cells of a wall face one way).
+        if (mean.a > 0.0) imageStore(faces_out, face_texel(cell, f, side), mean);
     }
 }

@@ -64,16 +64,39 @@ def test_tracked_frames_equal_recomputed_frames_bit_for_bit():
 
 def test_each_kind_of_change_runs_only_the_passes_it_needs():
     """Camera moved: G-buffer, lighting and cone trace only. Light moved: its shadow map,
-    injection and bounces, lighting, no voxelization and no G-buffer. Material edited:
-    revoxelization, injection and bounces, no shadow map. Object moved: all of them."""
+    injection and bounces, lighting, no voxelization, no G-buffer and no new class list.
+    Material edited: revoxelization, injection and bounces, no shadow map. Object moved: all
+    of them."""
     _, passes = render_sequence(track_changes=True)
     ran = dict(zip([kind for kind, _ in edits()], passes))
     assert passes[0] == SCREEN_PASSES and passes[-1] == SCREEN_PASSES
     assert {"shadow", "inject", "lighting"} <= set(ran["light"]) and BOUNCE_PASSES <= set(ran["light"])
     assert "voxelize" not in ran["light"] and "gbuffer" not in ran["light"]
+    assert "classes" not in ran["light"]  # the voxels, and so their anchors and classes, are kept
     assert {"voxelize", "inject"} <= set(ran["material"]) and BOUNCE_PASSES <= set(ran["material"])
     assert "shadow" not in ran["material"]
-    assert {"shadow", "voxelize", "inject"} <= set(ran["object"]) and BOUNCE_PASSES <= set(ran["object"])
+    assert {"shadow", "voxelize", "inject", "classes"} <= set(ran["object"]) and BOUNCE_PASSES <= set(ran["object"])
+
+
+def test_gather_anchors_found_again_around_a_moved_object_equal_anchors_found_anew():
+    """After an object moves, the gather-anchor records are found again only around the voxels
+    the voxelization touched; every covered voxel's record equals the one found from scratch."""
+    scene = engine.load_scene(SCENES / "cornell_box.json")
+    with engine.Renderer(64, 64) as r:
+        r.render(scene, grid=32)
+        box = scene.root.find("Short Box")
+        box.translation = box.translation + [0.1, 0.0, -0.05]
+        r.render(scene, grid=32)
+        grid = r.grid
+        with r.ctx:
+            assert 0 < grid.touched.count < grid.covered.count  # a partial voxelization
+            entries = np.frombuffer(grid.covered.buffer.read(4 * grid.covered.count, offset=4), dtype="u4")
+            index = (entries & 1023) + 32 * (((entries >> 10) & 1023) + 32 * (entries >> 20))
+            found_again = np.frombuffer(grid.gather_anchors.read(), dtype="u4")[index]
+            grid.anchors_for = None
+            r.gather.sort_classes(grid, 1)
+            found_anew = np.frombuffer(grid.gather_anchors.read(), dtype="u4")[index]
+    assert np.array_equal(found_again, found_anew)
 
 
 def test_tracked_frames_lit_by_an_emitter_equal_recomputed_frames_bit_for_bit():

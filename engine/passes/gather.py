@@ -15,6 +15,7 @@ class GatherPass:
     def __init__(self, ctx, programs):
         self.ctx = ctx
         self.program = programs.compute("voxel_gather.comp")
+        self.anchors_stale = programs.compute("voxel_anchors_stale.comp")
         self.anchors = programs.compute("voxel_anchors.comp")
         self.classes = programs.compute("voxel_classes.comp")
         self.fill_program = programs.compute("voxel_fill.comp")
@@ -26,15 +27,11 @@ class GatherPass:
         grid.anchor_segments[c] (the anchors of class c), grid.class_segments[c] (the segments
         of class c in either part) and grid.filled_segment (every voxel that is not an anchor),
         each (first, count) in grid.class_list."""
-        if grid.classes_for == (grid.version, interleave):
-            return
         buckets = max(grid.n // CLASS_BLOCK, 1) ** 3 * CLASS_FACINGS  # per part and class: (block, facing)
         total = CLASS_PARTS * interleave * buckets
         grid.use_surface()
+        self._find_anchors(grid)
         grid.covered.bind("COVERED")
-        grid.gather_anchors.bind_to_storage_buffer(STORAGE_BINDING["GATHER_ANCHORS"])
-        self.anchors.set(**grid.uniforms())
-        grid.dispatch(self.anchors, grid.covered.count)
         grid.class_buckets.write(bytes(4 * total))
         grid.class_buckets.bind_to_storage_buffer(STORAGE_BINDING["CLASS_BUCKETS"])
         grid.class_list.bind_to_storage_buffer(STORAGE_BINDING["CLASS_LIST"])
@@ -52,6 +49,23 @@ class GatherPass:
         grid.class_segments = [[segments[part][c] for part in range(CLASS_PARTS)] for c in range(interleave)]
         grid.filled_segment = (segments[1][0][0], int(per_class[1].sum()))
         grid.classes_for = (grid.version, interleave)
+
+    def _find_anchors(self, grid):
+        """grid.gather_anchors for the grid's voxels: again around the voxels the last
+        voxelization touched when the records were found for the version before it, else
+        for every covered voxel."""
+        if grid.anchors_for == grid.version:
+            return
+        grid.gather_anchors.bind_to_storage_buffer(STORAGE_BINDING["GATHER_ANCHORS"])
+        every_voxel = grid.anchors_for != grid.version - 1
+        if not every_voxel:
+            grid.touched.bind("TOUCHED")
+            self.anchors_stale.set(**grid.uniforms())
+            grid.dispatch(self.anchors_stale, grid.touched.count)
+        grid.covered.bind("COVERED")
+        self.anchors.set(**grid.uniforms(), every_voxel=every_voxel)
+        grid.dispatch(self.anchors, grid.covered.count)
+        grid.anchors_for = grid.version
 
     def run(self, grid, cone_uniforms, out, class_index):
         """Gather the anchors of interleave class `class_index` into volume `out`, then
@@ -82,5 +96,5 @@ class GatherPass:
         self.extrapolate(grid, source, target, (0.0, 0.0, 0.0))
 
     def release(self):
-        for handle in (self.program, self.anchors, self.classes, self.fill_program, self.extrapolate_program):
+        for handle in (self.program, self.anchors_stale, self.anchors, self.classes, self.fill_program, self.extrapolate_program):
             handle.release()

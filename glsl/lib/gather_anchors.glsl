@@ -7,11 +7,14 @@
 //
 // voxel_anchors.comp records per voxel (GATHER_ANCHORS, at voxel_index(v)) the bit
 // ANCHOR_SELF when it traces the gather itself, or else the bit k of each neighbour k
-// (`neighbour`) that is an anchor it takes its gather from.
+// (`neighbour`) that is an anchor it takes its gather from. A record depends on the voxel and
+// its neighbours only: after a voxelization, voxel_anchors_stale.comp marks the records around
+// the voxels it touched ANCHOR_STALE, and only those are found again.
 #include "lib/voxel_surface.glsl"
 
 layout(std430, binding = SSBO_GATHER_ANCHORS) buffer GatherAnchors { uint gather_anchors[]; };
 #define ANCHOR_SELF (1u << 26)
+#define ANCHOR_STALE (1u << 27)
 
 // Voxels whose surface reflects no light gather nothing.
 bool reflects_light(ivec3 v) {
