@@ -1,18 +1,19 @@
 """Bounce scheduling: how the voxel radiance gets its diffuse bounces after its base radiance
 (emission + direct light) changed, and the state that carries from frame to frame.
 
-A bounce gathers light at every voxel with the 6 diffuse cones (passes/gather.py) and composes
-the face views again with it (passes/faces.py). The gathers live in two
+A bounce gathers light at every voxel with the 6 diffuse cones, traced by the anchors (1 in 4
+of a surface's voxels) and interpolated by the others (passes/gather.py), and composes the face
+views again with it (passes/faces.py). The gathers live in two
 volumes: `latest` is the one the image and the face views use, the other keeps an earlier
 gather for closing the series.
 
 - `bounces` K >= 1: K bounces when the base radiance changes; the face views carry K - 1 of
   them and the latest gather the K-th, which the image adds.
 - `bounces` 0, converged within the frame (headless): bounce until the series closes (Series).
-- `bounces` 0, progressive (the viewer): one interleave class of voxels (1 in K) gathers again
-  each frame, on top of the previous frames' gathers; a cycle of K frames gathers every voxel
-  once, and the series closes over cycles as it does over bounces. Then no bounce work until
-  the next change.
+- `bounces` 0, progressive (the viewer): one interleave class of anchors (1 in K) gathers again
+  each frame, on top of the previous frames' gathers, and the other voxels follow them; a
+  cycle of K frames gathers at every anchor once, and the series closes over cycles as it does
+  over bounces. Then no bounce work until the next change.
 
 The face views hold L = L_base - L_e + rho G: the light surfaces reflect (emitters light the
 surfaces directly, passes/emitter_light.py). `ClassRounds` spreads other per-voxel work over
