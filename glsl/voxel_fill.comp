@@ -1,8 +1,9 @@
 #version 450 core
 // The gather of the voxels that are not anchors (lib/gather_anchors.glsl), from the anchors
-// voxel_anchors.comp found around them: G(v) = sum_u W(v, u) G(u) / sum_u W(v, u); 0 where
-// the voxel reflects no light (no anchors recorded). Reads and writes one volume: the anchors
-// it reads are not among the voxels it writes.
+// voxel_anchors.comp found around them:
+//   G(v) = sum_u W(v, u) G(u) / sum_u W(v, u),
+// 0 where the voxel reflects no light (no anchors recorded). Reads and writes one volume: the
+// anchors it reads are not among the voxels it writes.
 #include "lib/gather_anchors.glsl"
 
 layout(local_size_x = LIST_GROUP) in;
