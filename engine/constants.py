@@ -69,14 +69,14 @@ STORAGE_BINDING = {
     "COVERED_NEXT": 16,     # the covered list being rebuilt
     "CELLS": 17,            # covered cells of the coarser levels, level after level
     "CELL_STAMPS": 18,
-    "CLASS_LIST": 19,       # covered voxels sorted by interleave class, then by block
+    "CLASS_LIST": 19,       # covered voxels sorted by part (gather anchors, others), interleave class, block, facing
     "CLASS_BUCKETS": 20,
-    "GATHER_ANCHORS": 26,   # per voxel: whether it traces the gather, and the anchors it takes it from
     "READBACK": 21,
     "CONE_PIXELS": 22,      # pixels that trace cones of their own: dispatch size, count, pixels
     "SHARED_PIXELS": 23,    # pixels that take their cones' light from the anchors around them
     "EMITTER_TRIANGLES": 24,  # the emissive triangles (GLSL_STRUCTS["EmitterTriangle"])
     "EMITTER_PATCHES": 25,    # groups of them that share a visibility cone (GLSL_STRUCTS["EmitterPatch"])
+    "GATHER_ANCHORS": 26,     # per voxel: whether it traces the gather, or the anchors it takes it from
 }
 
 # Struct layouts shared with GLSL (std430, vec4-sized fields): name -> ((GLSL type, field), ...).

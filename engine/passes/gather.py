@@ -23,7 +23,8 @@ class GatherPass:
 
     def sort_classes(self, grid, interleave):
         """Sort the covered voxels into the anchors and the others, each in `interleave`
-        classes grouped by block and facing (unless already sorted so). Sets
+        classes grouped by block and facing, finding the anchors first where the voxels
+        changed. Sets
         grid.anchor_segments[c] (the anchors of class c), grid.class_segments[c] (the segments
         of class c in either part) and grid.filled_segment (every voxel that is not an anchor),
         each (first, count) in grid.class_list."""

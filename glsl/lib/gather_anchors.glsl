@@ -36,7 +36,8 @@ bool on_anchor_lattice(ivec3 v, vec3 n) {
 }
 
 // Interleave class of an anchor for the progressive bounce: its position in the 2x2 block of
-// anchors along its surface, then its layer, so every class holds 1 in K of a plane's anchors.
+// anchors along its surface (4 classes that each spread a quarter of a plane's anchors evenly
+// over it), then its layer.
 int anchor_class(ivec3 v, vec3 n, int interleave) {
     int axis = dominant_axis(n);
     ivec2 t = tangent_axes(n);
