@@ -72,9 +72,5 @@ void main() {
         else unshared |= PIXEL_SPECULAR_CONE;
     }
     imageStore(image_out, pixel, imageLoad(image_out, pixel) + vec4(radiance, 0.0));
-    if (unshared != 0u) {  // into the cone list bound here: the unshared pixels' own
-        uint k = atomicAdd(pixel_count, 1u);
-        if (k % uint(LIST_GROUP) == 0u) atomicAdd(pixel_groups.x, 1u);
-        pixels[k] = uvec2(entry.x, unshared);
-    }
+    if (unshared != 0u) list_cone_pixel(uvec2(entry.x, unshared));  // the cone list bound here: the unshared pixels'
 }

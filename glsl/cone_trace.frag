@@ -41,12 +41,8 @@ uniform float ao_distance;
 uniform float pixel_angle;  // radians between neighbouring pixels' rays
 layout(location = 0) out vec4 out_radiance;
 
-// How much a voxel's values stand for those at a surface with normal n: max(0, n . n_v)^8
-// times the coherence |mean normal| (voxels of mixed surfaces count less).
-#define FACING_EXPONENT 8.0
-
 // What a pixel takes from the 8 voxels whose centres surround its point p, each weighted
-// trilinearly and by how its surface faces the pixel's normal n: the diffuse gather
+// trilinearly and by how its surface faces the pixel's normal n (facing_weight): the diffuse gather
 // sum_j w_j Lv(p, w_j) of the voxels that reflect light (`gathered`; `gathered_found` false
 // where none faces n) and the fraction of the emitters' light that arrives
 // (`emitter_visibility`; 1 where no voxel faces n, a thin surface seen from behind).
@@ -69,11 +65,9 @@ VoxelInterpolation interpolate_voxels(Surface s, bool want_gathered, bool want_v
         vec4 g = want_gathered ? texelFetch(voxel_gathered, v, 0) : vec4(0.0);
         if (g.a <= 0.0 && !want_visibility) continue;  // no surface, or none that reflects diffuse light
         vec3 n_v = texelFetch(voxel_normal, v, 0).xyz;
-        float coherence = length(n_v);
-        if (coherence <= 0.0) continue;  // no surface
-        float facing = pow(max(dot(s.normal, n_v) / coherence, 0.0), FACING_EXPONENT) * coherence;
+        if (dot(n_v, n_v) <= 0.0) continue;  // no surface
         vec3 trilinear = mix(1.0 - f, f, vec3(corner));
-        float weight = trilinear.x * trilinear.y * trilinear.z * facing;
+        float weight = trilinear.x * trilinear.y * trilinear.z * facing_weight(s.normal, n_v);
         if (g.a > 0.0) {
             gathered_sum += weight * g.rgb;
             gathered_total += weight;
@@ -126,16 +120,7 @@ void main() {
         if (anchor || !shared_cone) cones |= PIXEL_SPECULAR_CONE;
         else shared_cones |= PIXEL_SPECULAR_CONE;
     }
-    // A dispatch size grows by a group every LIST_GROUP pixels.
-    if (cones != 0u) {
-        uint k = atomicAdd(pixel_count, 1u);
-        if (k % uint(LIST_GROUP) == 0u) atomicAdd(pixel_groups.x, 1u);
-        pixels[k] = uvec2(pack_pixel(pixel), cones);
-    }
-    if (shared_cones != 0u) {
-        uint k = atomicAdd(shared_count, 1u);
-        if (k % uint(LIST_GROUP) == 0u) atomicAdd(shared_groups.x, 1u);
-        shared_pixels[k] = uvec2(pack_pixel(pixel), shared_cones);
-    }
+    if (cones != 0u) list_cone_pixel(uvec2(pack_pixel(pixel), cones));
+    if (shared_cones != 0u) list_shared_pixel(uvec2(pack_pixel(pixel), shared_cones));
     out_radiance = vec4(radiance, 1.0);
 }

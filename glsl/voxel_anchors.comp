@@ -14,19 +14,20 @@ void main() {
     ivec3 v = unpack_voxel(covered[gl_GlobalInvocationID.x]);
     if (!every_voxel && gather_anchors[voxel_index(v)] != ANCHOR_STALE) return;
     uint record = 0u;
-    if (reflects_light(v)) {
-        vec3 n = texelFetch(voxel_normal, v, 0).xyz;
+    vec3 n = texelFetch(voxel_normal, v, 0).xyz;
+    if (reflects_light(v, n)) {
         if (on_anchor_lattice(v, n)) {
             record = ANCHOR_SELF;
         } else {
+            vec3 unit = normalize(n);
             float total = 0.0;
             for (int k = 0; k < 26; ++k) {
                 ivec3 u = neighbour(v, k);
                 if (any(lessThan(u, ivec3(0))) || any(greaterThanEqual(u, ivec3(voxel_grid)))) continue;
                 vec3 n_u = texelFetch(voxel_normal, u, 0).xyz;
-                if (dot(n, n_u) <= 0.0 || !on_anchor_lattice(u, n_u) || !reflects_light(u)) continue;
+                if (dot(n, n_u) <= 0.0 || !on_anchor_lattice(u, n_u) || !reflects_light(u, n_u)) continue;
                 record |= 1u << k;
-                total += anchor_weight(v, normalize(n), u, n_u);
+                total += anchor_weight(v, unit, u, n_u);
             }
             if (total < MIN_ANCHOR_WEIGHT) record = ANCHOR_SELF;
         }

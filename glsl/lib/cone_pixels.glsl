@@ -14,6 +14,20 @@ layout(std430, binding = SSBO_SHARED_PIXELS) buffer SharedPixels { uvec3 shared_
 // Per anchor: sum_j w_j Lv(p, w_j) of the diffuse cones it traced, a = 1 (a = 0: it traced none).
 layout(binding = IMG_DIFFUSE_IN, rgba32f) uniform image2D diffuse_in;
 
+// Append an entry (pack_pixel, cones) to the cone list or the shared list; each list's
+// dispatch size grows by a group every LIST_GROUP pixels.
+void list_cone_pixel(uvec2 entry) {
+    uint k = atomicAdd(pixel_count, 1u);
+    if (k % uint(LIST_GROUP) == 0u) atomicAdd(pixel_groups.x, 1u);
+    pixels[k] = entry;
+}
+
+void list_shared_pixel(uvec2 entry) {
+    uint k = atomicAdd(shared_count, 1u);
+    if (k % uint(LIST_GROUP) == 0u) atomicAdd(shared_groups.x, 1u);
+    shared_pixels[k] = entry;
+}
+
 // The anchor pixels trace the cones the pixels between them share.
 bool is_anchor(ivec2 pixel) {
     return all(equal(pixel % 2, ivec2(0)));

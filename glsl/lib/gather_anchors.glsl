@@ -16,10 +16,9 @@ layout(std430, binding = SSBO_GATHER_ANCHORS) buffer GatherAnchors { uint gather
 #define ANCHOR_SELF (1u << 26)
 #define ANCHOR_STALE (1u << 27)
 
-// Voxels whose surface reflects no light gather nothing.
-bool reflects_light(ivec3 v) {
+// Voxels whose surface reflects no light gather nothing (v, with its mean normal n).
+bool reflects_light(ivec3 v, vec3 n) {
     vec4 albedo = texelFetch(voxel_albedo, v, 0);
-    vec3 n = texelFetch(voxel_normal, v, 0).xyz;
     return albedo.a > 0.0 && any(greaterThan(albedo.rgb, vec3(0.0))) && dot(n, n) > 1e-6;
 }
 
@@ -52,13 +51,11 @@ ivec3 neighbour(ivec3 v, int k) {
 
 // How much an anchor with mean normal n_u at neighbour u stands for voxel v with unit normal n:
 // a tent two voxels wide per axis (0.5 for a neighbour along an axis, 0.25 across a diagonal)
-// times max(0, n . n_u)^8 times the coherence |n_u|.
-#define ANCHOR_FACING_EXPONENT 8.0
+// times how alike they face (facing_weight, as the image weighs the voxels).
 float anchor_weight(ivec3 v, vec3 n, ivec3 u, vec3 n_u) {
-    float coherence = length(n_u);
     vec3 d = abs(vec3(u - v));
     float tent = (1.0 - 0.5 * d.x) * (1.0 - 0.5 * d.y) * (1.0 - 0.5 * d.z);
-    return tent * pow(max(dot(n, n_u) / coherence, 0.0), ANCHOR_FACING_EXPONENT) * coherence;
+    return tent * facing_weight(n, n_u);
 }
 
 // Below this total anchor weight a voxel traces its own gather.

@@ -43,6 +43,15 @@ int facing_face(vec3 n) {
     return 2 * axis + int(n[axis] < 0.0);
 }
 
+// How much a voxel's values (its gather, the emitters' light at it) stand for those at a
+// surface with unit normal n: max(0, n . n_v / |n_v|)^8 times the coherence |n_v| of its mean
+// normal n_v (nonzero), so voxels of mixed surfaces count less.
+#define FACING_EXPONENT 8.0
+float facing_weight(vec3 n, vec3 n_v) {
+    float coherence = length(n_v);
+    return pow(max(dot(n, n_v) / coherence, 0.0), FACING_EXPONENT) * coherence;
+}
+
 // Fraction of a voxel's cross-section, seen against face f, that its surfaces cover. A plane
 // with unit normal n inside a voxel covers |n_k| / max_j |n_j| of the face perpendicular to
 // axis k, and only when it faces that way. The mean normal's length is the coherence of the
