@@ -10,10 +10,13 @@ gather for closing the series.
 - `bounces` K >= 1: K bounces when the base radiance changes; the face views carry K - 1 of
   them and the latest gather the K-th, which the image adds.
 - `bounces` 0, converged within the frame (headless): bounce until the series closes (Series).
-- `bounces` 0, progressive (the viewer): one interleave class of anchors (1 in K) gathers again
-  each frame, on top of the previous frames' gathers, and the other voxels follow them; a
-  cycle of K frames gathers at every anchor once, and the series closes over cycles as it does
-  over bounces. Then no bounce work until the next change.
+- `bounces` 0, progressive (the viewer): one interleave class of voxels (1 in K) is updated
+  each frame: its anchors gather again, on top of the previous frames' gathers, its other
+  voxels interpolate them, and its face views are composed again. A cycle of K frames updates
+  every voxel once, and the series closes over cycles as it does over bounces. Then no bounce
+  work until the next change. Where only the lights changed, the base radiance is injected
+  again with the class (`inject`): no frame pays for more than 1 voxel in K, and while a light
+  keeps moving every voxel is still relit once every K frames.
 
 The face views hold L = L_base - L_e + rho G: the light surfaces reflect (emitters light the
 surfaces directly, passes/emitter_light.py). `ClassRounds` spreads other per-voxel work over
@@ -81,17 +84,41 @@ class ClassRounds:
 
 
 class BounceSchedule:
-    def __init__(self, gather, faces):
+    def __init__(self, injection, gather, faces):
+        self.injection = injection
         self.gather = gather
         self.faces = faces
         self.latest = 0
         self.settled = True
-        self.series = None    # progressive: the totals at the start of each cycle
-        self.phase = 0        # progressive: the interleave class that gathers next
+        self.series = None    # progressive: the totals at the end of each cycle
+        self.phase = 0        # progressive: the interleave class updated next
         self.iterations = 0   # bounces the last restart ran (or the progressive bounces so far)
+        self.pending_base = set()  # progressive: the classes whose base radiance is still to inject,
+        self.pending_for = 1       # of this interleave
+        self.faces_stale = False   # progressive: the base radiance changed at every voxel at once
+        self.cycle_clean = False   # progressive: this cycle runs on the current base radiance throughout
 
     def gathered(self, grid):
         return grid.gathered[self.latest]
+
+    @staticmethod
+    def interleave(settings, progressive):
+        """The classes the covered voxels are sorted into: the progressive bounce's, else one."""
+        return settings.bounce_interleave if progressive and settings.bounces == 0 else 1
+
+    def inject(self, grid, shadow_maps, settings, progressive, spread, timed):
+        """The base radiance changed: inject it at every voxel now, or (`spread`, progressive
+        frames where only the lights changed) at each class when it is next updated."""
+        interleave = self.interleave(settings, progressive)
+        self.cycle_clean = False
+        if spread:
+            self.pending_base, self.pending_for = set(range(interleave)), interleave
+            return
+        self.sort_classes(grid, interleave, timed)
+        with timed("inject"):
+            self.injection.run(grid, shadow_maps, grid.all_segment)
+        self.pending_base = set()
+        self.faces_stale = True
 
     def restart(self, grid, settings, cone_uniforms, progressive, timed):
         """The base radiance or the bounce settings changed."""
@@ -106,33 +133,55 @@ class BounceSchedule:
         else:
             self._converge(grid, cone_uniforms, timed)
 
-    def advance(self, grid, settings, cone_uniforms, timed):
-        """Progressive: this frame's share of the bounces. The face views are composed from the
-        base radiance and the gathers so far (the cones must see the current base radiance);
-        at the start of a cycle the series is checked and the gathers kept; then the next
-        interleave class gathers again (the image reads the gathers directly)."""
+    def advance(self, grid, settings, cone_uniforms, shadow_maps, timed):
+        """Progressive: this frame's share of the bounces. The next interleave class gathers
+        again (its anchors' cones read the face views of the frames before), with its base
+        radiance injected first if the lights changed since, and its face views are composed
+        again. Where the base radiance changed everywhere at once (the voxels changed), every
+        voxel's face views are composed before the gather instead, as its cones must see the
+        voxels as they are now. At the end of a cycle that ran on the current base radiance
+        throughout, the series is checked and the gathers kept: the series starts from gathers
+        that all read it, as a bounce's do, since the totals it watches miss light that only
+        moved."""
         if self.settled:
             return
         interleave = settings.bounce_interleave
-        self.phase %= interleave
-        self.compose(grid, self.gathered(grid), timed)
-        if self.phase == 0:
-            total = self.faces.totals(grid)
-            outcome = None if self.series is None else self.series.add(total)
-            if self.series is None:
-                self.series = Series(total)
-            if outcome is not None:
-                if outcome is not Series.CONVERGED:
-                    self._close_series(grid, outcome, timed)
-                self.settled = True
-                return
-            with timed("gather"):  # keep the gathers of this cycle's start, for closing the series
-                self.gather.copy(grid, self.gathered(grid), grid.gathered[1 - self.latest])
+        if self.pending_base and self.pending_for != interleave:  # classes of another interleave: all again
+            self.pending_base, self.pending_for = set(range(interleave)), interleave
         self.sort_classes(grid, interleave, timed)
+        self.phase %= interleave
+        chosen = self.phase
+        if chosen in self.pending_base:
+            with timed("inject"):
+                self.injection.run(grid, shadow_maps, grid.class_segments[chosen])
+            self.pending_base.discard(chosen)
+        stale = self.faces_stale
+        if stale:
+            self.compose(grid, self.gathered(grid), timed)
         with timed("gather"):
-            self.gather.run(grid, cone_uniforms, self.gathered(grid), self.phase)
-        self.phase = (self.phase + 1) % interleave
+            self.gather.run(grid, cone_uniforms, self.gathered(grid), chosen)
+        if not stale:
+            self.compose(grid, self.gathered(grid), timed, chosen)
+        self.phase = (chosen + 1) % interleave
         self.iterations += 1
+        if self.phase == 0:
+            if self.cycle_clean:
+                self._end_cycle(grid, timed)
+            self.cycle_clean = not self.pending_base
+
+    def _end_cycle(self, grid, timed):
+        """Check the series; unless it closes, keep the gathers of this cycle's end for closing it."""
+        total = self.faces.totals(grid)
+        outcome = None if self.series is None else self.series.add(total)
+        if self.series is None:
+            self.series = Series(total)
+        if outcome is not None:
+            if outcome is not Series.CONVERGED:
+                self._close_series(grid, outcome, timed)
+            self.settled = True
+            return
+        with timed("gather"):
+            self.gather.copy(grid, self.gathered(grid), grid.gathered[1 - self.latest])
 
     def sort_classes(self, grid, interleave, timed):
         """The class list of the grid's voxels in `interleave` classes, unless already sorted so."""
@@ -140,11 +189,16 @@ class BounceSchedule:
             with timed("classes"):
                 self.gather.sort_classes(grid, interleave)
 
-    def compose(self, grid, gathered, timed):
+    def compose(self, grid, gathered, timed, class_index=None):
+        """The face views of the voxels of interleave class `class_index` (None: every voxel)
+        from their base radiance and `gathered` (None: before the first bounce), then the mip
+        levels over the cells they changed."""
         with timed("faces"):
-            self.faces.compose(grid, gathered)
+            self.faces.compose(grid, gathered, class_index)
         with timed("mipmap"):
-            self.faces.mipmap(grid)
+            self.faces.mipmap(grid, class_index)
+        if class_index is None:
+            self.faces_stale = False
 
     def _close_series(self, grid, gain, timed):
         """latest <- latest + (latest - earlier) * gain; the face views follow."""

@@ -77,6 +77,8 @@ STORAGE_BINDING = {
     "EMITTER_TRIANGLES": 24,  # the emissive triangles (GLSL_STRUCTS["EmitterTriangle"])
     "EMITTER_PATCHES": 25,    # groups of them that share a visibility cone (GLSL_STRUCTS["EmitterPatch"])
     "GATHER_ANCHORS": 26,     # per voxel: whether it traces the gather, or the anchors it takes it from
+    "CELL_CLASSES": 27,       # per level-1 cell: a bit per interleave class of the voxels in it
+    "CLASS_CELLS": 28,        # the covered level-1 cells sorted by class, the mixed ones last
 }
 
 # Struct layouts shared with GLSL (std430, vec4-sized fields): name -> ((GLSL type, field), ...).
@@ -139,7 +141,7 @@ CELL_LIST_LEVELS = 16
 # the invocations running side by side trace neighbouring voxels along the same directions.
 CLASS_BLOCK = 16
 CLASS_FACINGS = 7
-# The list's two parts: the voxels that trace the gather (anchors), then those that take it
+# A class's two parts: the voxels that trace the gather (anchors), then those that take it
 # from them (glsl/lib/gather_anchors.glsl).
 CLASS_PARTS = 2
 
@@ -209,6 +211,7 @@ def glsl_header():
         f"#define MAX_INTERLEAVE {MAX_INTERLEAVE}",
         f"#define CLASS_BLOCK {CLASS_BLOCK}",
         f"#define CLASS_FACINGS {CLASS_FACINGS}",
+        f"#define CLASS_PARTS {CLASS_PARTS}",
         f"#define CELL_LIST_LEVELS {CELL_LIST_LEVELS}",
         f"#define VOXEL_UNIT_SCALE {VOXEL_UNIT_SCALE:.1f}",
         f"#define VOXEL_MAX_FRAGMENTS {VOXEL_MAX_FRAGMENTS}u",

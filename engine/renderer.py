@@ -108,7 +108,7 @@ class Renderer:
         except Exception:
             self.close()
             raise
-        self.bounces = BounceSchedule(self.gather, self.faces)
+        self.bounces = BounceSchedule(self.inject, self.gather, self.faces)
         self.bounds_cache = BoundsCache()
         self.stages = {name: Stage() for name in ("shadows", "gbuffer", "lighting", "emitters", "voxels",
                                                   "emitter_light", "radiance", "bounces")}
@@ -230,8 +230,8 @@ class Renderer:
         if emitters.count:
             self._emitter_light(emitters, s)
         if s.shown.uses_radiance:
-            self._radiance(shadow_maps)
-            self._bounces(s)
+            self._radiance(s, shadow_maps)
+            self._bounces(s, shadow_maps)
         if s.shown.stage == "voxel_view":
             with self.timed("voxel_view"):
                 return self.voxel_view.render(self.grid, s.mode, s.voxel_mip, camera)
@@ -308,36 +308,39 @@ class Renderer:
     def _emitter_light(self, emitters, s):
         """The emitters' light at the voxels, when the voxels, the emitters or the cones that
         shadow it changed. Its cones read the face views' coverage, so the face views are
-        composed first (the light they hold follows with the bounces). Progressive frames (the
-        viewer, converging bounces) spread it over the interleave classes, one a frame, as the
-        bounce is spread: an emitter edit makes no frame pay for more than 1 voxel in K, and
-        while an emitter keeps moving every voxel is still relit once every K frames."""
+        composed first, with the gathers so far (the light they hold follows with the
+        bounces). Progressive frames (the viewer, converging bounces) spread it over the
+        interleave classes, one a frame, as the bounce is spread: an emitter edit makes no
+        frame pay for more than 1 voxel in K, and while an emitter keeps moving every voxel is
+        still relit once every K frames."""
         stage = self.stages["emitter_light"]
         inputs = (self.stages["voxels"].version, self.stages["emitters"].version, s.cone_step, s.cone_offset)
         rounds = self.emitter_light_rounds
         if stage.stale(inputs, self.track_changes):
-            self.bounces.compose(self.grid, None, self.timed)
             spread = self.progressive and s.bounces == 0 and self.track_changes
             rounds.restart(s.bounce_interleave if spread else 1)
+            self.bounces.sort_classes(self.grid, rounds.interleave, self.timed)
+            self.bounces.compose(self.grid, self.bounces.gathered(self.grid), self.timed)
         chosen = rounds.next_class()
         if chosen is not None:
             self.bounces.sort_classes(self.grid, rounds.interleave, self.timed)
             with self.timed("emitter_light"):
-                for segment in self.grid.class_segments[chosen]:
-                    self.emitter_light.run(self.grid, emitters, s.cone_uniforms(), segment)
+                self.emitter_light.run(self.grid, emitters, s.cone_uniforms(), self.grid.class_segments[chosen])
             stage.ran(inputs)
 
-    def _radiance(self, shadow_maps):
+    def _radiance(self, s, shadow_maps):
         """Inject direct light into the voxels when the voxels, the lights or the emitters'
-        light changed."""
+        light changed: at once where the voxels changed, else in progressive frames (the
+        viewer, converging bounces) with each interleave class as the bounce updates it."""
         stage = self.stages["radiance"]
         inputs = (self.stages["voxels"].version, self.stages["shadows"].version, self.stages["emitter_light"].version)
         if stage.stale(inputs, self.track_changes):
-            with self.timed("inject"):
-                self.inject.run(self.grid, shadow_maps)
+            voxels_kept = stage.inputs is not None and stage.inputs[0] == inputs[0]
+            spread = self.progressive and s.bounces == 0 and self.track_changes and voxels_kept
+            self.bounces.inject(self.grid, shadow_maps, s, self.progressive, spread, self.timed)
             stage.ran(inputs)
 
-    def _bounces(self, s):
+    def _bounces(self, s, shadow_maps):
         """Bounce again when the base radiance or the bounce settings changed; progressive
         frames add one bounce until the radiance settles."""
         stage = self.stages["bounces"]
@@ -346,7 +349,7 @@ class Renderer:
         if stage.stale(inputs, self.track_changes):
             self.bounces.restart(self.grid, s, s.cone_uniforms(), self.progressive, self.timed)
             stage.ran(inputs)
-        self.bounces.advance(self.grid, s, s.cone_uniforms(), self.timed)
+        self.bounces.advance(self.grid, s, s.cone_uniforms(), shadow_maps, self.timed)
 
     @_current
     def render(self, scene, mode=None, **changes):

@@ -23,7 +23,7 @@ import math
 import numpy as np
 
 from .constants import (CELL_LIST_LEVELS, CLASS_BLOCK, CLASS_FACINGS, CLASS_PARTS, GL_IMAGE_FORMAT, GRID_SIZES, IMAGE_UNIT, LIST_GROUP, MAX_INTERLEAVE, STORAGE_BINDING, TEXTURE_UNIT,
-                        VOXEL_FACES, VOXEL_FORMAT, VOXEL_MEMORY_BUDGET, VOXEL_SUM_CHANNELS)
+                        VOLUME_GROUP, VOXEL_FACES, VOXEL_FORMAT, VOXEL_MEMORY_BUDGET, VOXEL_SUM_CHANNELS)
 from .errors import VctError
 
 TEXEL_BYTES = 8  # RGBA16F
@@ -37,7 +37,8 @@ def voxel_memory_bytes(n):
     surface = TEXEL_BYTES * (3 * MIP_CHAIN + 1)              # albedo, normal (viewable), emitted; emission
     radiance = TEXEL_BYTES * (MIP_CHAIN + 3)                 # base (viewable), two gathers, emitters' light
     faces = TEXEL_BYTES * VOXEL_FACES * MIP_CHAIN
-    lists = 5 * 4 + 2 * 4 / 7                                # touched, covered x2, classes, anchors; cells, stamps
+    lists = 5 * 4 + 2 * 4 / 7 + 2 * 4 / 8                    # touched, covered x2, classes, anchors; cells, stamps;
+                                                             # level-1 cells' classes, cells by class
     return int(voxels * (sums + surface + radiance + faces + lists))
 
 
@@ -118,14 +119,21 @@ class VoxelGrid:
         self.cells = self._keep(ctx.buffer(data=bytes(4 * (CELL_LIST_LEVELS + sum(sizes[1:])))))
         self.cell_stamps = self._keep(ctx.buffer(data=bytes(4 * sum(sizes[1:]))))
         self.cell_generation = 0
-        # Covered voxels sorted into the gather's anchors and the others (the two parts), each by
-        # interleave class and block; the buckets of that counting sort; the list's segments.
+        # Covered voxels sorted by interleave class, within a class into the gather's anchors and
+        # the others (the two parts), each by block; the buckets of that counting sort; the
+        # list's segments.
         self.class_list = self._keep(ctx.buffer(reserve=4 * voxels))
         self.class_buckets = self._keep(ctx.buffer(reserve=4 * CLASS_PARTS * MAX_INTERLEAVE * max(n // CLASS_BLOCK, 1) ** 3 * CLASS_FACINGS))
         self.gather_anchors = self._keep(ctx.buffer(reserve=4 * voxels))  # lib/gather_anchors.glsl, per voxel
-        self.anchor_segments = []  # (first, count) per class: the anchors, which trace the gather
-        self.class_segments = []   # per class: its segments of either part
-        self.filled_segment = (0, 0)  # the voxels that take their gather from the anchors
+        # The classes of the voxels in each level-1 cell, and those cells sorted by class.
+        self.cell_classes = self._keep(ctx.buffer(reserve=4 * sizes[1]))
+        self.class_cells = self._keep(ctx.buffer(reserve=4 * sizes[1]))
+        self.class_segments = []   # (first, count) per class
+        self.anchor_segments = []  # per class: its anchors, which trace the gather
+        self.filled_segments = []  # per class: its voxels that take their gather from the anchors
+        self.all_segment = (0, 0)  # every covered voxel
+        self.class_cell_segments = []     # (first, count) per class in class_cells: its level-1 cells
+        self.mixed_cell_segment = (0, 0)  # the level-1 cells that hold voxels of several classes
         self.classes_for = None   # (grid version, interleave) the class list was sorted for
         self.anchors_for = None   # the grid version gather_anchors was found for
         self.framebuffer = self._keep(ctx.empty_framebuffer((n, n)))
@@ -199,19 +207,20 @@ class VoxelGrid:
     # -- inspection --------------------------------------------------------------------------
 
     def read_level(self, volume, readback, level=0):
-        """One mip level of a volume as float32 (n, n, n, 4), indexed [z, y, x]."""
-        n = max(1, self.n >> level)
+        """One mip level of a volume as float32 (depth, n, n, 4), indexed [z, y, x] (the
+        face views' depth holds their six views one after the other)."""
+        width, height, depth = (max(1, side >> level) for side in volume.size)
+        shape = (depth, height, width, 4)
         if level == 0:
-            return np.frombuffer(volume.read(), dtype="f2").reshape(n, n, n, 4).astype("f4")
-        buffer = self.ctx.buffer(reserve=n ** 3 * 16)
+            return np.frombuffer(volume.read(), dtype="f2").reshape(shape).astype("f4")
+        buffer = self.ctx.buffer(reserve=width * height * depth * 16)
         try:
             volume.use(TEXTURE_UNIT["VOXEL_INSPECT"])
             readback.set(level=level)
             buffer.bind_to_storage_buffer(STORAGE_BINDING["READBACK"])
-            groups = math.ceil(n / 4)
-            readback.program.run(groups, groups, groups)
+            readback.program.run(*(math.ceil(side / VOLUME_GROUP) for side in (width, height, depth)))
             self.ctx.memory_barrier(self.ctx.SHADER_STORAGE_BARRIER_BIT)
-            return np.frombuffer(buffer.read(), dtype="f4").reshape(n, n, n, 4).copy()
+            return np.frombuffer(buffer.read(), dtype="f4").reshape(shape).copy()
         finally:
             buffer.release()
 

@@ -1,5 +1,5 @@
 #version 450 core
-// One mip level of the face views, over its covered cells only: each cell is the mean of its
+// One mip level of the face views, over a segment of its covered cells: each cell is the mean of its
 // 8 children one level finer (a box filter, as glGenerateMipmap), so a level-m cell holds the
 // mean premultiplied radiance and coverage of the 2^m voxels along each side. Cells no surface
 // covers are zero and stay zero (voxel_clear_cells.comp).
@@ -8,12 +8,13 @@
 layout(local_size_x = LIST_GROUP) in;
 layout(binding = TEX_VOXEL_FACES) uniform sampler3D voxel_faces;
 layout(binding = IMG_FACES_OUT, rgba16f) uniform writeonly image3D faces_out;
-layout(std430, binding = SSBO_CELLS) readonly buffer Cells { uint cell_count[CELL_LIST_LEVELS]; uint cells[]; };
+layout(std430, binding = SSBO_CELLS) readonly buffer Cells { uint cells[]; };  // the level's cells, or a class's (level 1)
 uniform int level;
-uniform uint first;
+uniform uint first;  // the segment of `cells` to build
+uniform uint count;
 
 void main() {
-    if (gl_GlobalInvocationID.x >= cell_count[level]) return;
+    if (gl_GlobalInvocationID.x >= count) return;
     ivec3 cell = unpack_voxel(cells[first + gl_GlobalInvocationID.x]);
     int side = voxel_grid >> level;
     // The corner the 8 children share, in the finer level's texture coordinates: a trilinear

@@ -151,6 +151,69 @@ def test_a_moved_emitter_in_the_viewer_relights_the_voxels_over_the_next_frames(
         assert rel_mae(image, fresh.render(scene, grid=32)) < 0.01
 
 
+def test_a_moved_light_in_the_viewer_relights_one_class_of_voxels_a_frame():
+    """Progressive frames (the viewer): after the light moves, each frame injects the new
+    direct light into one interleave class of the voxels, the class it bounces (a quarter of
+    the lit voxels change in the first frame), every voxel carries it after K frames, and the
+    room settles within 0.5 % of the image a new viewer of the edited scene settles on."""
+    scene = engine.load_scene(SCENES / "cornell_box.json")
+    with engine.Renderer(64, 64) as r:
+        settle_viewer(r, scene)
+        before = r.voxels("radiance")[..., :3]
+        lit = np.any(before > 0, axis=-1)
+        scene.root.find("Omni Light").light.position = np.array([0.2, 0.6, -0.1])
+        changed, injected = [], []
+        for _ in range(60):
+            image = r.render(scene, grid=32)
+            changed.append(np.mean(np.any(r.voxels("radiance")[..., :3] != before, axis=-1)[lit]))
+            injected.append("inject" in r.passes_ran)
+        interleave = r.settings.bounce_interleave
+    assert interleave == 4 and injected[:interleave] == [True] * interleave and not any(injected[interleave:])
+    assert 0.15 < changed[0] < 0.35 and changed[interleave - 1] > 0.95
+    with engine.Renderer(64, 64) as fresh:
+        assert rel_mae(image, settle_viewer(fresh, scene)) < 0.005
+
+
+def test_a_new_interleave_while_a_light_move_is_injected_relights_every_voxel():
+    """The viewer's interleave changed while a moved light is still being injected class by
+    class: the classes of the new interleave are all injected again, and the room settles on
+    the image a new viewer of the edited scene settles on with that interleave."""
+    scene = engine.load_scene(SCENES / "cornell_box.json")
+    with engine.Renderer(64, 64) as r:
+        settle_viewer(r, scene)
+        scene.root.find("Omni Light").light.position = np.array([0.2, 0.6, -0.1])
+        r.render(scene, grid=32)
+        settings = r.settings.replace(grid=32, bounce_interleave=3)
+        settle(scene, r, settings)
+        assert r.bounces.settled
+        image = r.radiance()
+    with engine.Renderer(64, 64) as fresh:
+        fresh.progressive = True
+        settle(scene, fresh, settings)
+        assert rel_mae(image, fresh.radiance()) < 0.005
+
+
+def test_face_view_mips_rebuilt_over_one_class_equal_mips_rebuilt_everywhere():
+    """A progressive frame composes the face views of one interleave class and rebuilds
+    their level 1 over the cells holding that class's voxels (and those where classes meet)
+    only: every level then equals the levels built again from level 0 over every cell."""
+    scene = engine.load_scene(SCENES / "cornell_box.json")
+    with engine.Renderer(64, 64) as r:
+        settle_viewer(r, scene)
+        grid = r.grid
+        scene.root.find("Omni Light").light.position = np.array([0.2, 0.6, -0.1])
+        with r.ctx:
+            earlier = grid.read_level(grid.faces, r.readback, 1)
+        r.render(scene, grid=32)
+        with r.ctx:
+            partial = [grid.read_level(grid.faces, r.readback, level) for level in range(1, grid.mip_count)]
+            r.faces.mipmap(grid)
+            full = [grid.read_level(grid.faces, r.readback, level) for level in range(1, grid.mip_count)]
+    assert not np.array_equal(partial[0], earlier)
+    for level, (a, b) in enumerate(zip(partial, full), start=1):
+        assert np.array_equal(a, b), f"level {level} differs"
+
+
 def test_work_spread_over_the_classes_reaches_every_class_even_when_restarted_every_frame():
     """Restarted every frame (an emitter moving), the rounds still go through every class, one
     a frame; restarted once, they do each class once and stop."""

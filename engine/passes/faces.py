@@ -3,7 +3,7 @@ it gathered, L = L_base + rho G (rho: its reflectance), times the coverage of ea
 direction; then their mip levels, built over the covered cells of each level only."""
 import numpy as np
 
-from ..constants import STORAGE_BINDING, TEXTURE_UNIT, VOXEL_FACES
+from ..constants import CELL_LIST_LEVELS, STORAGE_BINDING, TEXTURE_UNIT, VOXEL_FACES
 
 
 class FaceViewsPass:
@@ -14,27 +14,36 @@ class FaceViewsPass:
         self.totals_program = programs.compute("voxel_totals.comp")
         self.totals_buffer = ctx.buffer(reserve=16 * VOXEL_FACES)
 
-    def compose(self, grid, gathered=None):
+    def compose(self, grid, gathered, class_index=None):
         """Level 0 of the face views from the base radiance plus rho times `gathered` (a
-        volume of the grid, or None before the first bounce)."""
+        volume of the grid, or None before the first bounce), for the voxels of interleave
+        class `class_index` (None: every voxel)."""
         grid.use_surface()
         grid.base.use(TEXTURE_UNIT["VOXEL_BASE"])
         if gathered is not None:
             gathered.use(TEXTURE_UNIT["VOXEL_GATHERED"])
-        grid.covered.bind("COVERED")
+        grid.class_list.bind_to_storage_buffer(STORAGE_BINDING["CLASS_LIST"])
         grid.bind_faces()
-        self.compose_program.set(**grid.uniforms(), include_gathered=gathered is not None)
-        grid.dispatch(self.compose_program, grid.covered.count)
+        first, count = grid.all_segment if class_index is None else grid.class_segments[class_index]
+        self.compose_program.set(**grid.uniforms(), first=first, count=count, include_gathered=gathered is not None)
+        grid.dispatch(self.compose_program, count)
 
-    def mipmap(self, grid):
-        """Every coarser level of the face views, level after level, over its covered cells."""
+    def mipmap(self, grid, class_index=None):
+        """Every coarser level of the face views, level after level, over its covered cells;
+        level 1 over the cells of interleave class `class_index` only, where only that class's
+        voxels were composed (and those of several classes)."""
         grid.use_faces()
-        grid.cells.bind_to_storage_buffer(STORAGE_BINDING["CELLS"])
         uniforms = grid.uniforms()
         for level in range(1, grid.mip_count):
             grid.bind_faces(level)
-            self.mipmap_program.set(**uniforms, level=level, first=grid.level_first[level])
-            grid.dispatch(self.mipmap_program, grid.level_counts[level])
+            if level == 1 and class_index is not None:
+                cells, segments = grid.class_cells, [grid.class_cell_segments[class_index], grid.mixed_cell_segment]
+            else:
+                cells, segments = grid.cells, [(CELL_LIST_LEVELS + grid.level_first[level], grid.level_counts[level])]
+            cells.bind_to_storage_buffer(STORAGE_BINDING["CELLS"])
+            for first, count in segments:
+                self.mipmap_program.set(**uniforms, level=level, first=first, count=count)
+                grid.dispatch(self.mipmap_program, count)
 
     def totals(self, grid):
         """Mean premultiplied radiance (rgb) of the face views over the grid, summed over the

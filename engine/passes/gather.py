@@ -18,24 +18,26 @@ class GatherPass:
         self.anchors_stale = programs.compute("voxel_anchors_stale.comp")
         self.anchors = programs.compute("voxel_anchors.comp")
         self.classes = programs.compute("voxel_classes.comp")
+        self.class_cells = programs.compute("voxel_class_cells.comp")
         self.fill_program = programs.compute("voxel_fill.comp")
         self.extrapolate_program = programs.compute("voxel_extrapolate.comp")
 
     def sort_classes(self, grid, interleave):
-        """Sort the covered voxels into the anchors and the others, each in `interleave`
-        classes grouped by block and facing, finding the anchors first where the voxels
-        changed. Sets
-        grid.anchor_segments[c] (the anchors of class c), grid.class_segments[c] (the segments
-        of class c in either part) and grid.filled_segment (every voxel that is not an anchor),
+        """Sort the covered voxels into `interleave` classes, each its anchors then the others,
+        grouped by block and facing, finding the anchors first where the voxels changed. Sets
+        grid.class_segments[c] (class c), grid.anchor_segments[c] (its anchors),
+        grid.filled_segments[c] (its other voxels) and grid.all_segment (every covered voxel),
         each (first, count) in grid.class_list."""
-        buckets = max(grid.n // CLASS_BLOCK, 1) ** 3 * CLASS_FACINGS  # per part and class: (block, facing)
-        total = CLASS_PARTS * interleave * buckets
+        buckets = max(grid.n // CLASS_BLOCK, 1) ** 3 * CLASS_FACINGS  # per class and part: (block, facing)
+        total = interleave * CLASS_PARTS * buckets
         grid.use_surface()
         self._find_anchors(grid)
         grid.covered.bind("COVERED")
         grid.class_buckets.write(bytes(4 * total))
         grid.class_buckets.bind_to_storage_buffer(STORAGE_BINDING["CLASS_BUCKETS"])
         grid.class_list.bind_to_storage_buffer(STORAGE_BINDING["CLASS_LIST"])
+        grid.cell_classes.write(bytes(grid.cell_classes.size))
+        grid.cell_classes.bind_to_storage_buffer(STORAGE_BINDING["CELL_CLASSES"])
         self.classes.set(**grid.uniforms(), interleave=interleave, scatter=False)
         grid.dispatch(self.classes, grid.covered.count)
         counts = np.frombuffer(grid.class_buckets.read(4 * total), dtype="u4").astype(np.int64)
@@ -43,13 +45,32 @@ class GatherPass:
         grid.class_buckets.write(firsts.astype("u4").tobytes())
         self.classes.set(scatter=True)
         grid.dispatch(self.classes, grid.covered.count)
-        per_class = counts.reshape(CLASS_PARTS, interleave, buckets).sum(axis=2)
-        segments = [[(int(firsts[(part * interleave + c) * buckets]), int(per_class[part, c])) for c in range(interleave)]
-                    for part in range(CLASS_PARTS)]
-        grid.anchor_segments = segments[0]
-        grid.class_segments = [[segments[part][c] for part in range(CLASS_PARTS)] for c in range(interleave)]
-        grid.filled_segment = (segments[1][0][0], int(per_class[1].sum()))
+        per_part = counts.reshape(interleave, CLASS_PARTS, buckets).sum(axis=2)
+        part_firsts = firsts[::buckets].reshape(interleave, CLASS_PARTS)
+        grid.class_segments = [(int(part_firsts[c, 0]), int(per_part[c].sum())) for c in range(interleave)]
+        grid.anchor_segments = [(int(part_firsts[c, 0]), int(per_part[c, 0])) for c in range(interleave)]
+        grid.filled_segments = [(int(part_firsts[c, 1]), int(per_part[c, 1])) for c in range(interleave)]
+        grid.all_segment = (0, int(counts.sum()))
+        self._sort_cells(grid, interleave)
         grid.classes_for = (grid.version, interleave)
+
+    def _sort_cells(self, grid, interleave):
+        """Sort the covered level-1 cells by the class of their voxels (marked by the voxel
+        sort), the cells of several classes last. Sets grid.class_cell_segments and
+        grid.mixed_cell_segment, (first, count) in grid.class_cells."""
+        buckets = interleave + 1
+        grid.class_buckets.write(bytes(4 * buckets))
+        grid.cells.bind_to_storage_buffer(STORAGE_BINDING["CELLS"])
+        grid.class_cells.bind_to_storage_buffer(STORAGE_BINDING["CLASS_CELLS"])
+        self.class_cells.set(**grid.uniforms(), first=grid.level_first[1], interleave=interleave, scatter=False)
+        grid.dispatch(self.class_cells, grid.level_counts[1])
+        counts = np.frombuffer(grid.class_buckets.read(4 * buckets), dtype="u4").astype(np.int64)
+        firsts = np.concatenate([[0], np.cumsum(counts)[:-1]])
+        grid.class_buckets.write(firsts.astype("u4").tobytes())
+        self.class_cells.set(scatter=True)
+        grid.dispatch(self.class_cells, grid.level_counts[1])
+        grid.class_cell_segments = [(int(firsts[c]), int(counts[c])) for c in range(interleave)]
+        grid.mixed_cell_segment = (int(firsts[interleave]), int(counts[interleave]))
 
     def _find_anchors(self, grid):
         """grid.gather_anchors for the grid's voxels: again around the voxels the last
@@ -70,7 +91,7 @@ class GatherPass:
 
     def run(self, grid, cone_uniforms, out, class_index):
         """Gather the anchors of interleave class `class_index` into volume `out`, then
-        interpolate every other voxel's gather in it from the anchors."""
+        interpolate the gather of the class's other voxels in it from the anchors around them."""
         grid.use_surface()
         grid.use_faces()
         grid.class_list.bind_to_storage_buffer(STORAGE_BINDING["CLASS_LIST"])
@@ -80,7 +101,7 @@ class GatherPass:
         grid.dispatch(self.program, count)
         bind_image(out, IMAGE_UNIT["GATHERED_OUT"], read=True)
         grid.gather_anchors.bind_to_storage_buffer(STORAGE_BINDING["GATHER_ANCHORS"])
-        first, count = grid.filled_segment
+        first, count = grid.filled_segments[class_index]
         self.fill_program.set(**grid.uniforms(), first=first, count=count)
         grid.dispatch(self.fill_program, count)
 
@@ -97,5 +118,6 @@ class GatherPass:
         self.extrapolate(grid, source, target, (0.0, 0.0, 0.0))
 
     def release(self):
-        for handle in (self.program, self.anchors_stale, self.anchors, self.classes, self.fill_program, self.extrapolate_program):
+        for handle in (self.program, self.anchors_stale, self.anchors, self.classes, self.class_cells, self.fill_program,
+                       self.extrapolate_program):
             handle.release()

@@ -1,8 +1,8 @@
 """Light injection: the base radiance of every covered voxel, emission plus the direct light
 its surface receives from every light (with the shadow maps), evaluated per voxel at its
 surface point, and from the emitters (passes/emitter_light.py). Runs when lights, shadows,
-the emitters' light or the voxels change."""
-from ..constants import IMAGE_UNIT
+the emitters' light or the voxels change, over a segment of the grid's class list."""
+from ..constants import IMAGE_UNIT, STORAGE_BINDING
 from ..voxel_grid import bind_image
 
 
@@ -10,13 +10,15 @@ class InjectPass:
     def __init__(self, ctx, programs):
         self.program = programs.compute("voxel_inject.comp")
 
-    def run(self, grid, shadow_maps):
+    def run(self, grid, shadow_maps, segment):
+        """Writes grid.base for the voxels of `segment`, (first, count) of grid.class_list."""
         grid.use_surface()
-        grid.covered.bind("COVERED")
+        grid.class_list.bind_to_storage_buffer(STORAGE_BINDING["CLASS_LIST"])
         shadow_maps.bind(self.program)
         bind_image(grid.base, IMAGE_UNIT["BASE_OUT"])
-        self.program.set(**grid.uniforms())
-        grid.dispatch(self.program, grid.covered.count)
+        first, count = segment
+        self.program.set(**grid.uniforms(), first=first, count=count)
+        grid.dispatch(self.program, count)
 
     def release(self):
         self.program.release()

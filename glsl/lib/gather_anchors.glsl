@@ -34,13 +34,16 @@ bool on_anchor_lattice(ivec3 v, vec3 n) {
     return ((v[t.x] | v[t.y]) & 1) == 0;
 }
 
-// Interleave class of an anchor for the progressive bounce: its position in the 2x2 block of
-// anchors along its surface (4 classes that each spread a quarter of a plane's anchors evenly
-// over it), then its layer.
-int anchor_class(ivec3 v, vec3 n, int interleave) {
+// Interleave class of a voxel (mean normal n) for the progressive bounce: the position of its
+// level-1 cell (2x2x2 voxels) in the 2x2 block of cells along its surface, then the cell's
+// layer. A class spreads over the surfaces evenly (its anchors are a quarter of a plane's, 4
+// voxels apart), and a cell holds one class unless surfaces of several facings meet in it, so
+// that the face views' level 1 changes in the cells of the class composed (voxel_class_cells.comp).
+int voxel_class(ivec3 v, vec3 n, int interleave) {
+    ivec3 cell = v >> 1;
     int axis = dominant_axis(n);
     ivec2 t = tangent_axes(n);
-    return (((v[t.x] >> 1) & 1) | (((v[t.y] >> 1) & 1) << 1) | ((v[axis] & 1) << 2)) % interleave;
+    return ((cell[t.x] & 1) | ((cell[t.y] & 1) << 1) | ((cell[axis] & 1) << 2)) % interleave;
 }
 
 // The k-th of the 26 neighbours of v (k < 26).

@@ -1,0 +1,27 @@
+#version 450 core
+// Sorts the covered cells of mip level 1 by the interleave class of the voxels in them
+// (voxel_classes.comp marked them): a bucket per class for the cells of one class, then one
+// for the cells where voxels of several classes meet (surfaces of several facings). When the
+// progressive bounce composes one class, level 1 of the face views is built again over that
+// class's bucket and the mixed one only. A counting sort, as voxel_classes.comp.
+#include "lib/voxel.glsl"
+
+layout(local_size_x = LIST_GROUP) in;
+layout(std430, binding = SSBO_CELLS) readonly buffer Cells { uint cell_count[CELL_LIST_LEVELS]; uint cells[]; };
+layout(std430, binding = SSBO_CELL_CLASSES) readonly buffer CellClasses { uint cell_classes[]; };
+layout(std430, binding = SSBO_CLASS_BUCKETS) buffer ClassBuckets { uint buckets[]; };  // counts, then next free entries
+layout(std430, binding = SSBO_CLASS_CELLS) writeonly buffer ClassCells { uint class_cells[]; };
+uniform uint first;     // level 1's first entry in `cells`
+uniform int interleave;
+uniform bool scatter;
+
+void main() {
+    if (gl_GlobalInvocationID.x >= cell_count[1]) return;
+    uint entry = cells[first + gl_GlobalInvocationID.x];
+    ivec3 cell = unpack_voxel(entry);
+    int side = voxel_grid >> 1;
+    uint classes = cell_classes[cell.x + side * (cell.y + side * cell.z)];
+    uint bucket = bitCount(classes) == 1 ? uint(findLSB(classes)) : uint(interleave);
+    if (scatter) class_cells[atomicAdd(buckets[bucket], 1u)] = entry;
+    else atomicAdd(buckets[bucket], 1u);
+}
