@@ -37,7 +37,7 @@ def voxel_memory_bytes(n):
     surface = TEXEL_BYTES * (3 * MIP_CHAIN + 1)              # albedo, normal (viewable), emitted; emission
     radiance = TEXEL_BYTES * (MIP_CHAIN + 3)                 # base (viewable), two gathers, emitters' light
     faces = TEXEL_BYTES * VOXEL_FACES * MIP_CHAIN
-    lists = 5 * 4 + 2 * 4 / 7 + 2 * 4 / 8                    # touched, covered x2, classes, anchors; cells, stamps;
+    lists = 6 * 4 + 2 * 4 / 7 + 2 * 4 / 8                    # touched, covered x2, stale, classes, anchors; cells, stamps;
                                                              # level-1 cells' classes, cells by class
     return int(voxels * (sums + surface + radiance + faces + lists))
 
@@ -112,6 +112,7 @@ class VoxelGrid:
         self.emitter_light = self._volume()
         self.faces = self._volume(mipmapped=True, views=VOXEL_FACES)
         self.touched, self.covered, self.covered_next = (self._keep(VoxelList(ctx, voxels)) for _ in range(3))
+        self.stale = self._keep(VoxelList(ctx, voxels))  # whose gather-anchor records to find again
         # Covered cells of levels 1..log2(n), one segment per level after a count per level.
         sizes = [(n >> level) ** 3 for level in range(self.mip_count)]
         self.level_first = [int(sum(sizes[1:level])) for level in range(self.mip_count)]

@@ -1,18 +1,19 @@
 #version 450 core
 // Which covered voxels trace the diffuse gather, and which anchors the others take it from
 // (lib/gather_anchors.glsl): per voxel ANCHOR_SELF, or the bits of its anchor neighbours
-// (none where it reflects no light). Runs when the voxels change: over the records marked
-// stale (voxel_anchors_stale.comp), or over every covered voxel.
+// (none where it reflects no light). Runs when the voxels change: over the voxels whose
+// records were marked stale (voxel_anchors_stale.comp), or over every covered voxel.
 #include "lib/gather_anchors.glsl"
 
 layout(local_size_x = LIST_GROUP) in;
 layout(std430, binding = SSBO_COVERED) readonly buffer CoveredVoxels { uint covered_count; uint covered[]; };
-uniform bool every_voxel;  // false: only the records marked stale
+layout(std430, binding = SSBO_STALE_VOXELS) readonly buffer StaleVoxels { uint stale_count; uint stale[]; };
+uniform bool every_voxel;  // false: the stale voxels
 
 void main() {
-    if (gl_GlobalInvocationID.x >= covered_count) return;
-    ivec3 v = unpack_voxel(covered[gl_GlobalInvocationID.x]);
-    if (!every_voxel && gather_anchors[voxel_index(v)] != ANCHOR_STALE) return;
+    uint k = gl_GlobalInvocationID.x;
+    if (k >= (every_voxel ? covered_count : stale_count)) return;
+    ivec3 v = unpack_voxel(every_voxel ? covered[k] : stale[k]);
     uint record = 0u;
     vec3 n = texelFetch(voxel_normal, v, 0).xyz;
     if (reflects_light(v, n)) {

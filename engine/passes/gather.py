@@ -73,20 +73,24 @@ class GatherPass:
         grid.mixed_cell_segment = (int(firsts[interleave]), int(counts[interleave]))
 
     def _find_anchors(self, grid):
-        """grid.gather_anchors for the grid's voxels: again around the voxels the last
-        voxelization touched when the records were found for the version before it, else
-        for every covered voxel."""
+        """grid.gather_anchors for the grid's voxels: again for the voxels around those the
+        last voxelization touched (grid.stale) when the records were found for the version
+        before it, else for every covered voxel."""
         if grid.anchors_for == grid.version:
             return
         grid.gather_anchors.bind_to_storage_buffer(STORAGE_BINDING["GATHER_ANCHORS"])
         every_voxel = grid.anchors_for != grid.version - 1
+        count = grid.covered.count
+        grid.stale.bind("STALE_VOXELS")
         if not every_voxel:
             grid.touched.bind("TOUCHED")
+            grid.stale.clear()
             self.anchors_stale.set(**grid.uniforms())
             grid.dispatch(self.anchors_stale, grid.touched.count)
+            count = grid.stale.read_count()
         grid.covered.bind("COVERED")
         self.anchors.set(**grid.uniforms(), every_voxel=every_voxel)
-        grid.dispatch(self.anchors, grid.covered.count)
+        grid.dispatch(self.anchors, count)
         grid.anchors_for = grid.version
 
     def run(self, grid, cone_uniforms, out, class_index):
