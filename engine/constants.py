@@ -131,9 +131,9 @@ GRID_SIZES = (16, 32, 64, 128, 256)
 # Compute shader local sizes: passes over a list of voxels, and over a whole volume.
 LIST_GROUP = 64
 VOLUME_GROUP = 4
-# The progressive bounce re-gathers 1 class of gather anchors in K per frame, K <=
-# MAX_INTERLEAVE: an anchor's class is its position in the 2x2 block of anchors along its
-# surface, then its layer (other voxels: their position in their 2x2x2 block).
+# The progressive bounce updates 1 interleave class of voxels in K per frame, K <=
+# MAX_INTERLEAVE: a voxel's class is the position of its level-1 cell in the 2x2 block of
+# cells along its surface, then the cell's layer (glsl/lib/gather_anchors.glsl, voxel_class).
 MAX_INTERLEAVE = 8
 # The covered-cell lists of the mip levels share one buffer, headed by a count per level.
 CELL_LIST_LEVELS = 16

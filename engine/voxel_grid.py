@@ -121,8 +121,8 @@ class VoxelGrid:
         self.cell_stamps = self._keep(ctx.buffer(data=bytes(4 * sum(sizes[1:]))))
         self.cell_generation = 0
         # Covered voxels sorted by interleave class, within a class into the gather's anchors and
-        # the others (the two parts), each by block; the buckets of that counting sort; the
-        # list's segments.
+        # the others (the two parts), each by block; the buckets of that counting sort (and of
+        # the level-1 cells' sort by class, below); the list's segments.
         self.class_list = self._keep(ctx.buffer(reserve=4 * voxels))
         self.class_buckets = self._keep(ctx.buffer(reserve=4 * CLASS_PARTS * MAX_INTERLEAVE * max(n // CLASS_BLOCK, 1) ** 3 * CLASS_FACINGS))
         self.gather_anchors = self._keep(ctx.buffer(reserve=4 * voxels))  # lib/gather_anchors.glsl, per voxel

@@ -3,8 +3,9 @@ no anchor of a like facing around them: glsl/lib/gather_anchors.glsl) trace the 
 cones from their surface point through the face views, G = sum_j w_j L(p, w_j), and the other
 voxels interpolate theirs. A bounce is a gather followed by composing the face views again
 (passes/faces.py); the image interpolates the gathers per pixel (passes/cone_trace.py). Also
-sorts the covered voxels into anchors and the others, each in interleave classes for the
-progressive bounce, and closes the bounce series by extrapolation."""
+sorts the covered voxels into interleave classes for the progressive bounce, each its anchors
+then the others, and the covered level-1 cells by class, and closes the bounce series by
+extrapolation."""
 import numpy as np
 
 from ..constants import CLASS_BLOCK, CLASS_FACINGS, CLASS_PARTS, IMAGE_UNIT, STORAGE_BINDING, TEXTURE_UNIT
