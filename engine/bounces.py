@@ -95,7 +95,8 @@ class BounceSchedule:
         self.iterations = 0   # bounces the last restart ran (or the progressive bounces so far)
         self.pending_base = set()  # progressive: the classes whose base radiance is still to inject,
         self.pending_for = 1       # of this interleave
-        self.faces_stale = False   # progressive: the base radiance changed at every voxel at once
+        self.stale_faces = []      # progressive: VoxelSegments to compose before the next gather
+        self.injected_for = None   # the grid version the base radiance was last injected for
         self.cycle_clean = False   # progressive: this cycle runs on the current base radiance throughout
 
     def gathered(self, grid):
@@ -106,19 +107,32 @@ class BounceSchedule:
         """The classes the covered voxels are sorted into: the progressive bounce's, else one."""
         return settings.bounce_interleave if progressive and settings.bounces == 0 else 1
 
-    def inject(self, grid, shadow_maps, settings, progressive, spread, timed):
-        """The base radiance changed: inject it at every voxel now, or (`spread`, progressive
-        frames where only the lights changed) at each class when it is next updated."""
-        interleave = self.interleave(settings, progressive)
-        self.cycle_clean = False
-        if spread:
-            self.pending_base, self.pending_for = set(range(interleave)), interleave
-            return
+    def inject(self, grid, shadow_maps, interleave, timed):
+        """The base radiance of every voxel, now."""
         self.sort_classes(grid, interleave, timed)
-        with timed("inject"):
-            self.injection.run(grid, shadow_maps, grid.all_segment)
+        self._inject_now(grid, shadow_maps, grid.class_segment(), timed)
         self.pending_base = set()
-        self.faces_stale = True
+
+    def inject_touched(self, grid, shadow_maps, interleave, timed):
+        """Progressive, the voxels changed: the base radiance of the voxels the voxelization
+        touched, now (of every voxel, if others changed since the last injection)."""
+        if self.injected_for != grid.version - 1:
+            self.inject(grid, shadow_maps, interleave, timed)
+        else:
+            self._inject_now(grid, shadow_maps, grid.touched.segment(), timed)
+
+    def inject_spread(self, interleave):
+        """Progressive, the lights changed: the base radiance of each class when it is next
+        updated (advance)."""
+        self.pending_base, self.pending_for = set(range(interleave)), interleave
+        self.cycle_clean = False
+
+    def _inject_now(self, grid, shadow_maps, segment, timed):
+        with timed("inject"):
+            self.injection.run(grid, shadow_maps, segment)
+        self.injected_for = grid.version
+        self.stale_faces.append(segment)
+        self.cycle_clean = False
 
     def restart(self, grid, settings, cone_uniforms, progressive, timed):
         """The base radiance or the bounce settings changed."""
@@ -137,9 +151,9 @@ class BounceSchedule:
         """Progressive: this frame's share of the bounces. The next interleave class gathers
         again (its anchors' cones read the face views of the frames before), with its base
         radiance injected first if the lights changed since, and its face views are composed
-        again. Where the base radiance changed everywhere at once (the voxels changed), every
-        voxel's face views are composed before the gather instead, as its cones must see the
-        voxels as they are now. At the end of a cycle that ran on the current base radiance
+        again. Where the voxels changed, the face views of the voxels injected since (and of
+        the class) are composed before the gather instead, with every mip level, as its cones
+        must see the voxels as they are now. At the end of a cycle that ran on the current base radiance
         throughout, the series is checked and the gathers kept: the series starts from gathers
         that all read it, as a bounce's do, since the totals it watches miss light that only
         moved."""
@@ -153,11 +167,11 @@ class BounceSchedule:
         chosen = self.phase
         if chosen in self.pending_base:
             with timed("inject"):
-                self.injection.run(grid, shadow_maps, grid.class_segments[chosen])
+                self.injection.run(grid, shadow_maps, grid.class_segment(chosen))
             self.pending_base.discard(chosen)
-        stale = self.faces_stale
+        stale = self.stale_faces
         if stale:
-            self.compose(grid, self.gathered(grid), timed)
+            self._compose_segments(grid, self.gathered(grid), stale + [grid.class_segment(chosen)], timed)
         with timed("gather"):
             self.gather.run(grid, cone_uniforms, self.gathered(grid), chosen)
         if not stale:
@@ -193,12 +207,22 @@ class BounceSchedule:
         """The face views of the voxels of interleave class `class_index` (None: every voxel)
         from their base radiance and `gathered` (None: before the first bounce), then the mip
         levels over the cells they changed."""
+        if class_index is None:
+            self._compose_segments(grid, gathered, [grid.class_segment()], timed)
+            return
         with timed("faces"):
-            self.faces.compose(grid, gathered, class_index)
+            self.faces.compose(grid, gathered, grid.class_segment(class_index))
         with timed("mipmap"):
             self.faces.mipmap(grid, class_index)
-        if class_index is None:
-            self.faces_stale = False
+
+    def _compose_segments(self, grid, gathered, segments, timed):
+        """The face views of the voxels of `segments`, then every mip level: none is stale after."""
+        with timed("faces"):
+            for segment in segments:
+                self.faces.compose(grid, gathered, segment)
+        with timed("mipmap"):
+            self.faces.mipmap(grid)
+        self.stale_faces = []
 
     def _close_series(self, grid, gain, timed):
         """latest <- latest + (latest - earlier) * gain; the face views follow."""

@@ -80,6 +80,7 @@ STORAGE_BINDING = {
     "CELL_CLASSES": 27,       # per level-1 cell: a bit per interleave class of the voxels in it
     "CLASS_CELLS": 28,        # the covered level-1 cells sorted by class, the mixed ones last
     "STALE_VOXELS": 29,       # voxels whose gather-anchor records a voxelization may have changed
+    "VOXEL_LIST": 30,         # the voxels injection and composition run over (class list or touched voxels)
 }
 
 # Struct layouts shared with GLSL (std430, vec4-sized fields): name -> ((GLSL type, field), ...).

@@ -330,14 +330,20 @@ class Renderer:
 
     def _radiance(self, s, shadow_maps):
         """Inject direct light into the voxels when the voxels, the lights or the emitters'
-        light changed: at once where the voxels changed, else in progressive frames (the
-        viewer, converging bounces) with each interleave class as the bounce updates it."""
+        light changed. Progressive frames (the viewer, converging bounces) inject the voxels a
+        voxelization touched at once and, where the lights changed, each interleave class as
+        the bounce updates it; other frames every voxel at once."""
         stage = self.stages["radiance"]
         inputs = (self.stages["voxels"].version, self.stages["shadows"].version, self.stages["emitter_light"].version)
         if stage.stale(inputs, self.track_changes):
-            voxels_kept = stage.inputs is not None and stage.inputs[0] == inputs[0]
-            spread = self.progressive and s.bounces == 0 and self.track_changes and voxels_kept
-            self.bounces.inject(self.grid, shadow_maps, s, self.progressive, spread, self.timed)
+            interleave = self.bounces.interleave(s, self.progressive)
+            if not (self.progressive and s.bounces == 0 and self.track_changes) or stage.inputs is None:
+                self.bounces.inject(self.grid, shadow_maps, interleave, self.timed)
+            else:
+                if stage.inputs[0] != inputs[0]:
+                    self.bounces.inject_touched(self.grid, shadow_maps, interleave, self.timed)
+                if stage.inputs[1:] != inputs[1:]:
+                    self.bounces.inject_spread(interleave)
             stage.ran(inputs)
 
     def _bounces(self, s, shadow_maps):

@@ -19,6 +19,7 @@ passed to the passes that read and write it.
 Every volume starts zero and every empty voxel stays zero: passes touch only listed voxels.
 """
 import math
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -55,6 +56,15 @@ def check_grid(ctx, n, source=None):
                        f"{VOXEL_MEMORY_BUDGET / 2**30:.1f} GiB", source=source, field="grid")
 
 
+@dataclass(frozen=True)
+class VoxelSegment:
+    """Entries [first, first + count) of a GPU buffer of packed voxel coordinates: what the
+    passes over a voxel list (injection, composition) run over."""
+    buffer: object
+    first: int
+    count: int
+
+
 class VoxelList:
     """Packed voxel coordinates on the GPU (a count, then the entries); `count` is the host's
     copy, read back after the pass that appended."""
@@ -70,6 +80,10 @@ class VoxelList:
     def read_count(self):
         self.count = int(np.frombuffer(self.buffer.read(4), dtype="u4")[0])
         return self.count
+
+    def segment(self):
+        """Every entry, as a VoxelSegment (they follow the count)."""
+        return VoxelSegment(self.buffer, 1, self.count)
 
     def bind(self, binding):
         self.buffer.bind_to_storage_buffer(STORAGE_BINDING[binding])
@@ -193,6 +207,11 @@ class VoxelGrid:
         """The face views and the emission volume: what cones read."""
         self.faces.use(TEXTURE_UNIT["VOXEL_FACES"])
         self.emitted.use(TEXTURE_UNIT["VOXEL_EMITTED"])
+
+    def class_segment(self, class_index=None):
+        """The voxels of an interleave class of the class list (None: every covered voxel)."""
+        first, count = self.all_segment if class_index is None else self.class_segments[class_index]
+        return VoxelSegment(self.class_list, first, count)
 
     def bind_faces(self, level=0):
         bind_image(self.faces, IMAGE_UNIT["FACES_OUT"], level=level)

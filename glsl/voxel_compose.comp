@@ -1,7 +1,8 @@
 #version 450 core
-// The radiance cones read, over a segment of the class list (every voxel, or in progressive
-// frames one interleave class): the light each voxel's surface reflects,
-// its base radiance less its emission plus the light it gathered,
+// The radiance cones read, over a segment of a voxel list (the class list: every voxel, or in
+// progressive frames one interleave class; or the voxels a voxelization touched, of which
+// those no surface covers any more are left as the voxelization emptied them): the light each
+// voxel's surface reflects, its base radiance less its emission plus the light it gathered,
 // L = L_base - L_e + rho sum_j w_j L_in(p, w_j) (rho: its reflectance), into the six one-sided
 // face views premultiplied by how much of the voxel's surface faces each way (coverage in a),
 // level 0; voxel_mipmap.comp builds the coarser levels. Only the faces the surface covers are
@@ -14,17 +15,19 @@ layout(local_size_x = LIST_GROUP) in;
 layout(binding = TEX_VOXEL_BASE) uniform sampler3D voxel_base;
 layout(binding = TEX_VOXEL_GATHERED) uniform sampler3D voxel_gathered;
 layout(binding = IMG_FACES_OUT, rgba16f) uniform writeonly image3D faces_out;
-layout(std430, binding = SSBO_CLASS_LIST) readonly buffer ClassList { uint class_list[]; };
-uniform uint first;  // the segment of the class list to compose
+layout(std430, binding = SSBO_VOXEL_LIST) readonly buffer VoxelList { uint voxel_list[]; };
+uniform uint first;  // the segment of the list to compose
 uniform uint count;
 uniform bool include_gathered;  // false before the first bounce
 
 void main() {
     if (gl_GlobalInvocationID.x >= count) return;
-    ivec3 v = unpack_voxel(class_list[first + gl_GlobalInvocationID.x]);
+    ivec3 v = unpack_voxel(voxel_list[first + gl_GlobalInvocationID.x]);
+    vec4 albedo = texelFetch(voxel_albedo, v, 0);
+    if (albedo.a == 0.0) return;
     vec3 radiance = max(texelFetch(voxel_base, v, 0).rgb - texelFetch(voxel_emission, v, 0).rgb, vec3(0.0));
     vec3 mean_normal = texelFetch(voxel_normal, v, 0).xyz;
-    if (include_gathered) radiance += texelFetch(voxel_albedo, v, 0).rgb * texelFetch(voxel_gathered, v, 0).rgb;
+    if (include_gathered) radiance += albedo.rgb * texelFetch(voxel_gathered, v, 0).rgb;
     for (int f = 0; f < VOXEL_FACES; ++f) {
         float coverage = face_coverage(mean_normal, f);
         if (coverage > 0.0) imageStore(faces_out, face_texel(v, f, voxel_grid), vec4(radiance * coverage, coverage));

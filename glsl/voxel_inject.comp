@@ -4,21 +4,23 @@
 //   L_base = L_e + rho / pi * (sum_lights E_l + E_emitters), rho the voxel's reflectance
 // (voxelize.frag), where dot(mean normal, l) in E_l is the mean of the fragments' cosines, and
 // E_emitters the emitters' shadowed light (voxel_emitter_light.comp). Runs when a light or a
-// shadow map changes, without revoxelizing, over a segment of the class list (every voxel, or
-// in progressive frames one interleave class).
+// shadow map changes, without revoxelizing, over a segment of a voxel list: the class list
+// (every voxel, or in progressive frames one interleave class) or the voxels a voxelization
+// touched.
 #include "lib/voxel_surface.glsl"
 #include "lib/lights.glsl"
 
 layout(local_size_x = LIST_GROUP) in;
 layout(binding = IMG_BASE_OUT, rgba16f) uniform writeonly image3D base_out;
-layout(std430, binding = SSBO_CLASS_LIST) readonly buffer ClassList { uint class_list[]; };
-uniform uint first;  // the segment of the class list to inject
+layout(std430, binding = SSBO_VOXEL_LIST) readonly buffer VoxelList { uint voxel_list[]; };
+uniform uint first;  // the segment of the list to inject
 uniform uint count;
 
 void main() {
     if (gl_GlobalInvocationID.x >= count) return;
-    ivec3 v = unpack_voxel(class_list[first + gl_GlobalInvocationID.x]);
+    ivec3 v = unpack_voxel(voxel_list[first + gl_GlobalInvocationID.x]);
     VoxelSurface s = voxel_surface(v);
+    if (!s.covered) return;  // a touched voxel the voxelization emptied
     vec3 irradiance = vec3(0.0);
     if (dot(s.mean_normal, s.mean_normal) > 0.0 && any(greaterThan(s.albedo, vec3(0.0)))) {
         for (int i = 0; i < light_count; ++i) {

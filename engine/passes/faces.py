@@ -14,19 +14,19 @@ class FaceViewsPass:
         self.totals_program = programs.compute("voxel_totals.comp")
         self.totals_buffer = ctx.buffer(reserve=16 * VOXEL_FACES)
 
-    def compose(self, grid, gathered, class_index=None):
+    def compose(self, grid, gathered, segment):
         """Level 0 of the face views from the base radiance plus rho times `gathered` (a
-        volume of the grid, or None before the first bounce), for the voxels of interleave
-        class `class_index` (None: every voxel)."""
+        volume of the grid, or None before the first bounce), for the voxels of `segment` (a
+        VoxelSegment)."""
         grid.use_surface()
         grid.base.use(TEXTURE_UNIT["VOXEL_BASE"])
         if gathered is not None:
             gathered.use(TEXTURE_UNIT["VOXEL_GATHERED"])
-        grid.class_list.bind_to_storage_buffer(STORAGE_BINDING["CLASS_LIST"])
+        segment.buffer.bind_to_storage_buffer(STORAGE_BINDING["VOXEL_LIST"])
         grid.bind_faces()
-        first, count = grid.all_segment if class_index is None else grid.class_segments[class_index]
-        self.compose_program.set(**grid.uniforms(), first=first, count=count, include_gathered=gathered is not None)
-        grid.dispatch(self.compose_program, count)
+        self.compose_program.set(**grid.uniforms(), first=segment.first, count=segment.count,
+                                 include_gathered=gathered is not None)
+        grid.dispatch(self.compose_program, segment.count)
 
     def mipmap(self, grid, class_index=None):
         """Every coarser level of the face views, level after level, over its covered cells;

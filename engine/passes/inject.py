@@ -1,7 +1,7 @@
 """Light injection: the base radiance of every covered voxel, emission plus the direct light
 its surface receives from every light (with the shadow maps), evaluated per voxel at its
 surface point, and from the emitters (passes/emitter_light.py). Runs when lights, shadows,
-the emitters' light or the voxels change, over a segment of the grid's class list."""
+the emitters' light or the voxels change, over a segment of a voxel list."""
 from ..constants import IMAGE_UNIT, STORAGE_BINDING
 from ..voxel_grid import bind_image
 
@@ -11,14 +11,13 @@ class InjectPass:
         self.program = programs.compute("voxel_inject.comp")
 
     def run(self, grid, shadow_maps, segment):
-        """Writes grid.base for the voxels of `segment`, (first, count) of grid.class_list."""
+        """Writes grid.base for the voxels of `segment` (a VoxelSegment)."""
         grid.use_surface()
-        grid.class_list.bind_to_storage_buffer(STORAGE_BINDING["CLASS_LIST"])
+        segment.buffer.bind_to_storage_buffer(STORAGE_BINDING["VOXEL_LIST"])
         shadow_maps.bind(self.program)
         bind_image(grid.base, IMAGE_UNIT["BASE_OUT"])
-        first, count = segment
-        self.program.set(**grid.uniforms(), first=first, count=count)
-        grid.dispatch(self.program, count)
+        self.program.set(**grid.uniforms(), first=segment.first, count=segment.count)
+        grid.dispatch(self.program, segment.count)
 
     def release(self):
         self.program.release()
