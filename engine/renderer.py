@@ -317,8 +317,7 @@ class Renderer:
         inputs = (self.stages["voxels"].version, self.stages["emitters"].version, s.cone_step, s.cone_offset)
         rounds = self.emitter_light_rounds
         if stage.stale(inputs, self.track_changes):
-            spread = self.progressive and s.bounces == 0 and self.track_changes
-            rounds.restart(s.bounce_interleave if spread else 1)
+            rounds.restart(s.bounce_interleave if self._spreads_work(s) else 1)
             self.bounces.sort_classes(self.grid, rounds.interleave, self.timed)
             self.bounces.compose(self.grid, self.bounces.gathered(self.grid), self.timed)
         chosen = rounds.next_class()
@@ -337,7 +336,7 @@ class Renderer:
         inputs = (self.stages["voxels"].version, self.stages["shadows"].version, self.stages["emitter_light"].version)
         if stage.stale(inputs, self.track_changes):
             interleave = self.bounces.interleave(s, self.progressive)
-            if not (self.progressive and s.bounces == 0 and self.track_changes) or stage.inputs is None:
+            if not self._spreads_work(s) or stage.inputs is None:
                 self.bounces.inject(self.grid, shadow_maps, interleave, self.timed)
             else:
                 if stage.inputs[0] != inputs[0]:
@@ -345,6 +344,11 @@ class Renderer:
                 if stage.inputs[1:] != inputs[1:]:
                     self.bounces.inject_spread(interleave)
             stage.ran(inputs)
+
+    def _spreads_work(self, s):
+        """Whether per-voxel work that follows a change is spread over the interleave classes,
+        one a frame: in progressive frames with converging bounces (the viewer), tracked."""
+        return self.progressive and s.bounces == 0 and self.track_changes
 
     def _bounces(self, s, shadow_maps):
         """Bounce again when the base radiance or the bounce settings changed; progressive
