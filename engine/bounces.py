@@ -153,10 +153,10 @@ class BounceSchedule:
         radiance injected first if the lights changed since, and its face views are composed
         again. Where the voxels changed, the face views of the voxels injected since (and of
         the class) are composed before the gather instead, with every mip level, as its cones
-        must see the voxels as they are now. At the end of a cycle that ran on the current base radiance
-        throughout, the series is checked and the gathers kept: the series starts from gathers
-        that all read it, as a bounce's do, since the totals it watches miss light that only
-        moved."""
+        must see the voxels as they are now. At the end of a cycle that ran on the current base
+        radiance throughout, the series is checked and the gathers kept: the series starts from
+        gathers that all read it, as a bounce's do, since the totals it watches miss light that
+        only moved."""
         if self.settled:
             return
         interleave = settings.bounce_interleave
@@ -171,7 +171,9 @@ class BounceSchedule:
             self.pending_base.discard(chosen)
         stale = self.stale_faces
         if stale:
-            self._compose_segments(grid, self.gathered(grid), stale + [grid.class_segment(chosen)], timed)
+            every_voxel = grid.class_segment()
+            extra = [] if every_voxel in stale else [grid.class_segment(chosen)]
+            self._compose_segments(grid, self.gathered(grid), stale + extra, timed)
         with timed("gather"):
             self.gather.run(grid, cone_uniforms, self.gathered(grid), chosen)
         if not stale:

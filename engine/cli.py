@@ -64,8 +64,9 @@ def _add_settings_arguments(parser, default_mode="gi"):
                              "0 = iterate until converged, which also stops after at most "
                              f"{MAX_BOUNCES} (default 0)")
     parser.add_argument("--bounce-interleave", type=positive_int, default=d.bounce_interleave,
-                        help="viewer and bench with --bounces 0: each frame 1 in K of the voxels that trace the gather "
-                             f"does so again, the others reuse their last gather (default {d.bounce_interleave}; 1 = all)")
+                        help="viewer and bench with --bounces 0: each frame 1 in K of the voxels gathers light again "
+                             "(and takes a moved light's direct light), the others keep theirs "
+                             f"(default {d.bounce_interleave}; 1 = all)")
     parser.add_argument("--mip", type=_nonnegative_int, default=d.voxel_mip, help="mip level for the voxel views (default 0)")
     parser.add_argument("--cone-step", type=_finite_float, default=d.cone_step,
                         help=f"cone march step as a fraction of the cone diameter (default {d.cone_step})")

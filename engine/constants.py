@@ -69,7 +69,7 @@ STORAGE_BINDING = {
     "COVERED_NEXT": 16,     # the covered list being rebuilt
     "CELLS": 17,            # covered cells of the coarser levels, level after level
     "CELL_STAMPS": 18,
-    "CLASS_LIST": 19,       # covered voxels sorted by part (gather anchors, others), interleave class, block, facing
+    "CLASS_LIST": 19,       # covered voxels sorted by interleave class, part (gather anchors, others), block, facing
     "CLASS_BUCKETS": 20,
     "READBACK": 21,
     "CONE_PIXELS": 22,      # pixels that trace cones of their own: dispatch size, count, pixels
@@ -80,7 +80,7 @@ STORAGE_BINDING = {
     "CELL_CLASSES": 27,       # per level-1 cell: a bit per interleave class of the voxels in it
     "CLASS_CELLS": 28,        # the covered level-1 cells sorted by class, the mixed ones last
     "STALE_VOXELS": 29,       # voxels whose gather-anchor records a voxelization may have changed
-    "VOXEL_LIST": 30,         # the voxels injection and composition run over (class list or touched voxels)
+    "VOXEL_LIST": 30,         # the voxels injection, composition and the emitters' light run over (a VoxelSegment)
 }
 
 # Struct layouts shared with GLSL (std430, vec4-sized fields): name -> ((GLSL type, field), ...).

@@ -324,7 +324,7 @@ class Renderer:
         if chosen is not None:
             self.bounces.sort_classes(self.grid, rounds.interleave, self.timed)
             with self.timed("emitter_light"):
-                self.emitter_light.run(self.grid, emitters, s.cone_uniforms(), self.grid.class_segments[chosen])
+                self.emitter_light.run(self.grid, emitters, s.cone_uniforms(), self.grid.class_segment(chosen))
             stage.ran(inputs)
 
     def _radiance(self, s, shadow_maps):

@@ -65,7 +65,7 @@ class RenderSettings:
     mode: str = "gi"
     grid: int = 128                 # voxels per side, a power of two in 16..256
     bounces: int = 0                # diffuse bounces through the voxels; 0 = iterate to convergence
-    bounce_interleave: int = 4      # progressive (viewer), bounces 0: 1 in K gather anchors traces again each frame
+    bounce_interleave: int = 4      # progressive (viewer), bounces 0: 1 in K voxels is updated each frame
     voxel_mip: int = 0              # mip level shown by the voxel views
     cone_step: float = 0.5          # march step as a fraction of the cone diameter
     cone_offset: float = 1.0        # cone start offset along the normal, in voxels

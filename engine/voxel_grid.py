@@ -13,8 +13,9 @@ passed to the passes that read and write it.
   six one-sided face views cones read, stacked along z in one volume `faces` (n x n x 6n,
   view f at z in [f n, (f + 1) n)), with their mip chain;
 - lists of voxels: `covered` (surface voxels), `touched` (by the last voxelization), the covered
-  cells of every mip level, and the covered voxels sorted into the gather's anchors and the
-  others, by interleave class; per voxel, whether it is an anchor and the anchors around it.
+  cells of every mip level, the covered voxels sorted by interleave class and, within a class,
+  into the gather's anchors and the others, and the covered level-1 cells sorted by class;
+  per voxel, whether it is an anchor and the anchors around it.
 
 Every volume starts zero and every empty voxel stays zero: passes touch only listed voxels.
 """
@@ -59,7 +60,7 @@ def check_grid(ctx, n, source=None):
 @dataclass(frozen=True)
 class VoxelSegment:
     """Entries [first, first + count) of a GPU buffer of packed voxel coordinates: what the
-    passes over a voxel list (injection, composition) run over."""
+    passes over a voxel list (injection, composition, the emitters' light) run over."""
     buffer: object
     first: int
     count: int

@@ -19,7 +19,7 @@ void main() {
     if (k >= count) return;
     ivec3 cell = unpack_voxel(level == 1 ? covered[k] : cells[source_first + k]) >> 1;
     int side = voxel_grid >> level;
-    uint stamp = stamp_first + uint(cell.x + side * (cell.y + side * cell.z));
+    uint stamp = stamp_first + grid_index(cell, side);
     if (atomicExchange(stamps[stamp], generation) != generation)
         cells[target_first + atomicAdd(cell_count[level], 1u)] = pack_voxel(cell);
 }

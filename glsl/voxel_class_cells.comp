@@ -18,9 +18,7 @@ uniform bool scatter;
 void main() {
     if (gl_GlobalInvocationID.x >= cell_count[1]) return;
     uint entry = cells[first + gl_GlobalInvocationID.x];
-    ivec3 cell = unpack_voxel(entry);
-    int side = voxel_grid >> 1;
-    uint classes = cell_classes[cell.x + side * (cell.y + side * cell.z)];
+    uint classes = cell_classes[grid_index(unpack_voxel(entry), voxel_grid >> 1)];
     uint bucket = bitCount(classes) == 1 ? uint(findLSB(classes)) : uint(interleave);
     if (scatter) class_cells[atomicAdd(buckets[bucket], 1u)] = entry;
     else atomicAdd(buckets[bucket], 1u);

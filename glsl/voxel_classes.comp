@@ -1,14 +1,13 @@
 #version 450 core
-// Sorts the covered voxels for the bounce into `interleave` classes for the progressive bounce
-// (one class is updated per frame, evenly spread over the surfaces: voxel_class). Each class
-// is one run of the list, its anchors (which trace the gather: lib/gather_anchors.glsl) first
-// (part 0), then the others (part 1), which take their gather from them, so that a pass over a
-// whole class (injection, composition) is one segment. Within a part by block of
-// CLASS_BLOCK^3 voxels, and within a
-// block by facing (the mean normal's dominant axis and sign), so neighbouring invocations of
-// the gather trace neighbouring voxels with cones along the same directions, which end after
-// as many steps. A counting sort: a pass counting the entries of each bucket (part, class,
-// block, facing), then, once the host has turned the counts into each bucket's first entry, a
+// Sorts the covered voxels into `interleave` classes for the progressive bounce (one class is
+// updated per frame, evenly spread over the surfaces: voxel_class). Each class is one run of
+// the list, its anchors (which trace the gather: lib/gather_anchors.glsl) first (part 0), then
+// the others (part 1), which take their gather from them, so that a pass over a whole class
+// (injection, composition) is one segment. Within a part by block of CLASS_BLOCK^3 voxels, and
+// within a block by facing (the mean normal's dominant axis and sign), so neighbouring
+// invocations of the gather trace neighbouring voxels with cones along the same directions,
+// which end after as many steps. A counting sort: a pass counting the entries of each bucket
+// (class, part, block, facing), then, once the host has turned the counts into each bucket's first entry, a
 // pass scattering the voxels into their buckets, which also marks the classes each level-1
 // cell holds (CELL_CLASSES, zeroed by the host before). voxel_anchors.comp has found the
 // anchors.
@@ -37,9 +36,7 @@ void main() {
     uint bucket = block_index * uint(CLASS_FACINGS) + uint(facing);
     if (scatter) {
         class_list[atomicAdd(buckets[bucket], 1u)] = entry;
-        ivec3 cell = v >> 1;
-        int side = voxel_grid >> 1;
-        atomicOr(cell_classes[cell.x + side * (cell.y + side * cell.z)], 1u << class_index);
+        atomicOr(cell_classes[grid_index(v >> 1, voxel_grid >> 1)], 1u << class_index);
     } else {
         atomicAdd(buckets[bucket], 1u);
     }

@@ -14,8 +14,8 @@
 
 layout(local_size_x = LIST_GROUP) in;
 layout(binding = IMG_EMITTER_LIGHT_OUT, rgba16f) uniform writeonly image3D emitter_light_out;
-layout(std430, binding = SSBO_CLASS_LIST) readonly buffer ClassList { uint class_list[]; };
-uniform uint first;  // the segment of the class list to light
+layout(std430, binding = SSBO_VOXEL_LIST) readonly buffer VoxelList { uint voxel_list[]; };
+uniform uint first;  // the segment of the list to light
 uniform uint count;
 
 // Fraction of a patch p sees, from one cone towards the patch's centre as wide as its sphere.
@@ -41,7 +41,7 @@ float patch_visibility(vec3 p, vec3 n, EmitterPatch e) {
 
 void main() {
     if (gl_GlobalInvocationID.x >= count) return;
-    ivec3 v = unpack_voxel(class_list[first + gl_GlobalInvocationID.x]);
+    ivec3 v = unpack_voxel(voxel_list[first + gl_GlobalInvocationID.x]);
     VoxelSurface s = voxel_surface(v);
     vec3 shadowed = vec3(0.0), unshadowed = vec3(0.0);
     if (dot(s.mean_normal, s.mean_normal) > 0.0) {

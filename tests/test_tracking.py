@@ -20,6 +20,12 @@ def settle_viewer(renderer, scene):
     return renderer.radiance()
 
 
+def list_voxels(voxel_list):
+    """The x, y and z coordinates of a VoxelList's entries (they follow its count)."""
+    entries = np.frombuffer(voxel_list.buffer.read(4 * (1 + voxel_list.count)), dtype="u4")[1:]
+    return entries & 1023, (entries >> 10) & 1023, entries >> 20
+
+
 def edits():
     """A sequence of scene edits, one per frame: (what it changes, the edit)."""
     def move_camera(scene):
@@ -90,8 +96,8 @@ def test_gather_anchors_found_again_around_a_moved_object_equal_anchors_found_an
         grid = r.grid
         with r.ctx:
             assert 0 < grid.touched.count < grid.covered.count  # a partial voxelization
-            entries = np.frombuffer(grid.covered.buffer.read(4 * grid.covered.count, offset=4), dtype="u4")
-            index = (entries & 1023) + 32 * (((entries >> 10) & 1023) + 32 * (entries >> 20))
+            x, y, z = list_voxels(grid.covered)
+            index = x + 32 * (y + 32 * z)
             found_again = np.frombuffer(grid.gather_anchors.read(), dtype="u4")[index]
             grid.anchors_for = None
             r.gather.sort_classes(grid, 1)
@@ -189,9 +195,9 @@ def test_a_moved_object_in_the_viewer_carries_its_direct_light_at_once():
         base = r.voxels("radiance")
         grid = r.grid
         with r.ctx:
-            entries = np.frombuffer(grid.touched.buffer.read(4 * (1 + grid.touched.count)), dtype="u4")[1:]
+            x, y, z = list_voxels(grid.touched)
         touched = np.zeros(base.shape[:3], bool)
-        touched[entries >> 20, (entries >> 10) & 1023, entries & 1023] = True
+        touched[z, y, x] = True
         with engine.Renderer(64, 64) as fresh:
             fresh.render(scene, grid=32)
             expected = fresh.voxels("radiance")

@@ -12,16 +12,15 @@ class EmitterLightPass:
         self.program = programs.compute("voxel_emitter_light.comp")
 
     def run(self, grid, emitters, cone_uniforms, segment):
-        """`emitters`: scene_gpu.EmitterBuffers; `segment`: (first, count) of grid.class_list.
+        """`emitters`: scene_gpu.EmitterBuffers; `segment`: a VoxelSegment of the class list.
         Writes grid.emitter_light for those voxels."""
         grid.use_surface()
         grid.use_faces()
-        grid.class_list.bind_to_storage_buffer(STORAGE_BINDING["CLASS_LIST"])
+        segment.buffer.bind_to_storage_buffer(STORAGE_BINDING["VOXEL_LIST"])
         emitters.bind(self.program)
         bind_image(grid.emitter_light, IMAGE_UNIT["EMITTER_LIGHT_OUT"])
-        first, count = segment
-        self.program.set(**grid.uniforms(), **cone_uniforms, first=first, count=count)
-        grid.dispatch(self.program, count)
+        self.program.set(**grid.uniforms(), **cone_uniforms, first=segment.first, count=segment.count)
+        grid.dispatch(self.program, segment.count)
 
     def release(self):
         self.program.release()

@@ -16,9 +16,14 @@ vec3 voxel_center(ivec3 v) {
     return voxel_region_min + (vec3(v) + 0.5) * voxel_size;
 }
 
+// Index of cell c of a grid `side` cells wide in a buffer of one entry per cell (x fastest).
+uint grid_index(ivec3 c, int side) {
+    return uint(c.x) + uint(side) * (uint(c.y) + uint(side) * uint(c.z));
+}
+
 // Index of voxel v in the channel-major per-voxel buffers.
 uint voxel_index(ivec3 v) {
-    return uint(v.x) + uint(voxel_grid) * (uint(v.y) + uint(voxel_grid) * uint(v.z));
+    return grid_index(v, voxel_grid);
 }
 
 // Cones read VOXEL_FACES one-sided views of the radiance, one per face direction (+x, -x, +y,
