@@ -1,12 +1,21 @@
-"""`vct`: render, view and benchmark scenes. A thin layer over engine.Renderer."""
+"""`vct`: render, view and benchmark scenes. A thin layer over engine.Renderer.
+
+Exit status: 0 when the command did its work (its files are written; a closed or full stdout
+loses only the report printed there), 2 after one line `vct: error: ...` on stderr (nothing
+written), 128 + the signal's number after SIGINT (130), SIGHUP (129) or SIGTERM (143), which
+remove the temporary files of outputs not yet complete."""
 import argparse
+import contextlib
 import math
 import os
+import signal
 import sys
+import threading
 import time
+import warnings
 from pathlib import Path
 
-from .errors import VctError
+from .errors import VctError, VctWarning, one_line
 from .settings import MAX_BOUNCES, MAX_EXPOSURE, MODES, TONEMAPS, RenderSettings
 
 
@@ -15,7 +24,7 @@ class OneLineErrorParser(argparse.ArgumentParser):
     by the program: the first word of `prog` (`vct render` -> `vct`)."""
 
     def error(self, message):
-        self.exit(2, f"{self.prog.split()[0]}: error: {message} (see `{self.prog} --help`)\n")
+        self.exit(2, f"{self.prog.split()[0]}: error: {one_line(message)} (see `{self.prog} --help`)\n")
 
 
 def _finite_float(text):
@@ -133,21 +142,80 @@ def build_parser():
     return parser
 
 
-def main(argv=None):
-    args = build_parser().parse_args(argv)
+class Terminated(BaseException):
+    """SIGTERM or SIGHUP arrived: unwinds the command as KeyboardInterrupt does for SIGINT,
+    so every temporary file is removed on the way out."""
+
+    def __init__(self, signum):
+        super().__init__(signum)
+        self.signum = signum
+
+
+@contextlib.contextmanager
+def _signals_unwind():
+    """While a command runs in the main thread, SIGTERM and SIGHUP raise Terminated."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+
+    def handler(signum, frame):
+        raise Terminated(signum)
+
+    previous = {number: signal.signal(number, handler) for number in (signal.SIGTERM, signal.SIGHUP)}
     try:
-        if args.command == "render":
-            return render_command(args)
-        if args.command == "view":
-            return view_command(args)
-        if args.command == "bench":
-            return bench_command(args)
+        yield
+    finally:
+        for number, action in previous.items():
+            signal.signal(number, action)
+
+
+def main(argv=None):
+    """The `vct` command. Warnings of the libraries it uses (numpy's floating-point ones
+    among them) are not printed: an error is its one line, a success prints its report."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return run(argv)
+
+
+def run(argv=None):
+    """main without its filter of the libraries' warnings (the tests run it with warnings as
+    errors). VctWarnings print as one line each, `vct: warning: ...`, on stderr."""
+    args = build_parser().parse_args(argv)
+    commands = {"render": render_command, "view": view_command, "bench": bench_command}
+    try:
+        with _signals_unwind(), warnings.catch_warnings():
+            warnings.simplefilter("always", VctWarning)
+            warnings.showwarning = _print_warning
+            return commands[args.command](args)
     except VctError as exc:
-        print(f"vct: error: {exc}", file=sys.stderr)
+        with contextlib.suppress(OSError):  # a closed or full stderr: the exit status still says it
+            print(f"vct: error: {exc}", file=sys.stderr, flush=True)
         return 2
     except KeyboardInterrupt:
-        return 130
-    return 0
+        return 128 + signal.SIGINT
+    except Terminated as exc:
+        return 128 + exc.signum
+
+
+def _print_warning(message, category, filename, lineno, file=None, line=None):
+    """warnings.showwarning for the command: a VctWarning as its one line; any other warning
+    that a filter lets through in Python's own words."""
+    text = f"vct: warning: {message}\n" if issubclass(category, VctWarning) else \
+        warnings.formatwarning(message, category, filename, lineno, line)
+    with contextlib.suppress(OSError):
+        sys.stderr.write(text)
+        sys.stderr.flush()
+
+
+def report(text):
+    """Print a line of the command's report on stdout. Once stdout is closed or full (a pipe
+    whose reader left, /dev/full), the rest of the report goes to /dev/null: the command
+    carries on, and its exit status is that of its work."""
+    try:
+        print(one_line(text), flush=True)
+    except OSError:
+        with contextlib.suppress(OSError, ValueError):
+            os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
 
 
 def shader_root(args):
@@ -159,6 +227,22 @@ def shader_root(args):
     if not os.path.isdir(root):
         raise VctError("not a directory", source=root, field="--shaders")
     return root
+
+
+def check_not_an_input(path, flag, inputs):
+    """Refuse an output path that is one of the files the command reads (`inputs`: the scene,
+    its meshes and images, its shaders, a reference), found by identity (links included)."""
+    try:
+        output = os.stat(path)
+    except (OSError, ValueError):
+        return
+    for source in inputs:
+        try:
+            read = os.stat(source)
+        except OSError:
+            continue
+        if (read.st_dev, read.st_ino) == (output.st_dev, output.st_ino):
+            raise VctError(f"is a file this command reads ({source}); nothing written", source=path, field=flag)
 
 
 def check_writable(path, flag):
@@ -210,6 +294,9 @@ def render_command(args):
     width = args.width or scene.camera.width
     height = args.height or scene.camera.height
     with open_renderer(width, height, settings, args) as renderer:
+        for path, flag in ((args.out, "--out"), (args.hdr, "--hdr")):
+            if path:
+                check_not_an_input(path, flag, renderer.inputs(scene))
         radiance = renderer.render(scene)
         pixels = renderer.tonemapped()
     check_finite(radiance, args.scene)
@@ -217,7 +304,7 @@ def render_command(args):
     if args.hdr:
         outputs.insert(0, (args.hdr, hdr_writer(args.hdr, radiance)))
     write_files(outputs)  # both or neither
-    print(f"wrote {args.out}" + (f" and {args.hdr}" if args.hdr else "") + f" ({width}x{height}, mode {settings.mode})")
+    report(f"wrote {args.out}" + (f" and {args.hdr}" if args.hdr else "") + f" ({width}x{height}, mode {settings.mode})")
     return 0
 
 
@@ -233,26 +320,33 @@ def view_command(args):
     viewer = Viewer(scene, settings, size, glsl_root=shader_root(args), show_panels=not args.no_panels,
                     vsync=args.frames is None)
     with viewer:
+        if args.screenshot:
+            check_not_an_input(args.screenshot, "--screenshot", viewer.renderer.inputs(scene))
         viewer.run(args.frames)
         if args.screenshot:
             path = viewer.save_screenshot(args.screenshot)
-            print(f"wrote {path} ({viewer.renderer.size[0]}x{viewer.renderer.size[1]}, mode {viewer.settings.mode}, "
-                  f"{viewer.frames.frames} frames)")
+            report(f"wrote {path} ({viewer.renderer.size[0]}x{viewer.renderer.size[1]}, mode {viewer.settings.mode}, "
+                   f"{viewer.frames.frames} frames)")
     return 0
 
 
 def load_reference(path, shape):
-    """A reference radiance .npy of the given shape, as float64; anything else (an .npz archive,
-    another shape, NaN) is an error naming --reference."""
+    """A reference radiance .npy of the given shape, as float64; anything else (not a regular
+    file, an .npz archive, another shape, NaN) is an error naming --reference."""
+    import io
+
     import numpy as np
+
+    from .input_files import os_problem, read_regular_file
+    from .limits import MAX_REFERENCE_BYTES
 
     def fail(message):
         raise VctError(message, source=path, field="--reference")
 
-    try:  # memory-mapped: the shape is checked before any data is read
-        data = np.load(path, mmap_mode="r", allow_pickle=False)
+    try:
+        data = np.load(io.BytesIO(read_regular_file(path, MAX_REFERENCE_BYTES)), allow_pickle=False)
     except (OSError, ValueError, EOFError) as exc:
-        fail(f"cannot read reference ({exc})")
+        fail(f"cannot read reference ({os_problem(exc)})")
     if not isinstance(data, np.ndarray):
         data.close()
         fail("not a .npy array (an .npz archive?)")
@@ -298,20 +392,23 @@ def bench_command(args):
     width, height = args.width or scene.camera.width, args.height or scene.camera.height
     reference = load_reference(args.reference, (height, width, 3)) if args.reference else None
     with open_renderer(width, height, settings, args) as renderer:
+        if args.json:
+            check_not_an_input(args.json, "--json", renderer.inputs(scene) + ([args.reference] if args.reference else []))
         device = renderer_name(renderer.ctx)
-        print(f"{scene.name}: loaded in {load_s:.2f} s, peak RSS {load_rss_mb:.0f} MB; {width}x{height}, mode "
-              f"{settings.mode}, median of {args.frames} frames after {args.warmup} warm-up per kind, on {device}", flush=True)
+        report(f"{scene.name}: loaded in {load_s:.2f} s, peak RSS {load_rss_mb:.0f} MB; {width}x{height}, mode "
+               f"{settings.mode}, median of {args.frames} frames after {args.warmup} warm-up per kind, on {device}")
         rows = benchmark(scene, renderer, settings, grids, args.frames, args.warmup, reference=reference)
     for row in rows:
         row.update(load_s=load_s, load_peak_rss_mb=load_rss_mb)
-    print(format_table(rows))
+    for line in format_table(rows).splitlines():
+        report(line)
     moved = {row["frame"]: row["moves"] for row in rows}
-    print("moving: " + ", ".join(f"{kind}: {subject}" for kind, subject in moved.items()))
+    report("moving: " + ", ".join(f"{kind}: {subject}" for kind, subject in moved.items()))
     if args.json:
         for row in rows:
             row["device"] = device
         write_files([(args.json, lambda f: f.write(json.dumps(rows, indent=2).encode()))])
-        print(f"wrote {args.json}")
+        report(f"wrote {args.json}")
     return 0
 
 

@@ -7,10 +7,7 @@ from pathlib import Path
 import numpy as np
 
 from .errors import SceneError
-
-# Every number read is within +-MAX_MAGNITUDE unless a tighter bound is given: scenes are metres,
-# degrees, W/sr and W/m^2, and larger values would overflow float32 on the GPU.
-MAX_MAGNITUDE = 1e6
+from .limits import MAX_MAGNITUDE
 
 
 class JsonReader:

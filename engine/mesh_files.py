@@ -18,47 +18,63 @@
   0, one-sided. Texture options other than -clamp are refused; other statements are ignored.
   Normals from the file (vn), else smooth (angle-weighted) normals. OBJ's texture v grows
   upwards; it is flipped to glTF's convention (see engine.scene.Texture).
-- Any other format trimesh reads (PLY, STL, OFF, ...): one mesh with smooth normals.
+- PLY, STL and OFF (read by trimesh): one mesh with smooth normals. trimesh's other formats
+  are not read: its archives (zip, tar, bz2) decompress without a bound, and the rest hold no
+  triangles.
 
 Images are decoded once per file: materials that use the same image (by content) the same way
 share one Texture object. Parts without a material in the file get a grey Lambertian default
-(albedo 0.8, like a scene material with no fields). Bad input raises SceneError naming the
-file and the element, e.g. `sponza.glb: materials[3].pbrMetallicRoughness.baseColorTexture:
-images[5] "bricks.png": file not found`.
+(albedo 0.8, like a scene material with no fields). Every file is read through the scene's
+InputFiles (engine/input_files.py: regular files, size and pixel limits), and what a file
+holds is held to engine/limits.py: vertex data finite and within +-1e6, materials within
+their ranges, nodes nested at most MAX_DEPTH levels (the scene checks the world transforms
+of the nodes it places). Bad input raises SceneError naming the file and the element, e.g.
+`sponza.glb: materials[3].pbrMetallicRoughness.baseColorTexture: images[5] "bricks.png": file
+not found`.
 """
 import base64
 import hashlib
 import io
-import math
 import json
+import math
 import re
 import struct
 import urllib.parse
-import warnings
 from collections import namedtuple
 from pathlib import Path
 
 import numpy as np
 
-from .errors import SceneError
+from .errors import SceneError, warn
+from .input_files import InputFiles, os_problem
 from .json_reader import JsonReader
+from .limits import MAX_DEPTH, MAX_FILE_BYTES, MAX_MAGNITUDE, check_material, check_vertices
 from .scene import ALPHA_MODES, Material, Mesh, Node, Texture
 from .transforms import decompose, euler_deg_from_rotation, quaternion_rotation
 
-MAX_TEXTURE_SIZE = 16384  # pixels on a side; the GL limit is checked when textures are uploaded
 GLTF_EXTENSIONS = ("KHR_materials_emissive_strength",)  # the ones this reader understands
+TRIMESH_FORMATS = (".ply", ".stl", ".off")
 
 
-def load_mesh_file(path, name, material=None):
+def load_mesh_file(path, name, material=None, inputs=None):
     """The top-level nodes of the mesh file at `path`; `name` names it in errors (as the scene
     file writes it). With `material`, every part uses it and the file's materials and textures
-    are not read; otherwise each part has its material from the file."""
+    are not read; otherwise each part has its material from the file. `inputs` (InputFiles)
+    reads the file and what it names within the scene's budget (a new one by default)."""
+    inputs = inputs or InputFiles()
+    try:
+        data = inputs.read(path)
+    except (OSError, ValueError) as exc:  # ValueError: a NUL in the name
+        raise SceneError(f"cannot read ({os_problem(exc)})", source=name) from None
     suffix = Path(path).suffix.lower()
     if suffix in (".gltf", ".glb"):
-        return _Gltf(path, name, material).nodes()
+        return _Gltf(path, data, name, material, inputs).nodes()
     if suffix == ".obj":
-        return _load_obj(path, name, material)
-    return [_load_with_trimesh(path, name, material)]
+        return _load_obj(path, data, name, material, inputs)
+    if suffix in TRIMESH_FORMATS:
+        return [_load_with_trimesh(path, data, name, material)]
+    raise SceneError(f"not a mesh format vct reads (by its suffix: .gltf, .glb, .obj, {', '.join(TRIMESH_FORMATS)})",
+                     source=name)
 
 
 def default_material():
@@ -67,46 +83,20 @@ def default_material():
 
 # ---- images ------------------------------------------------------------------------------------
 
-def decode_image(data):
-    """uint8 (H, W, C), C = 1 (grey), 2 (grey, alpha), 3 (RGB) or 4 (RGBA), row 0 at the top, of
-    an encoded image (PNG, JPEG, or any format Pillow reads); ValueError says what is wrong."""
-    from PIL import Image
-
-    try:
-        with warnings.catch_warnings():  # the size limit is ours, not Pillow's bomb warning
-            warnings.simplefilter("ignore", Image.DecompressionBombWarning)
-            image = Image.open(io.BytesIO(data))
-            if max(image.size) > MAX_TEXTURE_SIZE:
-                raise ValueError(f"{image.size[0]}x{image.size[1]} pixels, more than {MAX_TEXTURE_SIZE} on a side")
-            image.load()
-    except ValueError:
-        raise
-    except Image.UnidentifiedImageError:
-        raise ValueError("cannot decode image (not in a format Pillow reads)") from None
-    except Exception as exc:  # Pillow raises many kinds on broken or unknown data
-        raise ValueError(f"cannot decode image ({' '.join(str(exc).split()) or type(exc).__name__})") from None
-    if image.mode in ("I", "I;16", "I;16B", "I;16L"):  # 16-bit grey: keep the high byte
-        pixels = (np.asarray(image).astype(np.uint32) >> 8).astype(np.uint8)
-    else:
-        if image.mode not in ("L", "LA", "RGB", "RGBA"):
-            image = image.convert("RGBA" if "A" in image.mode or "transparency" in image.info else "RGB")
-        pixels = np.asarray(image, dtype=np.uint8)
-    return np.ascontiguousarray(pixels.reshape(pixels.shape[0], pixels.shape[1], -1))
-
-
 class _Textures:
     """The images and textures of one file, each made once: `pixels` are keyed by what they were
     made from (e.g. the digest of the encoded image), textures by their pixels, colour space and
     wrap modes, so materials that use an image the same way share one Texture."""
 
-    def __init__(self):
+    def __init__(self, inputs):
+        self.inputs = inputs
         self.images = {}
         self.textures = {}
 
     def decoded(self, data):
         """(key, pixels) of an encoded image, decoding it on first use."""
         key = hashlib.sha256(data).digest()
-        return key, self.pixels(key, lambda: decode_image(data))
+        return key, self.pixels(key, lambda: self.inputs.decode_image(data))
 
     def pixels(self, key, make):
         if key not in self.images:
@@ -127,42 +117,63 @@ def _unit(v):
     return np.divide(v, length, out=np.zeros_like(v), where=length > 0)
 
 
+def face_normals(positions, triangles):
+    """Each triangle's (b - a) x (c - a), in float64: its length is twice the area."""
+    corners = np.asarray(positions, np.float64)[triangles]
+    return np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])
+
+
 def flat_normals(positions, triangles, *attributes):
     """Unshared corners with each triangle's own normal: (positions, normals, triangles,
     attributes...) with every per-vertex array of `attributes` (or None) expanded the same way."""
     corners = triangles.reshape(-1)
-    p = positions[corners]
-    a, b, c = p[0::3], p[1::3], p[2::3]
-    normals = np.repeat(_unit(np.cross(b - a, c - a)), 3, axis=0).astype(np.float32)
+    normals = np.repeat(_unit(face_normals(positions, triangles)), 3, axis=0).astype(np.float32)
     expanded = [None if x is None else x[corners] for x in attributes]
-    return (p, normals, np.arange(len(corners), dtype=np.uint32).reshape(-1, 3), *expanded)
+    return (positions[corners], normals, np.arange(len(corners), dtype=np.uint32).reshape(-1, 3), *expanded)
 
 
 def surface_mesh(positions, triangles, normals=None, texcoords=None):
-    """A Mesh of the triangles with finite vertices and non-zero area (None if none is left):
-    its normals (given, else smooth: area-weighted per vertex; flat where faces facing apart
-    share vertices and their normals would cancel)."""
-    corners = positions[triangles]
-    face_normals = np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])
-    keep = np.all(np.isfinite(corners), axis=(1, 2)) & (np.linalg.norm(face_normals, axis=1) > 0)
-    triangles, face_normals = triangles[keep], face_normals[keep]
+    """(mesh, dropped): a Mesh of the triangles whose vertex data is finite and within
+    +-MAX_MAGNITUDE and whose area is not zero (None if none is left), and how many triangles
+    were dropped for their vertex data (zero-area ones are not counted: they draw nothing).
+    Its normals: the given ones scaled to unit length where every one of them has a length,
+    else smooth (area-weighted per vertex; flat where faces facing apart share vertices and
+    their normals would cancel)."""
+    positions = np.asarray(positions, np.float64)
+    data = [positions] if texcoords is None else [positions, np.asarray(texcoords, np.float64)]
+    valid = np.all([np.all(np.abs(array[triangles]) <= MAX_MAGNITUDE, axis=(1, 2)) for array in data], axis=0)
+    triangles = triangles[valid]
+    normals_of_faces = face_normals(positions, triangles)
+    keep = np.linalg.norm(normals_of_faces, axis=1) > 0
+    triangles, normals_of_faces = triangles[keep], normals_of_faces[keep]
+    dropped = int(np.count_nonzero(~valid))
     if len(triangles) == 0:
-        return None
+        return None, dropped
     used, triangles = np.unique(triangles, return_inverse=True)  # drop the vertices no triangle uses
     triangles = triangles.reshape(-1, 3)
     positions = positions[used]
-    normals = None if normals is None else np.asarray(normals)[used]
-    texcoords = None if texcoords is None else texcoords[used]
+    texcoords = None if texcoords is None else np.asarray(texcoords, np.float32)[used]
+    if normals is not None:
+        normals = np.asarray(normals, np.float64)[used]
+        lengths = np.linalg.norm(np.where(np.isfinite(normals), normals, 0.0), axis=1)
+        normals = normals / lengths[:, None] if np.all(np.isfinite(normals)) and np.all(lengths > 1e-6) else None
     if normals is None:
         normals = np.zeros_like(positions, dtype=np.float64)
-        np.add.at(normals, triangles.reshape(-1), np.repeat(face_normals, 3, axis=0))
+        np.add.at(normals, triangles.reshape(-1), np.repeat(normals_of_faces, 3, axis=0))
         lengths = np.linalg.norm(normals[triangles.reshape(-1)], axis=1)
-        areas = np.repeat(np.linalg.norm(face_normals, axis=1), 3)
+        areas = np.repeat(np.linalg.norm(normals_of_faces, axis=1), 3)
         if not np.all(lengths > 1e-6 * areas):
             positions, normals, triangles, texcoords = flat_normals(positions, triangles, texcoords)
-            return Mesh(positions.astype(np.float32), normals, triangles, texcoords)
+            return Mesh(positions.astype(np.float32), normals, triangles, texcoords), dropped
         normals = _unit(normals)
-    return Mesh(np.asarray(positions, np.float32), np.asarray(normals, np.float32), triangles.astype(np.uint32), texcoords)
+    return Mesh(positions.astype(np.float32), normals.astype(np.float32), triangles.astype(np.uint32), texcoords), dropped
+
+
+def warn_dropped(name, dropped):
+    """One warning per mesh file for the triangles surface_mesh dropped for their vertex data."""
+    if dropped:
+        warn(f"{dropped} triangle{'s' if dropped > 1 else ''} dropped: vertex positions or texture coordinates "
+             f"that are not finite or lie beyond +-{MAX_MAGNITUDE:g}", source=name)
 
 
 def generate_tangents(positions, normals, texcoords, triangles):
@@ -210,17 +221,19 @@ class _Gltf:
     """One glTF file: its document, buffers, and what was built from it (meshes, materials and
     textures, each once)."""
 
-    def __init__(self, path, name, material):
+    def __init__(self, path, data, name, material, inputs):
         self.path = Path(path)
         self.json = JsonReader(name)
         self.override = material
+        self.inputs = inputs
         self.glb_bin = None
-        self.doc = self._document()
+        self.doc = self._document(data)
         self.buffers = {}
         self.meshes = {}
         self.materials = {}
         self.default = default_material()
-        self.textures = _Textures()
+        self.textures = _Textures(inputs)
+        self.placed = set()  # the nodes placed in the hierarchy so far
         required = self.json.get(self.doc, "extensionsRequired", "", [], list)
         missing = [str(e) for e in required if e not in GLTF_EXTENSIONS]
         if missing:
@@ -241,11 +254,7 @@ class _Gltf:
 
     # -- container
 
-    def _document(self):
-        try:
-            data = self.path.read_bytes()
-        except OSError as exc:
-            self.fail("", f"cannot read ({exc.strerror or exc})")
+    def _document(self, data):
         text = data
         if data[:4] == b"glTF":
             text = self._glb_chunks(data)
@@ -291,17 +300,17 @@ class _Gltf:
             except ValueError as exc:
                 raise ValueError(f"malformed data URI ({exc})") from None
         try:
-            return (self.path.parent / urllib.parse.unquote(uri)).read_bytes()
+            return self.inputs.read(self.path.parent / urllib.parse.unquote(uri))
         except FileNotFoundError:
             raise ValueError("file not found") from None
-        except OSError as exc:
-            raise ValueError(f"cannot read ({exc.strerror or exc})") from None
+        except (OSError, ValueError) as exc:
+            raise ValueError(f"cannot read ({os_problem(exc)})") from None
 
     def buffer(self, index):
         if index not in self.buffers:
             field = f"buffers[{index}]"
             spec = self.element("buffers", index)
-            length = int(self.json.number(spec, "byteLength", field, whole=True, minimum=1, maximum=math.inf))
+            length = int(self.json.number(spec, "byteLength", field, whole=True, minimum=1, maximum=MAX_FILE_BYTES))
             if "uri" in spec:
                 uri = self.json.get(spec, "uri", field, kind=str)
                 try:
@@ -322,8 +331,8 @@ class _Gltf:
         field = f"bufferViews[{index}]"
         view = self.element("bufferViews", index)
         data = self.buffer(self.json.index(view, "buffer", field, "buffers", len(self.list("buffers"))))
-        offset = int(self.json.number(view, "byteOffset", field, 0, whole=True, minimum=0, maximum=math.inf))
-        length = int(self.json.number(view, "byteLength", field, whole=True, minimum=1, maximum=math.inf))
+        offset = int(self.json.number(view, "byteOffset", field, 0, whole=True, minimum=0, maximum=MAX_FILE_BYTES))
+        length = int(self.json.number(view, "byteLength", field, whole=True, minimum=1, maximum=MAX_FILE_BYTES))
         if offset + length > len(data):
             self.fail(field, "reaches past the end of its buffer")
         stride = view.get("byteStride")
@@ -335,7 +344,8 @@ class _Gltf:
 
     def accessor(self, obj, key, field, types, components, as_float=True):
         """The accessor that obj[key] names, as a (count, width) array: float32 (integer
-        components must then be normalized), else of its integer type (indices)."""
+        components must then be normalized), each component finite and within +-1e6 (limits:
+        check_vertices), else of its integer type (indices)."""
         index = self.json.index(obj, key, field, "accessors", len(self.list("accessors")))
         where = f"accessors[{index}]"
         spec = self.element("accessors", index)
@@ -347,7 +357,11 @@ class _Gltf:
             self.fail(f"{where}.componentType", f"is {component}; {field}.{key} must be one of {components}")
         dtype = np.dtype(COMPONENT_TYPES[component]).newbyteorder("<")
         width = WIDTHS[kind]
+        element = dtype.itemsize * width
         count = int(self.json.number(spec, "count", where, whole=True, minimum=1, maximum=math.inf))
+        if count * element > MAX_FILE_BYTES:
+            self.fail(f"{where}.count", f"{count} elements of {element} bytes: more than the {MAX_FILE_BYTES // 2 ** 20} MiB "
+                                        "a buffer may hold")
         if "bufferView" in spec:
             values = self.view_array(spec, where, count, width, dtype, strided=True)
         else:
@@ -357,14 +371,20 @@ class _Gltf:
         normalized = as_float and dtype.kind != "f"
         if self.json.get(spec, "normalized", where, False, bool) != normalized:
             self.fail(f"{where}.normalized", f"must be {str(normalized).lower()} for {field}.{key} of componentType {component}")
-        return np.maximum(values / np.iinfo(dtype).max, -1.0).astype(np.float32) if normalized else values
+        if normalized:
+            return np.maximum(values / np.iinfo(dtype).max, -1.0).astype(np.float32)
+        if as_float:
+            check_vertices(values, lambda message: self.fail(where, f"({field}.{key}) {message}"))
+        return values
 
     def view_array(self, spec, where, count, width, dtype, strided=False):
         view = self.json.index(spec, "bufferView", where, "bufferViews", len(self.list("bufferViews")))
         data, view_offset, view_length, stride = self.view_bytes(view)
-        offset = int(self.json.number(spec, "byteOffset", where, 0, whole=True, minimum=0, maximum=math.inf))
+        offset = int(self.json.number(spec, "byteOffset", where, 0, whole=True, minimum=0, maximum=MAX_FILE_BYTES))
         element = dtype.itemsize * width
         stride = stride if strided and stride else element
+        if stride < element:
+            self.fail(f"bufferViews[{view}].byteStride", f"{stride} bytes, less than the {element} of an element of {where}")
         if offset + stride * (count - 1) + element > view_length:
             self.fail(where, f"{count} elements reach past the end of bufferViews[{view}]")
         return np.array(np.ndarray((count, width), dtype, buffer=data, offset=view_offset + offset,
@@ -373,7 +393,7 @@ class _Gltf:
     def apply_sparse(self, spec, where, values):
         field = f"{where}.sparse"
         sparse = self.json.get(spec, "sparse", where, kind=dict)
-        count = int(self.json.number(sparse, "count", field, whole=True, minimum=1, maximum=math.inf))
+        count = int(self.json.number(sparse, "count", field, whole=True, minimum=1, maximum=len(values)))
         indices_spec = self.json.get(sparse, "indices", field, kind=dict)
         component = self.json.get(indices_spec, "componentType", f"{field}.indices", kind=int)
         if component not in INDEX_TYPES:
@@ -400,15 +420,19 @@ class _Gltf:
                         for c in self.json.get(self.element("nodes", i), "children", f"nodes[{i}]", [], list)}
             roots = [i for i in range(len(nodes)) if i not in children]
             where = "nodes"
-        result = [self.node(self.json.index_value(root, f"{where}[{k}]", "nodes", len(nodes)), ())
+        result = [self.node(self.json.index_value(root, f"{where}[{k}]", "nodes", len(nodes)), 1)
                   for k, root in enumerate(roots)]
         self.buffers.clear()
         return result
 
-    def node(self, index, ancestors):
+    def node(self, index, depth):
+        """nodes[index] with its children, `depth` levels down from the scene's roots (1)."""
         field = f"nodes[{index}]"
-        if index in ancestors:
-            self.fail(field, "is its own ancestor (the node hierarchy has a cycle)")
+        if index in self.placed:
+            self.fail(field, "has more than one parent, or is its own ancestor (glTF nodes form trees)")
+        if depth > MAX_DEPTH:
+            self.fail(field, f"nests more than {MAX_DEPTH} levels deep")
+        self.placed.add(index)
         spec = self.element("nodes", index)
         node = Node(name=self.json.get(spec, "name", field, field, str))
         if "matrix" in spec:
@@ -420,34 +444,38 @@ class _Gltf:
         else:
             node.translation = self.json.vector(spec, "translation", field, [0.0, 0.0, 0.0])
             rotation = self.json.vector(spec, "rotation", field, [0.0, 0.0, 0.0, 1.0], length=4)
-            if not np.any(rotation):
-                self.fail(f"{field}.rotation", "must not be zero (a unit quaternion x, y, z, w)")
+            if not 0.5 <= np.linalg.norm(rotation) <= 2.0:
+                self.fail(f"{field}.rotation", "must be a unit quaternion x, y, z, w")
             node.rotation_deg = euler_deg_from_rotation(quaternion_rotation(rotation))
             node.scale = self.json.vector(spec, "scale", field, [1.0, 1.0, 1.0])
         if "mesh" in spec:
             parts = self.mesh(self.json.index(spec, "mesh", field, "meshes", len(self.list("meshes"))))
             if len(parts) == 1:
                 node.mesh, node.material = parts[0]
-            else:
+            elif parts:
                 node.children += [Node(name=f"{node.name}: {material.name}", mesh=mesh, material=material)
                                   for mesh, material in parts]
         children = self.json.get(spec, "children", field, [], list)
         for k, child in enumerate(children):
             child = self.json.index_value(child, f"{field}.children[{k}]", "nodes", len(self.list("nodes")))
-            node.children.append(self.node(child, ancestors + (index,)))
+            node.children.append(self.node(child, depth + 1))
         return node
 
     def mesh(self, index):
-        """[(Mesh, Material)] for the primitives of meshes[index], made once."""
+        """[(Mesh, Material)] for the primitives of meshes[index] that hold a triangle of some
+        area, made once."""
         if index not in self.meshes:
             field = f"meshes[{index}]"
             primitives = self.json.get(self.element("meshes", index), "primitives", field, kind=list)
             if not primitives:
                 self.fail(f"{field}.primitives", "must not be empty")
-            self.meshes[index] = [self.primitive(f"{field}.primitives[{k}]", p) for k, p in enumerate(primitives)]
+            parts = [self.primitive(f"{field}.primitives[{k}]", p) for k, p in enumerate(primitives)]
+            self.meshes[index] = [part for part in parts if part is not None]
         return self.meshes[index]
 
     def primitive(self, field, spec):
+        """(Mesh, Material) of a primitive, its zero-area triangles dropped (they draw nothing and
+        have no normal); None where none is left."""
         if not isinstance(spec, dict):
             self.fail(field, "must be an object")
         mode = int(self.json.number(spec, "mode", field, 4, whole=True, minimum=0, maximum=6))
@@ -471,15 +499,30 @@ class _Gltf:
         else:
             indices = np.arange(len(positions), dtype=np.uint32)
         triangles = self.triangles(indices, mode, field)
+        triangles = triangles[np.linalg.norm(face_normals(positions, triangles), axis=1) > 0]
         material = self.override or self.primitive_material(spec, field)
         normals, texcoords, tangents = found.get("NORMAL"), found.get("TEXCOORD_0"), found.get("TANGENT")
+        if normals is not None:
+            normals = self.unit_normals(normals, f"{where}.NORMAL", attributes["NORMAL"])
         if material.textures() and texcoords is None:
             self.fail(field, f'material "{material.name}" has textures but the primitive has no TEXCOORD_0')
         if normals is None:
             positions, normals, triangles, texcoords, tangents = flat_normals(positions, triangles, texcoords, tangents)
         if material.normal_texture is not None and tangents is None:
             tangents = generate_tangents(positions, normals, texcoords, triangles)
+        if len(triangles) == 0:
+            return None
         return Mesh(positions, normals, triangles, texcoords, tangents), material
+
+    def unit_normals(self, normals, field, index):
+        """The normals scaled to unit length (glTF requires unit normals; some files are off
+        by rounding); a normal of (nearly) zero length gives no direction and is refused."""
+        lengths = np.linalg.norm(normals.astype(np.float64), axis=1)
+        if np.any(lengths < 1e-6):
+            element = int(np.argmax(lengths < 1e-6))
+            self.fail(f"accessors[{index}]", f"({field}) element {element} is {normals[element].tolist()}: "
+                                             "a normal must have unit length")
+        return (normals / lengths[:, None]).astype(np.float32)
 
     def triangles(self, indices, mode, field):
         if mode == 4:
@@ -542,6 +585,13 @@ class _Gltf:
             normal_texture=normal_texture,
             normal_scale=read.number(spec["normalTexture"], "scale", f"{field}.normalTexture", 1.0) if normal_texture else 1.0,
         )
+        emission_field = (f"{field}.emissiveFactor x extensions.KHR_materials_emissive_strength.emissiveStrength"
+                          if strength_spec else f"{field}.emissiveFactor")
+        check_material(material, self.fail, {
+            "albedo": f"{pbr_field}.baseColorFactor", "alpha": f"{pbr_field}.baseColorFactor",
+            "roughness": f"{pbr_field}.roughnessFactor", "metalness": f"{pbr_field}.metallicFactor",
+            "emission": emission_field, "alpha_cutoff": f"{field}.alphaCutoff",
+            "normal_scale": f"{field}.normalTexture.scale"})
         self.materials[index] = material
         return material
 
@@ -602,14 +652,10 @@ def _statements(text, keyword):
     return [m.strip() for m in re.findall(rf"\n{keyword}[ \t]+([^\r\n]*)", "\n" + text)]
 
 
-def _load_obj(path, name, material):
+def _load_obj(path, data, name, material, inputs):
     from trimesh.exchange.obj import load_obj
 
     path = Path(path)
-    try:
-        data = path.read_bytes()
-    except OSError as exc:
-        raise SceneError(f"cannot read ({_os_problem(exc)})", source=name) from None
     text = data.decode("utf-8", errors="replace")
     if material is not None:  # one material for the file: its groups do not matter (trimesh names groups in quadratic time)
         data = "\n".join(line for line in text.splitlines()
@@ -625,48 +671,51 @@ def _load_obj(path, name, material):
                           resolver={"vct-material-names.mtl": names}, group_material=True)
     except Exception as exc:  # trimesh raises many kinds on malformed files
         raise _unloadable(name, "OBJ", exc) from None
-    library = None if material is not None else _MtlLibrary(path, name, _statements(text, "mtllib"))
-    parts = []
+    library = None if material is not None else _MtlLibrary(path, name, _statements(text, "mtllib"), inputs)
+    parts, dropped = [], 0
     for kwargs in loaded.get("geometry", {}).values():
         visual = kwargs.get("visual")
         group = getattr(getattr(visual, "material", None), "name", None)
         group = group if group in groups else None
         part_material = material or library.material(group)
         uv = getattr(visual, "uv", None)
-        positions = np.asarray(kwargs["vertices"], np.float32)
-        triangles = np.asarray(kwargs["faces"], np.uint32)
+        positions = np.asarray(kwargs["vertices"], np.float64)
+        triangles = np.asarray(kwargs["faces"], np.int64)
         if len(triangles) == 0:
             continue
         texcoords = None
         if uv is not None and len(uv) == len(positions):
-            texcoords = np.column_stack([uv[:, 0], 1.0 - uv[:, 1]]).astype(np.float32)
+            texcoords = np.column_stack([uv[:, 0], 1.0 - uv[:, 1]])
         if part_material.textures() and texcoords is None:
             raise SceneError(f'material "{part_material.name}" has textures but its faces have no texture coordinates (vt)',
                              source=name, field=f'usemtl "{group}"')
-        mesh = surface_mesh(positions, triangles, kwargs.get("vertex_normals"), texcoords)
+        mesh, dropped_here = surface_mesh(positions, triangles, kwargs.get("vertex_normals"), texcoords)
+        dropped += dropped_here
         if mesh is not None:
             parts.append((groups.index(group) if group is not None else -1,
                           Node(name=group or path.stem, mesh=mesh, material=part_material)))
+    warn_dropped(name, dropped)
     return [node for _, node in sorted(parts, key=lambda part: part[0])]
 
 
 class _MtlLibrary:
     """The materials of an OBJ's mtllib files, each made on first use (see the module docstring)."""
 
-    def __init__(self, obj_path, obj_name, libraries):
+    def __init__(self, obj_path, obj_name, libraries, inputs):
         self.obj_name = obj_name
+        self.inputs = inputs
         self.statements = {}  # material name -> (MTL path, MTL name, [(line number, keyword, arguments)])
         self.made = {None: default_material()}
-        self.textures = _Textures()
+        self.textures = _Textures(inputs)
         for library in libraries:
             for file in library.split():
                 self._read(obj_path.parent / file, str(Path(obj_name).parent / file), file)
 
     def _read(self, path, name, file):
         try:
-            text = path.read_text(encoding="utf-8", errors="replace")
-        except OSError as exc:
-            raise SceneError(f"cannot read material library: {_os_problem(exc)}", source=self.obj_name,
+            text = self.inputs.read(path).decode("utf-8", errors="replace")
+        except (OSError, ValueError) as exc:
+            raise SceneError(f"cannot read material library: {os_problem(exc)}", source=self.obj_name,
                              field=f'mtllib "{file}"') from None
         current = None
         for number, line in enumerate(text.splitlines(), 1):
@@ -686,10 +735,11 @@ class _MtlLibrary:
         return self.made[group]
 
     def _material(self, group, path, name, statements):
-        values, maps = {}, {}
+        values, maps, lines = {}, {}, {}
         for number, keyword, args in statements:
             where = f"line {number} ({keyword})"
             key = keyword.lower()
+            lines[key] = where
             if key in ("kd", "ke", "ks"):
                 values[key] = _mtl_numbers(args, name, where, (1, 3), maximum=1.0 if key == "kd" else None) * np.ones(3)
             elif key in ("ns", "d", "tr"):
@@ -698,7 +748,7 @@ class _MtlLibrary:
                 maps[key] = self._map(args, path, name, where)
         alpha = values.get("d", 1.0 - values.get("tr", 0.0))
         ns = values.get("ns")
-        return Material(
+        material = Material(
             name=group,
             albedo=values.get("kd", np.ones(3) if "map_kd" in maps else np.full(3, 0.8)),
             roughness=1.0 if ns is None else (2.0 / (ns + 2.0)) ** 0.25,
@@ -709,6 +759,11 @@ class _MtlLibrary:
             base_color_texture=self._base_color(maps.get("map_kd"), maps.get("map_d")),
             emissive_texture=self._texture(maps.get("map_ke"), srgb=True),
         )
+        fields = {"albedo": lines.get("kd"), "emission": lines.get("ke"), "alpha": lines.get("d", lines.get("tr")),
+                  "roughness": lines.get("ns")}
+        check_material(material, lambda field, message: _mtl_failure(name, field, message),
+                       {key: f'newmtl "{group}": {line}' for key, line in fields.items() if line})
+        return material
 
     def _map(self, args, mtl_path, mtl_name, where):
         """The image a map statement names (options: -clamp on|off)."""
@@ -722,9 +777,9 @@ class _MtlLibrary:
         if not file:
             raise SceneError("names no image file", source=mtl_name, field=where)
         try:
-            data = (mtl_path.parent / file).read_bytes()
-        except OSError as exc:
-            raise SceneError(f'"{file}": {_os_problem(exc)}', source=mtl_name, field=where) from None
+            data = self.inputs.read(mtl_path.parent / file)
+        except (OSError, ValueError) as exc:
+            raise SceneError(f'"{file}": {os_problem(exc)}', source=mtl_name, field=where) from None
         try:
             key, pixels = self.textures.decoded(data)
         except ValueError as exc:
@@ -776,24 +831,24 @@ def _mtl_numbers(args, mtl_name, where, counts, maximum=None):
     return values
 
 
-def _os_problem(exc):
-    return "file not found" if isinstance(exc, FileNotFoundError) else str(exc.strerror or exc)
+def _mtl_failure(mtl_name, field, message):
+    raise SceneError(message, source=mtl_name, field=field)
 
 
 # ---- other formats -------------------------------------------------------------------------
 
-def _load_with_trimesh(path, name, material):
-    """PLY, STL, OFF, ...: one mesh, merged vertices, smooth normals (as before glTF and OBJ
-    were read here)."""
+def _load_with_trimesh(path, data, name, material):
+    """PLY, STL, OFF: one mesh, merged vertices, smooth normals."""
     import trimesh
 
     try:
-        loaded = trimesh.load(str(path), force="mesh", process=True)
+        loaded = trimesh.load(io.BytesIO(data), file_type=Path(path).suffix.lstrip(".").lower(), force="mesh", process=True)
     except Exception as exc:  # trimesh raises many kinds on unreadable files
         raise _unloadable(name, Path(path).suffix.lstrip(".").upper(), exc) from None
     mesh = None
     if isinstance(loaded, trimesh.Trimesh) and len(loaded.faces):
-        mesh = surface_mesh(np.asarray(loaded.vertices, np.float64), np.asarray(loaded.faces, np.int64))
+        mesh, dropped = surface_mesh(np.asarray(loaded.vertices, np.float64), np.asarray(loaded.faces, np.int64))
+        warn_dropped(name, dropped)
     if mesh is None:
         raise SceneError("holds no triangles", source=name)
     return Node(name=Path(path).stem, mesh=mesh, material=material or default_material())

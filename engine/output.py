@@ -87,8 +87,12 @@ def write_files(outputs):
             target = Path(target)
             check_target(target)
             temporary = target.parent / f".vct-{secrets.token_hex(8)}.tmp"
-            descriptor = os.open(temporary, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o666)  # mode as open() gives
-            temporaries.append((temporary, target))
+            temporaries.append((temporary, target))  # before it exists: an interrupt from here on removes it
+            try:
+                descriptor = os.open(temporary, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o666)  # mode as open() gives
+            except OSError:
+                temporaries.pop()  # nothing was created
+                raise
             with os.fdopen(descriptor, "wb") as f:
                 write(f)
         while temporaries:
@@ -97,7 +101,7 @@ def write_files(outputs):
             temporaries.pop(0)
     except OSError as exc:
         raise VctError(f"cannot write ({exc.strerror or exc})", source=target) from None
-    finally:  # whatever failed (a writer may raise anything): remove what was not moved
+    finally:  # whatever failed (a writer may raise anything, a signal may interrupt): remove what was not moved
         for temporary, _ in temporaries:
             with contextlib.suppress(OSError):
                 temporary.unlink(missing_ok=True)

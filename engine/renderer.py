@@ -8,6 +8,7 @@ changed since it last ran (found from the scene itself: engine/changes.py).
 """
 import functools
 import math
+import numbers
 import time
 from contextlib import contextmanager
 from dataclasses import dataclass
@@ -34,6 +35,7 @@ from .passes.shadow import ShadowPass
 from .passes.tonemap import TonemapPass
 from .passes.voxel_view import VoxelViewPass, shown_volume
 from .passes.voxelize import VoxelizePass
+from .scene import Scene
 from .scene_gpu import EmitterBuffers, SceneGeometry
 from .settings import RenderSettings
 from .shaders import GLSL_ROOT, ProgramLibrary
@@ -66,9 +68,11 @@ def frame_camera(camera, size, bounds):
 
 def _current(method):
     """Make the renderer's context current around a public method: several renderers (and
-    their contexts) may live in one process."""
+    their contexts) may live in one process. After close() the method raises VctError."""
     @functools.wraps(method)
     def wrapper(self, *args, **kwargs):
+        if self.ctx is None:
+            raise VctError("the renderer is closed (close() was called)", field=f"Renderer.{method.__name__}")
         if self._context_entered:  # nested call: already current
             return method(self, *args, **kwargs)
         self._context_entered = True
@@ -80,12 +84,19 @@ def _current(method):
     return wrapper
 
 
+def _image_size(width, height):
+    """(width, height) as ints; VctError naming the one that is not a positive whole number."""
+    for name, value in (("width", width), ("height", height)):
+        if not isinstance(value, numbers.Integral) or isinstance(value, bool) or value <= 0:
+            raise VctError(f"must be a positive whole number, got {value!r}", field=name)
+    return int(width), int(height)
+
+
 class Renderer:
     def __init__(self, width, height, settings=None, ctx=None, glsl_root=GLSL_ROOT):
-        self.settings = (settings or RenderSettings()).validate()
-        self.size = (int(width), int(height))
-        if self.size[0] <= 0 or self.size[1] <= 0:
-            raise VctError(f"image size must be positive, got {self.size[0]}x{self.size[1]}", field="size")
+        self.ctx = None
+        self.settings = _settings(settings or RenderSettings())
+        self.size = _image_size(width, height)
         self._owns_context = ctx is None
         self._context_entered = False
         self.ctx = ctx or create_headless_context()
@@ -154,8 +165,9 @@ class Renderer:
     @_current
     def resize(self, width, height):
         """Follow a new output size (all screen-space targets are recreated)."""
-        self._check_size((int(width), int(height)))
-        self.size = (max(1, int(width)), max(1, int(height)))
+        size = _image_size(width, height)
+        self._check_size(size)
+        self.size = size
         with self._creating_targets(self.size):
             for render_pass in (self.gbuffer, self.lighting, self.gbuffer_view, self.cone_trace, self.voxel_view, self.tonemap):
                 render_pass.resize(self.size)
@@ -164,9 +176,15 @@ class Renderer:
     def voxels(self, name="radiance", level=0):
         """A voxel volume of the last frame as float32 (n, n, n, 4), indexed [z, y, x]:
         "radiance" (emission + direct light, a = opacity), "normal" (mean normal, its length
-        the coherence), "albedo"; levels above 0 come from hardware mipmaps."""
+        the coherence), "albedo"; levels above 0 (up to log2 n, one voxel) come from hardware
+        mipmaps."""
+        if name not in VOXEL_VOLUMES:
+            raise VctError(f"must be one of {', '.join(VOXEL_VOLUMES)}, got {name!r}", field="name")
         if not self.grid.n:
             raise VctError("no voxels yet: render a frame in a mode that uses them first", field="voxels")
+        top = self.grid.n.bit_length() - 1
+        if not isinstance(level, numbers.Integral) or isinstance(level, bool) or not 0 <= level <= top:
+            raise VctError(f"must be a whole number in 0..{top} for grid {self.grid.n}, got {level!r}", field="level")
         volume = shown_volume(self.grid, VOXEL_VOLUMES[name])
         if level > 0:
             volume.build_mipmaps()
@@ -205,7 +223,9 @@ class Renderer:
     @_current
     def render_frame(self, scene, settings=None):
         """Render one frame on the GPU; `self.output` holds the HDR result. Returns it."""
-        s = (settings or self.settings).validate()
+        if not isinstance(scene, Scene):
+            raise VctError(f"must be an engine Scene (engine.load_scene), got {type(scene).__name__}", field="scene")
+        s = _settings(settings or self.settings)
         self.frame_settings = s
         self.timings, self.passes_ran = {}, []
         self.geometry.draw_calls = 0
@@ -390,6 +410,11 @@ class Renderer:
         """The last frame as display pixels, uint8 (H, W, 3), row 0 at the top."""
         return self.display_target().read()[..., :3].copy()
 
+    def inputs(self, scene):
+        """The files a frame of `scene` reads: the scene's own (its file, mesh files, images)
+        and the GLSL files of the renderer's programs."""
+        return list(scene.files) + self.programs.files()
+
     def save_png(self, path):
         """Tone-map the last frame and write it as PNG (written to a temporary name, then moved)."""
         save_png(path, self.tonemapped())
@@ -417,6 +442,13 @@ class Renderer:
 
     def __exit__(self, *exc):
         self.close()
+
+
+def _settings(settings):
+    """`settings` validated; VctError where it is not a RenderSettings."""
+    if not isinstance(settings, RenderSettings):
+        raise VctError(f"must be an engine.RenderSettings, got {type(settings).__name__}", field="settings")
+    return settings.validate()
 
 
 def _bytes(arrays):

@@ -200,6 +200,7 @@ class Scene:
     materials: dict
     voxel_region: VoxelRegion = None  # None: derived from the geometry's bounds
     source: str = None
+    files: tuple = ()  # every file the scene was read from (resolved paths): outputs must not overwrite one
 
     def drawables(self):
         """(node, world matrix) of every node with a mesh."""

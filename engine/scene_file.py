@@ -2,31 +2,19 @@
 file and the field, e.g. `scenes/x.json: objects[6] "Short Box".size: must be positive`."""
 import dataclasses
 import json
-import os
-import stat
 from pathlib import Path
 
 import numpy as np
 
 from .errors import SceneError
-from .json_reader import MAX_MAGNITUDE, JsonReader
+from .input_files import InputFiles, os_problem
+from .json_reader import JsonReader
+from .limits import MATERIAL_RANGES, MAX_DEPTH, MAX_SCENE_BYTES, MIN_FOV_DEG, MIN_SCALE, check_material, check_placement
 from .mesh_files import load_mesh_file
 from .scene import Camera, Light, Material, Node, Scene, VoxelRegion, box_mesh, quad_mesh, sphere_mesh
 
 GEOMETRY_TYPES = ("quad", "box", "sphere", "mesh", "group")
 LIGHT_TYPES = ("point", "spot", "directional")
-
-# Limits that keep what the GPU computes from a scene finite in float32 and its transforms
-# invertible: every number within +-MAX_MAGNITUDE (json_reader: metres, degrees, W/sr, W/m^2),
-# world positions too, and every world transform scaling by MIN_SCALE..MAX_MAGNITUDE. Emission
-# is held in half floats (the G-buffer): at most MAX_EMISSION.
-MIN_SCALE = 1e-6
-MAX_EMISSION = float(np.finfo(np.float16).max)  # 65504
-MIN_FOV_DEG = 0.01
-MAX_DEPTH = 32  # levels of nested children
-# Files are read whole, up to these sizes (a device such as /dev/zero is not read at all).
-MAX_SCENE_BYTES = 4 * 2 ** 20
-MAX_MESH_BYTES = 256 * 2 ** 20
 
 
 class _Constant:
@@ -54,27 +42,17 @@ def _find_constant(document):
         stack.extend(reversed(items))
 
 
-def read_regular_file(path, limit):
-    """The bytes of `path`, which must be a regular file of at most `limit` bytes: never reads
-    a device such as /dev/zero, nor blocks on a pipe. Raises OSError saying what is wrong."""
-    descriptor = os.open(path, os.O_RDONLY | os.O_NONBLOCK)
-    with os.fdopen(descriptor, "rb") as f:
-        if not stat.S_ISREG(os.fstat(descriptor).st_mode):
-            raise OSError("not a regular file")
-        data = f.read(limit + 1)
-    if len(data) > limit:
-        raise OSError(f"larger than {limit // 2 ** 20} MiB")
-    return data
-
-
 def load_scene(path):
     """Load a JSON scene file into a Scene (pure Python/numpy, no GL)."""
     path = Path(path)
     reader = JsonReader(path)
+    inputs = InputFiles()
     try:
-        text = read_regular_file(path, MAX_SCENE_BYTES).decode("utf-8")
-    except OSError as exc:
-        raise SceneError(f"cannot read scene file ({exc.strerror or exc})", source=path) from None
+        data = inputs.read(path, MAX_SCENE_BYTES)
+    except (OSError, ValueError) as exc:  # ValueError: a NUL in the name
+        raise SceneError(f"cannot read scene file ({os_problem(exc)})", source=path) from None
+    try:
+        text = data.decode("utf-8")
     except UnicodeDecodeError as exc:
         raise SceneError(f"not UTF-8 text (byte {exc.start})", source=path) from None
     constants = []  # the NaN/Infinity tokens met while parsing
@@ -108,11 +86,13 @@ def load_scene(path):
             roughness=reader.number(spec, "roughness", field, 1.0, minimum=0.0, maximum=1.0),
             metalness=reader.number(spec, "metalness", field, 0.0, minimum=0.0, maximum=1.0),
             specular=reader.number(spec, "specular", field, 0.0, minimum=0.0, maximum=1.0),
-            emission=reader.vector(spec, "emission", field, [0.0, 0.0, 0.0], nonnegative=True, maximum=MAX_EMISSION),
+            emission=reader.vector(spec, "emission", field, [0.0, 0.0, 0.0], nonnegative=True,
+                                   maximum=MATERIAL_RANGES["emission"][1]),
             double_sided=reader.get(spec, "double_sided", field, False, bool),
         )
         if np.any(materials[key].albedo > 1.0):
             reader.fail(f"{field}.albedo", "must be at most 1 per channel (energy conservation)")
+        check_material(materials[key], reader.fail, {name: f"{field}.{name}" for name in MATERIAL_RANGES})
 
     camera_spec = reader.get(data, "camera", "", kind=dict)
     camera = Camera(
@@ -133,25 +113,26 @@ def load_scene(path):
     root = Node(name=_title(name))
     meshes = {}
     for i, spec in enumerate(reader.get(data, "objects", "", [], list)):
-        root.children.append(_node(reader, spec, f"objects[{i}]", materials, meshes, np.eye(4), 1))
+        root.children.append(_node(reader, spec, f"objects[{i}]", materials, meshes, inputs, np.eye(4), 1))
     for i, spec in enumerate(reader.get(data, "lights", "", [], list)):
         if not isinstance(spec, dict) or spec.get("type") not in LIGHT_TYPES:
             reader.fail(f"lights[{i}].type", f"must be one of {', '.join(LIGHT_TYPES)}")
-        root.children.append(_node(reader, spec, f"lights[{i}]", materials, meshes, np.eye(4), 1))
+        root.children.append(_node(reader, spec, f"lights[{i}]", materials, meshes, inputs, np.eye(4), 1))
 
     region = None
     if "voxel_region" in data:
         spec = reader.get(data, "voxel_region", "", kind=dict)
         region = VoxelRegion(reader.vector(spec, "center", "voxel_region"),
                              reader.number(spec, "size", "voxel_region", minimum=MIN_SCALE))
-    return Scene(name=name, root=root, camera=camera, materials=materials, voxel_region=region, source=str(path))
+    return Scene(name=name, root=root, camera=camera, materials=materials, voxel_region=region, source=str(path),
+                 files=tuple(inputs.paths))
 
 
 def _title(name):
     return " ".join(word.capitalize() for word in name.replace("_", " ").split()) or "Scene"
 
 
-def _node(reader, spec, field, materials, meshes, parent_world, depth):
+def _node(reader, spec, field, materials, meshes, inputs, parent_world, depth):
     """The node of `spec` with its children; `parent_world` places it, `depth` counts the
     levels down to it (1: a top-level object or light)."""
     if not isinstance(spec, dict):
@@ -169,6 +150,7 @@ def _node(reader, spec, field, materials, meshes, parent_world, depth):
         rotation_deg=reader.vector(spec, "rotation", field, [0.0, 0.0, 0.0]),
         scale=reader.vector(spec, "scale", field, [1.0, 1.0, 1.0], positive=True),
     )
+    file_nodes = []
     if kind in LIGHT_TYPES:
         node.light = _light(reader, spec, field, kind)
     elif kind != "group":
@@ -178,33 +160,35 @@ def _node(reader, spec, field, materials, meshes, parent_world, depth):
                 reader.fail(f"{field}.material", f'unknown material "{material_name}"')
             node.material = materials[material_name]
         if kind == "mesh":
-            _load_mesh_file(reader, spec, field, node, meshes)
+            file_nodes = _load_mesh_file(reader, spec, field, node, meshes, inputs)
         else:
             node.mesh = _mesh(reader, spec, field, kind, node, meshes)
     world = parent_world @ node.local_matrix()
-    _check_placement(reader, node, world, field)
+    check_placement(node, world, _placement_failure(reader, field))
+    for part in file_nodes:
+        _check_file_nodes(reader, part, world, depth + 1, f"{field}.file: {spec['file']}")
     for i, child in enumerate(reader.get(spec, "children", field, [], list)):
-        node.children.append(_node(reader, child, f"{field}.children[{i}]", materials, meshes, world, depth + 1))
+        node.children.append(_node(reader, child, f"{field}.children[{i}]", materials, meshes, inputs, world, depth + 1))
     return node
 
 
-def _check_placement(reader, node, world, field):
-    """The node's world transform must be invertible within float32, and what it places (the
-    mesh, the light) must lie within +-MAX_MAGNITUDE of the origin."""
-    scales = np.linalg.svd(world[:3, :3], compute_uv=False)
-    if not MIN_SCALE <= scales.min() <= scales.max() <= MAX_MAGNITUDE:
-        reader.fail(f"{field}.scale", f"its world transform (its parents', its own, its size) scales by {scales.min():.3g}.."
-                                      f"{scales.max():.3g}; each must be within {MIN_SCALE:g}..{MAX_MAGNITUDE:g}")
-    if node.mesh is not None:
-        lo, hi = node.mesh.bounds(world)
-        reach, where = max(np.abs(lo).max(), np.abs(hi).max()), field
-    elif node.light is not None:
-        position = world[:3, :3] @ node.light.position + world[:3, 3]
-        reach, where = np.abs(position).max(), f"{field}.position"
-    else:
-        reach, where = np.abs(world[:3, 3]).max(), f"{field}.translation"
-    if reach > MAX_MAGNITUDE:
-        reader.fail(where, f"reaches {reach:.3g} m from the origin along an axis in the world, beyond {MAX_MAGNITUDE:g}")
+def _placement_failure(reader, field):
+    """check_placement's `fail` for the node at `field`."""
+    return lambda attribute, message: reader.fail(f"{field}.{attribute}" if attribute else field, message)
+
+
+def _check_file_nodes(reader, top, parent_world, depth, where):
+    """The limits of the scene's own nodes (engine.limits: depth, world transforms, reach)
+    for the nodes a mesh file added below a node, `top` at `depth`; `where` names the file."""
+    stack = [(top, parent_world, depth)]
+    while stack:
+        node, parent, level = stack.pop()
+        field = f'{where}: node "{node.name}"'
+        if level > MAX_DEPTH:
+            reader.fail(field, f"nests more than {MAX_DEPTH} levels deep (the scene's levels above it counted in)")
+        world = parent @ node.local_matrix()
+        check_placement(node, world, _placement_failure(reader, field))
+        stack.extend((child, world, level + 1) for child in reversed(node.children))
 
 
 def _mesh(reader, spec, field, kind, node, meshes):
@@ -234,28 +218,22 @@ def _mesh(reader, spec, field, kind, node, meshes):
     return meshes.setdefault("sphere", sphere_mesh())
 
 
-def _load_mesh_file(reader, spec, field, node, meshes):
+def _load_mesh_file(reader, spec, field, node, meshes, inputs):
     """The file's nodes under `node`, all with `node.material` where it has one; a file that
     is one part in its own frame (one OBJ material group, a PLY, a glTF node with one
     primitive) becomes `node`'s own mesh and material instead. A file is read once however
-    many objects use it with the same material: they share its meshes and materials."""
+    many objects use it with the same material: they share its meshes and materials. Returns
+    the nodes added under `node`."""
     relative = reader.get(spec, "file", field, kind=str)
     where = f"{field}.file"
     try:
         path = (reader.path.parent / relative).resolve()
-        info = os.stat(path)
-    except FileNotFoundError:
-        reader.fail(where, f'mesh file not found: "{relative}"')
     except (OSError, ValueError) as exc:  # ValueError: a NUL character in the name
-        reader.fail(where, f'cannot read mesh "{relative}" ({getattr(exc, "strerror", None) or exc})')
-    if not stat.S_ISREG(info.st_mode):
-        reader.fail(where, f'cannot read mesh "{relative}" (not a regular file)')
-    if info.st_size > MAX_MESH_BYTES:
-        reader.fail(where, f'cannot read mesh "{relative}" (larger than {MAX_MESH_BYTES // 2 ** 20} MiB)')
+        reader.fail(where, f'cannot read mesh "{relative}" ({os_problem(exc)})')
     key = (path, id(node.material))
     if key not in meshes:
         try:
-            meshes[key] = load_mesh_file(path, relative, node.material)
+            meshes[key] = load_mesh_file(path, relative, node.material, inputs)
         except SceneError as exc:
             reader.fail(where, str(exc))
     parts = [_copy_tree(part) for part in meshes[key]]
@@ -263,8 +241,9 @@ def _load_mesh_file(reader, spec, field, node, meshes):
         reader.fail(where, f'{relative}: holds no triangles')
     if len(parts) == 1 and not parts[0].children and np.array_equal(parts[0].local_matrix(), np.eye(4)):
         node.mesh, node.material = parts[0].mesh, parts[0].material
-    else:
-        node.children.extend(parts)
+        return []
+    node.children.extend(parts)
+    return parts
 
 
 def _copy_tree(node):

@@ -1,8 +1,9 @@
 """Render settings shared by the CLI, the viewer and the benchmark, and the table of modes."""
 import math
+import numbers
 from dataclasses import dataclass, fields
 
-from .constants import GRID_SIZES, MAX_INTERLEAVE
+from .constants import GRID_SIZES, MAX_INTERLEAVE, MAX_SHADOW_VIEWS
 from .errors import VctError
 
 # Most diffuse bounces one change of the scene costs (converging, bounces 0, stops after as many).
@@ -10,6 +11,10 @@ MAX_BOUNCES = 64
 # Largest exposure: the ACES curve overflows float32 once exposure x radiance passes ~1e19 and
 # then shows the brightest pixels black.
 MAX_EXPOSURE = 1e6
+# Texels per side of a shadow view: the atlas holds 6 views a row, MAX_SHADOW_VIEWS in all,
+# within the 16384 texels a side that OpenGL 4.5 drivers allow.
+MIN_SHADOW_MAP_SIZE = 16
+MAX_SHADOW_MAP_SIZE = 16384 // -(-MAX_SHADOW_VIEWS // 6)
 
 
 @dataclass(frozen=True)
@@ -60,6 +65,11 @@ class ImageTerms:
     ao: bool = False
 
 
+# What a setting of each declared type may hold, and how errors call it.
+SETTING_TYPES = {str: str, bool: bool, int: numbers.Integral, float: numbers.Real}
+TYPE_NAMES = {str: "a string", bool: "True or False", int: "a whole number (int)", float: "a number"}
+
+
 @dataclass
 class RenderSettings:
     mode: str = "gi"
@@ -77,7 +87,15 @@ class RenderSettings:
     tonemap: str = "aces"
     shadow_map_size: int = 512      # texels per side of each shadow view (fixed per renderer)
 
-    def validate(self, source="settings"):
+    def validate(self):
+        """The settings, each of its type (numpy numbers become Python's) and within its
+        range; else VctError naming the setting."""
+        for setting in fields(self):
+            value = getattr(self, setting.name)
+            if not isinstance(value, SETTING_TYPES[setting.type]) or (setting.type is not bool and isinstance(value, bool)):
+                raise VctError(f"must be {TYPE_NAMES[setting.type]}, got {value!r}", field=setting.name)
+            if setting.type in (int, float):
+                setattr(self, setting.name, setting.type(value))
         if self.mode not in MODE_TABLE:
             raise VctError(f'unknown mode "{self.mode}" (expected one of {", ".join(MODES)})', field="mode")
         if self.grid not in GRID_SIZES:
@@ -101,6 +119,8 @@ class RenderSettings:
             raise VctError(f'unknown tone mapper "{self.tonemap}"', field="tonemap")
         if not 0 < self.exposure <= MAX_EXPOSURE:
             raise VctError(f"must be positive and at most {MAX_EXPOSURE:g}", field="exposure")
+        if not MIN_SHADOW_MAP_SIZE <= self.shadow_map_size <= MAX_SHADOW_MAP_SIZE:
+            raise VctError(f"must be in {MIN_SHADOW_MAP_SIZE}..{MAX_SHADOW_MAP_SIZE}", field="shadow_map_size")
         return self
 
     @property

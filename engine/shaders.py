@@ -10,6 +10,8 @@ from pathlib import Path
 
 from . import constants
 from .errors import ShaderError
+from .input_files import os_problem, read_regular_file
+from .limits import MAX_INCLUDE_DEPTH, MAX_SHADER_BYTES
 
 GLSL_ROOT = Path(__file__).resolve().parent.parent / "glsl"
 CONSTANTS_INCLUDE = "engine_constants.glsl"
@@ -65,14 +67,17 @@ def _display(path, root):
 
 
 def _read(path, where):
-    """The text of a GLSL file; a missing or unreadable one is a ShaderError worded like a
-    compiler message, `where` first (`glsl/a.frag:4: error: #include "lib/b.glsl"`)."""
+    """The text of a GLSL file (a regular file of at most MAX_SHADER_BYTES); a missing or
+    unreadable one is a ShaderError worded like a compiler message, `where` first
+    (`glsl/a.frag:4: error: #include "lib/b.glsl"`)."""
     try:
-        return Path(path).read_text(encoding="utf-8")
+        return read_regular_file(path, MAX_SHADER_BYTES).decode("utf-8")
     except FileNotFoundError:
         raise ShaderError(f"{where}: no such file") from None
-    except (OSError, UnicodeDecodeError) as exc:
-        raise ShaderError(f"{where}: cannot read ({getattr(exc, 'strerror', None) or exc})") from None
+    except UnicodeDecodeError as exc:
+        raise ShaderError(f"{where}: cannot read (not UTF-8 text: byte {exc.start})") from None
+    except (OSError, ValueError) as exc:
+        raise ShaderError(f"{where}: cannot read ({os_problem(exc)})") from None
 
 
 def preprocess(name, defines=None, root=GLSL_ROOT, read_paths=None):
@@ -93,6 +98,8 @@ def preprocess(name, defines=None, root=GLSL_ROOT, read_paths=None):
                 target = m.group(1)
                 if target in stack:
                     raise ShaderError(f"{files[index]}:{number}: error: include cycle through {target}")
+                if len(stack) >= MAX_INCLUDE_DEPTH:
+                    raise ShaderError(f"{files[index]}:{number}: error: #include nests more than {MAX_INCLUDE_DEPTH} files deep")
                 if target in seen:
                     out.append(f"// {target} already included")
                     continue
@@ -248,3 +255,7 @@ class ProgramLibrary:
 
     def errors(self):
         return [h.error for h in self.handles if h.error is not None]
+
+    def files(self):
+        """The GLSL files the programs were built from."""
+        return sorted({path for handle in self.handles for path in handle.files})

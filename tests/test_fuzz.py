@@ -1,23 +1,28 @@
-"""Fuzzing (hypothesis): mutated scene files and command lines never end in a traceback, a
-hang, a non-finite image or a lost file.
+"""Fuzzing (hypothesis): mutated scene files, mesh files and command lines never end in a
+traceback, a hang, a non-finite image or a lost file.
 
-Each case starts from a valid input and mutates it: scene files get values replaced (numbers
-at the edges of the float ranges, wrong types), keys and list items deleted or duplicated, and
-nodes nested into groups; command lines get their options replaced by edge values. The
-property, for every case: exit 0 with finite output, or exit 2 with one stderr line
-"vct: error: ..." naming the file and the field (or the option), and no file created or
-changed.
+Each case starts from a valid input and mutates it: scene files and glTF documents get values
+replaced (numbers at the edges of the float ranges, wrong types, hostile file names), keys
+and list items deleted or duplicated, and scene nodes nested into groups; GLB files get bytes
+of their headers, JSON and binary chunks overwritten, or are cut short; MTL and OBJ files get
+statements' arguments replaced, lines deleted, duplicated or added; command lines get their
+options replaced by edge values. The property, for every case: exit 0 with finite output, or
+exit 2 with one stderr line "vct: error: ..." naming the file and the field (or the option),
+and no file created or changed (lines "vct: warning: ..." may come before either).
 
 Reproducible and bounded: derandomize=True draws the same examples on every run (the seed is
 derived from the test itself; no example database), so a failure reports the same falsifying
 example each time; each test has a fixed number of examples and a deadline per example, with
-16x16 images at grid 16. Renders run in-process through engine.cli.main; the last test runs a
-few cases as real processes to check exit codes and stderr end to end.
+16x16 images at grid 16. Renders run in-process through engine.cli.run (main without its
+filter of library warnings, so that a warning on the way fails the test); the last test runs
+a few cases as real processes to check exit codes and stderr end to end.
 """
 import contextlib
 import copy
 import io
 import json
+import shutil
+import struct
 import subprocess
 import sys
 import tempfile
@@ -29,10 +34,11 @@ import numpy as np
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from engine import SceneError, load_scene
-from engine.cli import main
+from engine import SceneError, VctWarning, load_scene
+from engine.cli import run
 from engine.transforms import gl_bytes, normal_matrix
-from test_scene_file import write_scene  # tests/ is on sys.path under pytest
+from test_mesh_files import MTL, OBJ, two_material_gltf, write_model_scene, write_obj  # tests/ is on sys.path
+from test_scene_file import DATA, write_scene
 
 ROOT = Path(__file__).resolve().parent.parent
 SMALL = ["--width", "16", "--height", "16", "--grid", "16"]
@@ -62,7 +68,7 @@ def base_scenes():
 
 
 BASES = base_scenes()
-TOP_LEVEL_KEYS = set().union(*BASES)
+TOP_LEVEL_KEYS = set().union(*BASES)  # a mesh file's errors are rooted at its object: objects[i]
 
 # Numbers at the edges: zero and negative zero, subnormals, the float32 and float16 limits,
 # the scene limits (1e-6, 1e6), float64 overflow, integers past float and int64 ranges.
@@ -118,12 +124,18 @@ def _is_value(value):
 def mutated_scenes(draw, structure=True):
     """A base scene with one to three mutations: values of their own kind only, unless
     `structure`, which also changes types, deletes, duplicates and nests."""
-    document = copy.deepcopy(draw(st.sampled_from(BASES)))
+    return mutate(draw, copy.deepcopy(draw(st.sampled_from(BASES))), structure, nest=True)
+
+
+def mutate(draw, document, structure, nest):
+    """`document` (parsed JSON) with one to three mutations; `nest`: wrapping a value in scene
+    groups is one of them."""
+    operations = ["replace"] * 6 + ["delete", "duplicate"] + (["nest"] if nest else [])
     for _ in range(draw(st.integers(1, 3))):
         candidates = [p for p in paths(document) if structure or _is_value(container(document, p)[p[-1]])]
         path = draw(st.sampled_from(candidates))
         parent, key = container(document, path), path[-1]
-        operation = draw(st.sampled_from(["replace"] * 6 + ["delete", "duplicate", "nest"])) if structure else "replace"
+        operation = draw(st.sampled_from(operations)) if structure else "replace"
         if operation == "replace":
             parent[key] = replacement(draw, parent[key], any_kind=structure)
         elif operation == "delete":
@@ -138,6 +150,7 @@ def mutated_scenes(draw, structure=True):
 
 
 def write_document(directory, document):
+    """The scene `document` as directory/scene.json, with the test meshes beside it."""
     return write_scene(directory, json.dumps(document))  # Python's json writes NaN and Infinity tokens
 
 
@@ -160,6 +173,8 @@ def assert_gpu_inputs_finite(scene):
         assert np.all(np.isfinite(node.mesh.normals)) and np.all(np.linalg.norm(node.mesh.normals, axis=1) > 0.5)
         emission = node.material.emission
         assert np.all(np.isfinite(np.asarray(emission, "f2"))) and np.all(emission <= np.finfo(np.float16).max)
+        for array in (node.mesh.positions, node.mesh.texcoords, node.mesh.tangents):
+            assert array is None or np.all(np.isfinite(array))
     for _, light in scene.lights():
         for value in (light.position, light.direction, light.intensity):
             assert np.all(np.isfinite(np.asarray(value, "f4")))
@@ -170,27 +185,35 @@ def assert_gpu_inputs_finite(scene):
     assert np.isfinite(np.float32(region.size)) and np.float32(region.size) > 0
 
 
-@fuzz_settings(examples=300, deadline_seconds=5)
-@given(document=mutated_scenes())
-def test_mutated_scene_loads_with_finite_gpu_inputs_or_fails_with_one_line_naming_the_field(document):
-    with tempfile.TemporaryDirectory() as directory, warnings.catch_warnings():
-        warnings.simplefilter("error")  # an overflow or invalid value on the way is a failure too
-        path = write_document(directory, document)
+def assert_loads_with_finite_gpu_inputs_or_fails_with_one_line_naming_a_field(path):
+    """The property of a loaded scene file, an overflow or invalid value on the way (any
+    warning but a VctWarning) being a failure too."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        warnings.simplefilter("ignore", VctWarning)
         try:
             scene = load_scene(path)
         except SceneError as error:
             assert_one_line_naming_a_field(str(error), path)
             return
-        assert_gpu_inputs_finite(scene)
+    assert_gpu_inputs_finite(scene)
+
+
+@fuzz_settings(examples=300, deadline_seconds=5)
+@given(document=mutated_scenes())
+def test_mutated_scene_loads_with_finite_gpu_inputs_or_fails_with_one_line_naming_the_field(document):
+    with tempfile.TemporaryDirectory() as directory:
+        assert_loads_with_finite_gpu_inputs_or_fails_with_one_line_naming_a_field(write_document(directory, document))
 
 
 def run_vct(args):
-    """engine.cli.main in this process: (exit code, stdout, stderr), warnings as errors."""
+    """engine.cli.run (main without its warnings filter) in this process: (exit code, stdout,
+    stderr), warnings as errors."""
     out, err = io.StringIO(), io.StringIO()
     with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err), warnings.catch_warnings():
         warnings.simplefilter("error")
         try:
-            code = main([str(a) for a in args])
+            code = run([str(a) for a in args])
         except SystemExit as exit:  # argparse
             code = exit.code
     return code, out.getvalue(), err.getvalue()
@@ -202,13 +225,13 @@ def render_and_check(scene_path, directory, options, names_field):
     png.write_bytes(b"the previous render")
     before = sorted(Path(directory).iterdir())
     code, _, err = run_vct(["render", scene_path, "--out", png, "--hdr", npy, *options])
+    lines = [line for line in err.splitlines() if not line.startswith("vct: warning: ")]
     if code == 0:
         radiance = np.load(npy)
         assert radiance.dtype == np.float32 and np.all(np.isfinite(radiance)), options
-        assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and err == "", err
+        assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and lines == [], err
         return
     assert code == 2, (code, err)
-    lines = err.splitlines()
     assert len(lines) == 1 and lines[0].startswith("vct: error: "), err
     names_field(lines[0][len("vct: error: "):])
     assert sorted(Path(directory).iterdir()) == before and png.read_bytes() == b"the previous render"
@@ -221,6 +244,119 @@ def test_mutated_scene_renders_finite_or_exits_2_naming_the_field_and_changes_no
         path = write_document(scene_directory, document)
         render_and_check(path, out_directory, ["--mode", mode, *SMALL],
                          lambda line: assert_one_line_naming_a_field(line, path))
+
+
+# ---- mesh files ------------------------------------------------------------------------------
+
+GLTF = two_material_gltf()
+GLB_JSON, GLB_BIN = 0x4E4F534A, 0x004E4942
+
+
+def glb(document, blob):
+    """A GLB file of a glTF document and its binary chunk, as written (byteLength and all)."""
+    text = json.dumps(document).encode()
+    text += b" " * (-len(text) % 4)
+    blob = bytes(blob) + b"\0" * (-len(blob) % 4)
+    chunks = struct.pack("<II", len(text), GLB_JSON) + text + struct.pack("<II", len(blob), GLB_BIN) + blob
+    return struct.pack("<4sII", b"glTF", 2, 12 + len(chunks)) + chunks
+
+
+def _base_gltf_document():
+    document = copy.deepcopy(GLTF.doc)
+    document["buffers"][0]["byteLength"] = len(GLTF.blob)
+    return document
+
+
+GLB = glb(_base_gltf_document(), GLTF.blob)
+# What a glTF value may be replaced with besides numbers: file names and URIs that name nothing
+# readable, a device, a directory, a data URI that is not base64.
+GLTF_STRINGS = ["/dev/zero", "meshes", "missing.bin", "data:application/octet-stream;base64,@@", "x" * 300, "\x00",
+                "MASK", "BLEND", "KHR_draco_mesh_compression"]
+
+
+@st.composite
+def mutated_gltf_files(draw):
+    """(name, bytes) of the base glTF (a hierarchy of two meshes, three materials, two shared
+    images, a matrix node) as a GLB whose JSON was mutated, or whose bytes were."""
+    if draw(st.booleans()):
+        document = mutate(draw, _base_gltf_document(), structure=True, nest=False)
+        for path in draw(st.lists(st.sampled_from(list(paths(document))), max_size=2)):
+            parent = container(document, path)
+            if isinstance(parent[path[-1]], str):
+                parent[path[-1]] = draw(st.sampled_from(GLTF_STRINGS))
+        return "model.glb", glb(document, GLTF.blob)
+    data = bytearray(GLB)
+    header = len(GLB) - len(GLTF.blob) - 8  # the JSON chunk and the headers before the binary chunk
+    for _ in range(draw(st.integers(1, 8))):
+        position = draw(st.one_of(st.integers(0, 27), st.integers(header, header + 8), st.integers(0, len(data) - 1)))
+        data[position] = draw(st.integers(0, 255))
+    if draw(st.integers(0, 4)) == 0:
+        data = data[:draw(st.integers(0, len(data)))]
+    return "model.glb", bytes(data)
+
+
+# Arguments an MTL or OBJ statement may get: numbers at the edges, words that are no numbers,
+# texture options, image names that are missing, a device, a directory.
+TEXT_ARGUMENTS = [str(n) for n in EDGE_NUMBERS] + ["nan", "inf", "-inf", "1e30", "1e309", "-1", "", "x", "/dev/zero",
+                                                   "missing.png", "brick.png", "mask.png", "meshes", "-clamp", "on",
+                                                   "-s", "1/1/1", "-2/-1", "0"]
+TEXT_STATEMENTS = ["Kd", "Ke", "Ks", "Ns", "d", "Tr", "map_Kd", "map_Ke", "map_d", "newmtl", "usemtl", "mtllib", "v",
+                   "vt", "vn", "f"]
+
+
+@st.composite
+def mutated_text(draw, text):
+    """`text` (an MTL or OBJ file) with one to three lines changed: an argument replaced, the
+    line deleted or duplicated, or a statement added."""
+    lines = text.splitlines()
+    for _ in range(draw(st.integers(1, 3))):
+        k = draw(st.integers(0, len(lines) - 1))
+        operation = draw(st.sampled_from(["argument"] * 4 + ["delete", "duplicate", "add"]))
+        words = lines[k].split()
+        if operation == "argument" and len(words) > 1:
+            words[draw(st.integers(1, len(words) - 1))] = draw(st.sampled_from(TEXT_ARGUMENTS))
+            lines[k] = " ".join(words)
+        elif operation == "delete":
+            del lines[k]
+        elif operation == "duplicate":
+            lines[k:k] = [lines[k]] * draw(st.integers(1, 5))
+        elif operation == "add":
+            arguments = draw(st.lists(st.sampled_from(TEXT_ARGUMENTS), max_size=4))
+            lines.insert(k, " ".join([draw(st.sampled_from(TEXT_STATEMENTS)), *arguments]))
+        if not lines:
+            lines = [""]
+    return "\n".join(lines) + "\n"
+
+
+@st.composite
+def mutated_mesh_files(draw):
+    """(directory writer, mesh file name): a mutated GLB, or the two-material OBJ with its MTL
+    (and their images) mutated."""
+    if draw(st.booleans()):
+        name, data = draw(mutated_gltf_files())
+        return lambda directory: (Path(directory) / name).write_bytes(data), name
+    mtl, obj = (draw(mutated_text(MTL)), OBJ) if draw(st.integers(0, 3)) else (MTL, draw(mutated_text(OBJ)))
+    return lambda directory: write_obj(directory, obj=obj, mtl=mtl), "two.obj"
+
+
+@fuzz_settings(examples=300, deadline_seconds=5)
+@given(case=mutated_mesh_files())
+def test_mutated_mesh_file_loads_with_finite_gpu_inputs_or_fails_with_one_line_naming_the_field(case):
+    write, name = case
+    with tempfile.TemporaryDirectory() as directory:
+        shutil.copytree(DATA, Path(directory) / "meshes")
+        write(directory)
+        assert_loads_with_finite_gpu_inputs_or_fails_with_one_line_naming_a_field(write_model_scene(directory, name))
+
+
+@fuzz_settings(examples=30, deadline_seconds=30)
+@given(case=mutated_mesh_files(), mode=st.sampled_from(["direct", "gi", "albedo"]))
+def test_mutated_mesh_file_renders_finite_or_exits_2_naming_the_field_and_changes_no_file(case, mode):
+    write, name = case
+    with tempfile.TemporaryDirectory() as scene_directory, tempfile.TemporaryDirectory() as out_directory:
+        write(scene_directory)
+        path = write_model_scene(scene_directory, name)
+        render_and_check(path, out_directory, ["--mode", mode, *SMALL], lambda line: assert_one_line_naming_a_field(line, path))
 
 
 # ---- command lines ---------------------------------------------------------------------------

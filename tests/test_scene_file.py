@@ -18,7 +18,7 @@ import numpy as np
 import pytest
 
 from conftest import REFERENCE, REQUIRE_REFERENCES, reference_file  # tests/ is on sys.path under pytest
-from engine import SceneError, load_scene
+from engine import SceneError, VctWarning, load_scene
 from engine.transforms import normal_matrix, transform_points
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -497,9 +497,11 @@ def test_mesh_faces_facing_apart_on_shared_vertices_get_flat_unit_normals(tmp_pa
     np.testing.assert_allclose(np.abs(mesh.normals[:, 2]), 1.0)
 
 
-def test_mesh_file_triangles_with_vertices_that_are_not_finite_are_dropped(tmp_path):
+def test_mesh_file_triangles_with_vertices_that_are_not_finite_are_dropped_with_one_warning(tmp_path):
     (tmp_path / "nan.obj").write_text("v 0 0 0\nv 1 0 0\nv 0 nan 0\nv 0 1 0\nf 1 2 3\nf 1 2 4\n")
-    mesh = load_scene(mesh_scene(tmp_path, "nan.obj")).root.find("M").mesh
+    with pytest.warns(VctWarning, match="nan.obj: 1 triangle dropped") as record:
+        mesh = load_scene(mesh_scene(tmp_path, "nan.obj")).root.find("M").mesh
+    assert len(record) == 1
     assert len(mesh.indices) == 1
     assert np.all(np.isfinite(mesh.positions)) and np.all(np.isfinite(mesh.normals))
 
