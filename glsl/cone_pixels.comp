@@ -1,6 +1,7 @@
 #version 450 core
 // The cones of the pixels cone_trace.frag listed, added to the image:
-//   diffuse:  (1 - m) k_d sum_j w_j Lv(p, w_j, a_j), where no voxel around p faces its way, at
+//   diffuse:  c_d sum_j w_j Lv(p, w_j, a_j) (c_d: lib/brdf.glsl diffuse_layer_albedo), where
+//             no voxel around p faces its way, at
 //             the anchor pixels, whose gather is kept for the pixels between them
 //             (cone_shared.comp)
 //   specular: F(w_o . n) Lv(p, w_s, a_s) at the anchor pixels (lib/specular_cone.glsl), whose
@@ -26,7 +27,7 @@ void main() {
     if ((entry.y & PIXEL_DIFFUSE_CONES) != 0u) {
         vec3 gathered = trace_diffuse(s.position, s.normal, 1e9).rgb;
         if (is_anchor(pixel)) imageStore(diffuse_in, pixel / 2, vec4(gathered, 1.0));
-        radiance += (1.0 - s.metalness) * s.albedo * gathered;
+        radiance += diffuse_albedo(s) * gathered;
     }
     if ((entry.y & PIXEL_SPECULAR_CONE) != 0u) {
         vec3 incoming = specular_incoming(s);

@@ -3,8 +3,8 @@
 // the pixel (even x and y, two pixels apart; cone_pixels.comp traced them), weighted
 // bilinearly and by how well each stands for the pixel (same plane, facing the same way; for
 // the specular cone the same roughness too):
-//   diffuse:  (1 - m) k_d times the anchors' sum_j w_j Lv(p, w_j), where no voxel faces the
-//             pixel's way (a thin surface seen from behind)
+//   diffuse:  c_d, the pixel's own diffuse layer albedo, times the anchors' sum_j w_j Lv(p, w_j),
+//             where no voxel faces the pixel's way (a thin surface seen from behind)
 //   specular: F(w_o . n), the pixel's own, times the anchors' Lv(p, w_s, a_s)
 // A term no anchor stands for is listed for cone_pixels.comp (the pixel traces its own cones
 // there, in groups of such pixels, not beside lanes that only read anchors). The diffuse cones
@@ -64,7 +64,7 @@ void main() {
     vec3 radiance = vec3(0.0);
     uint unshared = 0u;  // the terms this pixel traces itself
     if (diffuse) {
-        if (diffuse_total > SHARED_WEIGHT_MIN) radiance += (1.0 - s.metalness) * s.albedo * diffuse_sum / diffuse_total;
+        if (diffuse_total > SHARED_WEIGHT_MIN) radiance += diffuse_albedo(s) * diffuse_sum / diffuse_total;
         else unshared |= PIXEL_DIFFUSE_CONES;
     }
     if (specular) {

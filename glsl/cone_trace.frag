@@ -1,10 +1,11 @@
 #version 450 core
 // The image over the G-buffer: direct light (with emission and the light of emissive surfaces)
 // plus cone-traced indirect light.
-//   direct:   the lighting pass's image + (1 - m) k_d / pi V E_emitters(p, n): the emitters'
-//             light exact at p (lib/emitters.glsl), times the fraction V of it that arrives,
+//   direct:   the lighting pass's image + c_d / pi V E_emitters(p, n): the emitters' light
+//             exact at p (lib/emitters.glsl), times the fraction V of it that arrives,
 //             interpolated from the voxels around p (voxel_emitter_light.comp)
-//   diffuse:  Lo = (1 - m) k_d sum_j w_j Lv(p, w_j, a_j), the lecture's 6 cones. They are
+//   diffuse:  Lo = c_d sum_j w_j Lv(p, w_j, a_j), the lecture's 6 cones, with c_d the diffuse
+//             layer's albedo seen from the camera, (1 - m) k_d (1 - F(w_o . n)). They are
 //             traced once per voxel whenever the voxel radiance changes (voxel_gather.comp);
 //             a pixel interpolates the gathers of the voxels around p whose surfaces face its
 //             way; where none does (a thin surface seen from behind) the cones are traced at
@@ -19,6 +20,7 @@
 #include "lib/voxel_surface.glsl"
 #include "lib/cone.glsl"
 #include "lib/brdf.glsl"
+#include "lib/specular_cone.glsl"
 #include "lib/cone_pixels.glsl"
 // EMITTERS is defined in the program for scenes where surfaces emit (passes/cone_trace.py): on
 // llvmpipe the emitters' code costs the other scenes' pixels 5 ms a frame even when skipped.
@@ -94,14 +96,14 @@ void main() {
         out_radiance = vec4(vec3(1.0 - clamp(occlusion, 0.0, 1.0)), 1.0);
         return;
     }
-    vec3 diffuse_albedo = (1.0 - s.metalness) * s.albedo;
-    bool diffuse = any(greaterThan(diffuse_albedo, vec3(0.0)));
+    vec3 diffuse_layer = diffuse_albedo(s);
+    bool diffuse = any(greaterThan(diffuse_layer, vec3(0.0)));
     bool lit_by_emitters = EMITTER_LIGHT && include_direct && diffuse;
     VoxelInterpolation voxels = interpolate_voxels(s, include_diffuse && diffuse, lit_by_emitters);
     vec3 radiance = include_direct ? texelFetch(direct_light, pixel, 0).rgb : vec3(0.0);
 #ifdef EMITTERS
     if (lit_by_emitters)
-        radiance += diffuse_albedo / PI * emitter_irradiance(s.position, s.normal) * voxels.emitter_visibility;
+        radiance += diffuse_layer / PI * emitter_irradiance(s.position, s.normal) * voxels.emitter_visibility;
 #endif
     // Pixels that need cones are listed (lib/cone_pixels.glsl): the diffuse cones where no
     // voxel faces the pixel's way, the specular cone where the surface reflects specularly;
@@ -109,7 +111,7 @@ void main() {
     uint cones = 0u, shared_cones = 0u;
     bool anchor = is_anchor(pixel);
     if (include_diffuse && diffuse) {
-        if (voxels.gathered_found) radiance += diffuse_albedo * voxels.gathered;
+        if (voxels.gathered_found) radiance += diffuse_layer * voxels.gathered;
         else if (anchor) cones |= PIXEL_DIFFUSE_CONES;
         else shared_cones |= PIXEL_DIFFUSE_CONES;
     }

@@ -1,6 +1,6 @@
 #version 450 core
 // Voxelization, fragment stage: one fragment = one surface sample in one voxel. Its reflectance
-// (diffuse albedo plus the specular layer's hemispherical albedo) and emission (the material's
+// (the layered model's hemispherical albedo, lib/brdf.glsl) and emission (the material's
 // factors times its textures, sampled at the mip level of a voxel's footprint), unit normal,
 // offset along the normal from the voxel centre are added to the voxel's fixed-point sums with
 // atomics, with a fragment count (lib/voxel_sums.glsl).
@@ -81,9 +81,9 @@ void main() {
     uint earlier_fragments = atomicAdd(voxel_sums[SUM_COUNT].value[i], 1u) & COUNT_MASK;
     if (earlier_fragments >= VOXEL_MAX_FRAGMENTS) return;  // headroom of the signed sums
     // A voxel keeps no direction, so what the specular layer reflects bounces on as a Lambertian
-    // lobe: the reflectance is the diffuse albedo plus the specular layer's hemispherical albedo
-    // (a gold sphere passes its light on instead of absorbing it).
-    vec3 reflectance = (1.0 - m.metalness) * m.albedo + specular_albedo(specular_f0(m.albedo, m.metalness, dielectric_f0));
+    // lobe: the reflectance is the layered model's hemispherical albedo (a gold sphere passes its
+    // light on instead of absorbing it).
+    vec3 reflectance = layered_albedo(m.albedo, m.metalness, dielectric_f0);
     atomicAdd(voxel_sums[SUM_ALBEDO_R].value[i], unit_fixed(reflectance.r));
     atomicAdd(voxel_sums[SUM_ALBEDO_G].value[i], unit_fixed(reflectance.g));
     atomicAdd(voxel_sums[SUM_ALBEDO_B].value[i], unit_fixed(reflectance.b));

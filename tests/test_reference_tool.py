@@ -1,12 +1,13 @@
-"""tools/reference.py: how vct scenes become Mitsuba 3 scenes (no renders here but one of 30x30
-pixels that checks the texture orientation).
+"""tools/reference.py: how vct scenes become Mitsuba 3 scenes (no renders here but two small ones:
+the texture orientation and a furnace).
 
-Facts: a Lambertian material becomes `diffuse`; a specular layer becomes a Beckmann
-`roughconductor` of alpha = r^2 whose Fresnel curve follows Schlick's with the material's F0 (the
-dielectric `specular`, or the albedo of a metal), added to the Lambert layer by a `blendbsdf` of
-weight 1/2 with both parts doubled; a base-colour texture becomes a linear float bitmap (sRGB
-decoded, times the layer's factor) and the mesh keeps glTF's texture coordinates, which Mitsuba
-shows the right way up; an emissive texture becomes the area emitter's radiance; alpha masks
+Facts: a Lambertian material becomes `diffuse`; a material with a specular layer becomes the
+tool's `vct_layered` BSDF (the scene format's glTF layers) with its base colour, roughness,
+metalness and dielectric F0, per texel where textures give them; in a white furnace that BSDF
+returns the light it receives (a white dielectric: 1, not the 1 + 0.086 of layers simply added;
+a metal its Fresnel reflectance); a base-colour texture becomes a linear float bitmap (sRGB
+decoded, times the factor) and the mesh keeps glTF's texture coordinates, which Mitsuba shows the
+right way up; an emissive texture becomes the area emitter's radiance; alpha masks
 become a `mask` BSDF with a per-texel 0/1 opacity (and `volpath`, whose shadow rays pass through
 the holes), double-sided materials `twosided`; a part cut out everywhere is dropped. What the
 tool cannot convert fails with one line naming the field and exit code 2.
@@ -89,50 +90,75 @@ def test_lambertian_material_becomes_diffuse_with_the_albedo_and_world_space_geo
     assert converted["integrator"] == {"type": "path", "max_depth": -1}
 
 
-def test_dielectric_specular_layer_is_added_to_lambert_by_a_half_blend_of_doubled_parts(reference, tmp_path):
-    """specular 0.04, roughness 0.4: blendbsdf(1/2) of diffuse 2 k_d (a float bitmap where 2 k_d > 1)
-    and a Beckmann roughconductor of alpha 0.16 with specular_reflectance 2, whose Fresnel is F0 =
-    0.04 at normal incidence and within 0.03 of Schlick's at every angle."""
-    scene = write_scene(tmp_path, [quad()], {"m": {"albedo": [0.1, 0.2, 0.6], "specular": 0.04, "roughness": 0.4}})
+def test_a_specular_layer_becomes_the_layered_bsdf_with_the_materials_factors(reference, tmp_path):
+    """A dielectric (specular 0.04) and a metal keep base colour, roughness (the renderer clamps
+    it, and so does the BSDF), metalness and F0 as the renderer reads them."""
+    scene = write_scene(tmp_path, [quad("plastic"), dict(quad("gold"), translation=[0, 0, -1])],
+                        {"plastic": {"albedo": [0.1, 0.2, 0.6], "specular": 0.04, "roughness": 0.4},
+                         "gold": {"albedo": [1.0, 0.78, 0.34], "metalness": 1.0, "roughness": 0.01}})
+    plastic, gold = (shape["bsdf"] for shape in shapes(convert(reference, scene, tmp_path)))
+    assert plastic == {"type": "vct_layered", "base_color": {"type": "rgb", "value": [0.1, 0.2, 0.6]},
+                       "roughness": 0.4, "metalness": 0.0, "dielectric_f0": 0.04}
+    assert gold == {"type": "vct_layered", "base_color": {"type": "rgb", "value": [1.0, 0.78, 0.34]},
+                    "roughness": 0.01, "metalness": 1.0, "dielectric_f0": 0.0}
+    assert reference.MIN_ROUGHNESS == 0.05
+
+
+def test_metal_roughness_textures_become_per_texel_roughness_and_metalness(reference, tmp_path):
+    """glTF's metallicRoughnessTexture: G x roughnessFactor and B x metallicFactor per texel."""
+    image = np.zeros((2, 2, 3), np.uint8)
+    image[..., 1] = [[255, 128], [0, 64]]
+    image[..., 2] = [[255, 0], [255, 0]]
+    scene = gltf_quad(tmp_path, {"pbrMetallicRoughness": {"metallicRoughnessTexture": {"index": "TEXTURE"},
+                                                          "roughnessFactor": 0.5, "metallicFactor": 1.0}}, image)
     (shape,) = shapes(convert(reference, scene, tmp_path))
     bsdf = shape["bsdf"]
-    assert bsdf["type"] == "blendbsdf" and bsdf["weight"] == 0.5
-    np.testing.assert_allclose(bitmap_values(bsdf["bsdf_0"]["reflectance"]).reshape(3), [0.2, 0.4, 1.2], rtol=1e-6)
-    specular = bsdf["bsdf_1"]
-    assert (specular["type"], specular["distribution"], specular["specular_reflectance"]) == ("roughconductor", "beckmann", 2.0)
-    assert specular["alpha"] == pytest.approx(0.16)
-    eta, k = np.array(specular["eta"]["value"]), np.array(specular["k"]["value"])
-    cos = np.linspace(0.0, 1.0, 201)[:, None]
-    np.testing.assert_allclose(reference.conductor_fresnel(eta, k, np.ones(1)), 0.04, atol=1e-3)
-    assert np.abs(reference.conductor_fresnel(eta, k, cos) - reference.schlick(0.04, cos)).max() < 0.03
+    assert bsdf["type"] == "vct_layered" and bsdf["dielectric_f0"] == 0.04
+    np.testing.assert_allclose(bitmap_values(bsdf["roughness"]).reshape(2, 2), 0.5 * image[..., 1] / 255.0, atol=1e-6)
+    np.testing.assert_allclose(bitmap_values(bsdf["metalness"]).reshape(2, 2), image[..., 2] / 255.0, atol=1e-6)
 
 
-def test_metal_is_a_conductor_alone_with_the_albedo_as_f0_and_roughness_clamped_like_the_renderer(reference, tmp_path):
-    """metalness 1: no Lambert layer, a Beckmann roughconductor whose Fresnel follows Schlick's with
-    F0 = albedo per channel (within 0.03); roughness 0.01 is clamped to 0.05 (alpha 0.0025)."""
-    gold = [1.0, 0.78, 0.34]
-    scene = write_scene(tmp_path, [quad("gold"), dict(quad("mirror"), translation=[0, 0, -1])],
-                        {"gold": {"albedo": gold, "metalness": 1.0, "roughness": 0.25},
-                         "mirror": {"albedo": [0.9, 0.9, 0.9], "metalness": 1.0, "roughness": 0.01}})
-    gold_shape, mirror_shape = shapes(convert(reference, scene, tmp_path))
-    bsdf = gold_shape["bsdf"]
-    assert (bsdf["type"], bsdf["distribution"]) == ("roughconductor", "beckmann") and "specular_reflectance" not in bsdf
-    assert bsdf["alpha"] == pytest.approx(0.25 ** 2)
-    eta, k = np.array(bsdf["eta"]["value"]), np.array(bsdf["k"]["value"])
-    cos = np.linspace(0.0, 1.0, 201)[:, None]
-    assert np.abs(reference.conductor_fresnel(eta, k, cos) - reference.schlick(np.array(gold), cos)).max() < 0.03
-    assert mirror_shape["bsdf"]["alpha"] == pytest.approx(0.05 ** 2)
+def furnace(directory, material):
+    """A unit quad facing the camera (n.v = 1 at the centre) in a closed box whose walls emit 1
+    and reflect nothing: every direction above the quad brings radiance 1."""
+    h = 2.0
+    walls = {"Floor": [[-h, -h, -h], [-h, -h, h], [h, -h, h], [h, -h, -h]], "Ceiling": [[-h, h, -h], [h, h, -h], [h, h, h], [-h, h, h]],
+             "Left": [[-h, -h, -h], [-h, h, -h], [-h, h, h], [-h, -h, h]], "Right": [[h, -h, -h], [h, -h, h], [h, h, h], [h, h, -h]],
+             "Back": [[-h, -h, -h], [h, -h, -h], [h, h, -h], [-h, h, -h]], "Front": [[-h, -h, h], [-h, h, h], [h, h, h], [h, -h, h]]}
+    objects = [{"name": name, "type": "quad", "material": "glow", "vertices": v} for name, v in walls.items()]
+    objects.append({"name": "Card", "type": "quad", "material": "m",
+                    "vertices": [[-0.5, -0.5, 0], [0.5, -0.5, 0], [0.5, 0.5, 0], [-0.5, 0.5, 0]]})
+    path = Path(directory) / "furnace.json"
+    path.write_text(json.dumps({"camera": {"position": [0, 0, 1.2], "look_at": [0, 0, 0], "vertical_fov_deg": 20,
+                                           "width": 8, "height": 8},
+                                "materials": {"glow": {"albedo": [0, 0, 0], "emission": [1, 1, 1]}, "m": material},
+                                "objects": objects}))
+    return path
+
+
+@pytest.mark.parametrize("material, returned", [
+    ({"albedo": [1, 1, 1], "specular": 0.04, "roughness": 0.1}, 1.0),
+    ({"albedo": [1, 1, 1], "specular": 0.04, "roughness": 0.6}, 1.0),
+    ({"albedo": [0.5, 0.5, 0.5], "metalness": 1.0, "roughness": 0.3}, 0.5),
+], ids=["smooth-dielectric", "rough-dielectric", "metal"])
+def test_in_a_white_furnace_the_layered_bsdf_returns_what_arrives(reference, tmp_path, material, returned):
+    """Seen head-on (n.v = 1): the white dielectric's layers return 1 of the light between them,
+    (1 - F0) 1 + F0 1, where layers simply added return 1 + F0 + (1 - F0) / 21 = 1.086; a metal of
+    F0 = 0.5 its Fresnel reflectance 0.5."""
+    scene = engine.load_scene(furnace(tmp_path, material))
+    image, _, _, _ = reference.render(scene, spp=64, max_depth=-1, pass_spp=32)
+    assert image.mean() == pytest.approx(returned, abs=0.02)
 
 
 def test_base_colour_texture_is_a_linear_bitmap_and_texcoords_keep_the_gltf_convention(reference, tmp_path):
     """A glTF dielectric (specular 0.04) with a base-colour texture and factor (0.5, 1, 1): the
-    diffuse reflectance is the bitmap 2 x factor x sRGB-decoded texture, row 0 = the image's top,
-    and the PLY holds the file's texture coordinates unchanged (u, v)."""
+    base colour is the bitmap factor x sRGB-decoded texture, row 0 = the image's top, and the PLY
+    holds the file's texture coordinates unchanged (u, v)."""
     scene = gltf_quad(tmp_path, {"pbrMetallicRoughness": {"baseColorTexture": {"index": "TEXTURE"},
                                                           "baseColorFactor": [0.5, 1.0, 1.0, 1.0], "metallicFactor": 0.0}})
     (shape,) = shapes(convert(reference, scene, tmp_path))
-    diffuse = shape["bsdf"]["bsdf_0"]["reflectance"]
-    expected = 2.0 * np.array([0.5, 1.0, 1.0]) * reference.srgb_to_linear(PAINTING / 255.0)
+    diffuse = shape["bsdf"]["base_color"]
+    expected = np.array([0.5, 1.0, 1.0]) * reference.srgb_to_linear(PAINTING / 255.0)
     np.testing.assert_allclose(bitmap_values(diffuse), expected, rtol=1e-6)
     assert diffuse["filter_type"] == "bilinear" and diffuse["wrap_mode"] == "repeat"
     vertices, names, _ = reference.read_ply(shape["filename"])
@@ -190,7 +216,7 @@ def test_a_part_cut_out_everywhere_is_dropped_and_an_opaque_mask_needs_no_mask(r
         assert len(shapes(converted)) == expected
         assert converted["integrator"]["type"] == "path"
         if expected:
-            assert shapes(converted)[0]["bsdf"]["type"] == "blendbsdf"
+            assert shapes(converted)[0]["bsdf"]["type"] == "vct_layered"
 
 
 def test_mitsuba_accepts_the_converted_scene_with_textures_masks_and_specular_layers(reference, tmp_path):

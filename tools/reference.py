@@ -28,68 +28,48 @@ Camera: perspective, vertical field of view, the scene's width and height. Light
 (W/sr, inverse square), spot (Mitsuba's fall-off between the inner and outer angles is linear in
 angle, vct's smooth) and directional (W/m^2); `range` and `cast_shadows: false` are refused.
 
-Materials. The renderer's BRDF (glsl/lib/brdf.glsl) is f = (1 - m) k_d / pi + F_Schlick(F0,
-l.h) (s + 2) / (8 pi) (n.h)^s with s = 2 / r^4 - 2 (r clamped to >= 0.05), F0 = `specular`
-(1 - m) + k_d m: a Lambert layer and a specular layer simply added. It maps to:
+Materials. The scene format's BRDF (glsl/lib/brdf.glsl) is glTF 2.0's metallic-roughness model
+with the lecture's lobe:
 
-- no specular layer (F0 = 0: specular 0 and metalness 0): `diffuse` with reflectance (1-m) k_d.
-- a specular layer: `roughconductor` with the Beckmann distribution, alpha = max(r, 0.05)^2 (a
-  normalized Blinn-Phong lobe of exponent s is the Beckmann lobe of alpha^2 = 2 / (s + 2)), and
-  a complex index of refraction (eta, k) per channel fitted so that the conductor Fresnel
-  curve matches Schlick's with the same F0 (within 0.031 at every angle for F0 >= 0.005, 0.026
-  for glTF's 0.04, 0.012 for F0 >= 0.45; see `fresnel_ior`). Mitsuba's dielectric Fresnel (k =
-  0, eta = 1.5 for F0 = 0.04) would be within 0.036, but for metals' large F0 it dips by up to
-  0.45 near grazing (Brewster angle), so one fitted conductor serves both.
-- both layers: `blendbsdf` with weight 1/2 of `diffuse` with reflectance 2 (1 - m) k_d and the
-  `roughconductor` above with specular_reflectance 2, which is exactly the sum of the two
-  layers, as in the renderer. Mitsuba's plastic models are NOT used: `plastic`/`roughplastic`
-  couple the layers (the diffuse part is attenuated by the Fresnel transmission in and out and
-  by internal reflections: for k_d = 0.5, IOR 1.5 and alpha 0.16, roughplastic's diffuse part
-  reflects 0.45 of the light at normal incidence and 0.36 at 75 degrees where the renderer's
-  Lambert layer reflects 0.5 at every angle).
+    f(l, v) = (1 - F(n.v)) c_diff / pi + F(v.h) D(h) G1(n.l) G1(n.v) / (4 n.l n.v)
 
-Where Mitsuba's specular layer still differs from the renderer's (measured by integrating both
-BRDFs over the hemisphere):
+with c_diff = (1 - m) k_d, Schlick's F of F0 = mix(`specular`, k_d, m) (zero where F0 = 0: no
+specular layer), the normalized Blinn-Phong D = (s + 2) / (2 pi) (n.h)^s of s = 2 / r^4 - 2
+(r clamped to >= 0.05) and Smith's G1 for the Beckmann lobe of alpha = r^2 (Walter et al.'s
+rational fit). The reference renders exactly this f, as a Mitsuba BSDF written here
+(`vct_layered`, a Python plugin that JIT variants compile like the built-in ones): eval and pdf
+as above, sampling a mixture of cosine-weighted directions (the diffuse layer) and reflections
+about half vectors drawn from D(h) (n.h) (the specular layer), picked in proportion to the
+luminance of (1 - F(n.v)) c_diff and F(n.v). Materials without a specular layer are Mitsuba's
+`diffuse`, which is the same f.
 
-- The microfacet form. Mitsuba evaluates F D G / (4 cos_i cos_o) with Smith's shadowing G; the
-  renderer's analytic lobe, used for point, spot and directional lights, is F D / 4, i.e. G
-  replaced by cos_i cos_o. Its directional albedo is therefore about F cos_o^2 where Mitsuba's
-  is about F: ratios renderer/Mitsuba at r = 0.25 for view angles 0/30/60/75 degrees 0.99/0.72/
-  0.19/0.07 (r = 0.4: 0.95/0.68/0.18/0.07). Highlights of point lights seen at oblique angles
-  are brighter in these references than in the renderer's direct light. The renderer's
-  cone-traced specular (glsl/cone_pixels.comp: F(w_o.n) times the cone's radiance) has albedo
-  F, as Mitsuba's does, so light reflected from emitters and walls matches in form.
-- Rough lobes. The two distributions of half vectors (each normalized, projected) differ by
-  0.2 % (L1) at r = 0.25, 1.4 % at 0.4, 5 % at 0.55, 12 % at 0.7 and 41 % at r = 1, where the
-  renderer's lobe is uniform over the half vectors (s = 0) and Beckmann's (alpha = 1) is not.
-  With the microfacet form above, the renderer's analytic lobe at r = 1 reflects 0.52..0.29 of
-  Mitsuba's (view 0..75 degrees): for glTF's default dielectric (F0 = 0.04, r = 1) about 1 % of
-  the incident light against Mitsuba's 2..6 %, next to a Lambert layer of k_d.
-- Fresnel: Schlick against the fitted conductor curve, within 0.031 (above).
-- The voxel cones of the renderer carry diffuse radiance only; the references contain every
-  path, including light that specular surfaces reflect onto other surfaces.
+How the split follows glTF: glTF's Appendix B mixes the layers by Fresnel,
+`mix(diffuse_brdf, specular_brdf, F)`; it evaluates F at v.h for each light direction, which
+lets a smooth dielectric seen at grazing angles reflect more than it receives. The format
+evaluates the diffuse layer's weight at the view direction, 1 - F(n.v), so that the two layers
+never return more than arrives: in a white furnace (a sphere inside a closed box of walls that
+emit and reflect nothing) a white dielectric returns the light it receives and a metal its
+directional albedo, which tests/test_reference_tool.py renders. Mitsuba's plastics are not
+used: they couple the layers through internal reflections, a different model.
 
 Textures (materials from glTF/OBJ files, engine/scene.py `Material`): the base-colour texture
-(sRGB-decoded) times the albedo factor becomes a float bitmap (baked with the layer's factors,
-e.g. 2 (1 - m) k_d inside a blend); metal textures give per-texel eta/k; the roughness channel
-(G) of a metal-roughness texture gives a per-texel alpha; the emissive texture (sRGB-decoded)
-times `emission` becomes the area emitter's radiance bitmap. Texture coordinates go to Mitsuba
-unchanged: glTF's (0, 0) is the image's top-left and so is Mitsuba's (the image's row 0 is at
-v = 0). Bitmaps are filtered bilinearly without mipmaps (each pixel integrates its footprint
-by sampling) where the renderer filters trilinearly; wrap modes map to repeat/mirror/clamp
-(Mitsuba has one mode for both axes: textures whose two modes differ are refused where the
-texture coordinates leave [0, 1]). Alpha (alpha_mode MASK, and BLEND drawn as MASK): the
-alpha (base-colour texture's alpha times `alpha`) is thresholded at `alpha_cutoff` per texel
-into a 0/1 opacity bitmap read with nearest filtering inside a `mask` BSDF, so the cut-out
-edges follow texel edges (exact for 0/1 alpha, within half a texel otherwise); emission is
-cut out the same way, a surface cut out everywhere is dropped, and scenes with masks are
-rendered with `volpath` (whose shadow rays pass through masks; `path`'s do not).
-`double_sided` wraps the BSDF in `twosided`; emitters stay one-sided (front faces only).
-Refused with one line naming the field: normal textures, and metal-roughness textures whose
-metalness (B) varies across the image.
+(sRGB-decoded) times the albedo factor becomes the float bitmap k_d; the metal-roughness
+texture's G and B channels times the factors become per-texel roughness and metalness bitmaps;
+the emissive texture (sRGB-decoded) times `emission` becomes the area emitter's radiance bitmap.
+Texture coordinates go to Mitsuba unchanged: glTF's (0, 0) is the image's top-left and so is
+Mitsuba's (the image's row 0 is at v = 0). Bitmaps are filtered bilinearly without mipmaps
+(each pixel integrates its footprint by sampling) where the renderer filters trilinearly; wrap
+modes map to repeat/mirror/clamp (Mitsuba has one mode for both axes: textures whose two modes
+differ are refused where the texture coordinates leave [0, 1]). Alpha (alpha_mode MASK, and
+BLEND drawn as MASK): the alpha (base-colour texture's alpha times `alpha`) is thresholded at
+`alpha_cutoff` per texel into a 0/1 opacity bitmap read with nearest filtering inside a `mask`
+BSDF, so the cut-out edges follow texel edges (exact for 0/1 alpha, within half a texel
+otherwise); emission is cut out the same way, a surface cut out everywhere is dropped, and
+scenes with masks are rendered with `volpath` (whose shadow rays pass through masks; `path`'s do
+not). `double_sided` wraps the BSDF in `twosided`; emitters stay one-sided (front faces only).
+Refused with one line naming the field: normal textures.
 """
 import datetime
-import functools
 import hashlib
 import json
 import subprocess
@@ -108,74 +88,124 @@ from engine import transforms  # noqa: E402
 from engine.cli import OneLineErrorParser, positive_int  # noqa: E402
 from engine.emitters import srgb_to_linear  # noqa: E402
 
-TOOL_VERSION = 2  # 1: Lambertian only; 2: specular layer, textures, alpha masks, meta/png/halves
+TOOL_VERSION = 3  # 1: Lambertian only; 2: specular layer, textures, alpha masks, meta/png/halves; 3: glTF's layers
 MIN_ROUGHNESS = 0.05  # glsl/lib/brdf.glsl clamps the roughness the same way
 WRAP = {"REPEAT": "repeat", "MIRRORED_REPEAT": "mirror", "CLAMP_TO_EDGE": "clamp"}
 mi = None  # the mitsuba module, imported by main() or use_mitsuba()
 
 
 def use_mitsuba(variant="scalar_rgb"):
-    """Import Mitsuba and select `variant` (the converter needs one to build transforms and bitmaps)."""
+    """Import Mitsuba, select `variant` (the converter needs one to build transforms and bitmaps)
+    and register the `vct_layered` BSDF."""
     global mi
     import mitsuba
 
     mitsuba.set_variant(variant)
     mi = mitsuba
+    mitsuba.register_bsdf("vct_layered", _layered_bsdf_class())
     return mitsuba
+
+
+def _layered_bsdf_class():
+    """The Mitsuba BSDF of the scene format's layered model (the module docstring), for the
+    variant selected: k_d `base_color` (a texture), `roughness` and `metalness` (float textures),
+    `dielectric_f0` (a float)."""
+    import drjit as dr
+
+    class LayeredBSDF(mi.BSDF):
+        def __init__(self, props):
+            mi.BSDF.__init__(self, props)
+            self.base_color = props.get_unbounded_texture("base_color")
+            self.roughness = props.get_texture("roughness")
+            self.metalness = props.get_texture("metalness")
+            self.dielectric_f0 = props.get("dielectric_f0")
+            flags = mi.BSDFFlags.DiffuseReflection | mi.BSDFFlags.GlossyReflection | mi.BSDFFlags.FrontSide
+            self.m_components = [flags]
+            self.m_flags = flags
+
+        def layers(self, si, active):
+            """(c_diff, F0, Blinn-Phong exponent s, Beckmann alpha) at the surface point."""
+            k_d = self.base_color.eval(si, active)
+            metalness = self.metalness.eval_1(si, active)
+            roughness = dr.maximum(self.roughness.eval_1(si, active), MIN_ROUGHNESS)
+            f0 = dr.lerp(mi.Color3f(self.dielectric_f0), k_d, metalness)
+            return k_d * (1.0 - metalness), f0, 2.0 / dr.power(roughness, 4.0) - 2.0, roughness * roughness
+
+        @staticmethod
+        def fresnel(f0, cos_theta):  # Schlick's, zero without a specular layer (F0 = 0)
+            f = f0 + (1.0 - f0) * dr.power(1.0 - dr.clip(cos_theta, 0.0, 1.0), 5.0)
+            return dr.select(dr.any(f0 > 0.0), f, 0.0)
+
+        @staticmethod
+        def smith_g1(cos_theta, alpha):  # Walter et al.'s rational fit for the Beckmann lobe
+            c = dr.clip(cos_theta, 1e-4, 1.0)
+            a = c / (alpha * dr.sqrt(1.0 - c * c) + 1e-7)
+            return dr.select(a >= 1.6, 1.0, (3.535 * a + 2.181 * a * a) / (1.0 + 2.276 * a + 2.577 * a * a))
+
+        @staticmethod
+        def distribution(s, cos_h):  # normalized Blinn-Phong: int D (n.h) dw_h = 1
+            return (s + 2.0) / (2.0 * dr.pi) * dr.power(dr.maximum(cos_h, 0.0), s)
+
+        def specular_probability(self, si, active):
+            c_diff, f0, _, _ = self.layers(si, active)
+            f = self.fresnel(f0, mi.Frame3f.cos_theta(si.wi))
+            specular, diffuse = mi.luminance(f), mi.luminance((1.0 - f) * c_diff)
+            both = (specular > 0.0) & (diffuse > 0.0)
+            return dr.select(both, dr.clip(specular / (specular + diffuse), 0.1, 0.9), dr.select(specular > 0.0, 1.0, 0.0))
+
+        def eval(self, ctx, si, wo, active=True):
+            """f(wo, si.wi) cos(wo)."""
+            c_diff, f0, s, alpha = self.layers(si, active)
+            cos_v, cos_l = mi.Frame3f.cos_theta(si.wi), mi.Frame3f.cos_theta(wo)
+            h = dr.normalize(si.wi + wo)
+            visibility = self.smith_g1(cos_l, alpha) * self.smith_g1(cos_v, alpha) / (
+                4.0 * dr.maximum(cos_l, 1e-4) * dr.maximum(cos_v, 1e-4))
+            f = ((1.0 - self.fresnel(f0, cos_v)) * c_diff / dr.pi
+                 + self.fresnel(f0, dr.dot(si.wi, h)) * self.distribution(s, mi.Frame3f.cos_theta(h)) * visibility)
+            return dr.select(active & (cos_v > 0.0) & (cos_l > 0.0), f * cos_l, 0.0)
+
+        def pdf(self, ctx, si, wo, active=True):
+            _, _, s, _ = self.layers(si, active)
+            cos_l = mi.Frame3f.cos_theta(wo)
+            h = dr.normalize(si.wi + wo)
+            cos_h = mi.Frame3f.cos_theta(h)
+            specular = self.distribution(s, cos_h) * cos_h / (4.0 * dr.maximum(dr.dot(si.wi, h), 1e-6))
+            p = self.specular_probability(si, active)
+            pdf = p * specular + (1.0 - p) * dr.maximum(cos_l, 0.0) / dr.pi
+            return dr.select(active & (mi.Frame3f.cos_theta(si.wi) > 0.0) & (cos_l > 0.0), pdf, 0.0)
+
+        def eval_pdf(self, ctx, si, wo, active=True):
+            return self.eval(ctx, si, wo, active), self.pdf(ctx, si, wo, active)
+
+        def sample(self, ctx, si, sample1, sample2, active=True):
+            _, _, s, _ = self.layers(si, active)
+            specular = sample1 < self.specular_probability(si, active)
+            cos_h = dr.power(sample2.x, 1.0 / (s + 2.0))  # h drawn from D(h) (n.h)
+            sin_h = dr.sqrt(dr.maximum(1.0 - cos_h * cos_h, 0.0))
+            phi = 2.0 * dr.pi * sample2.y
+            h = mi.Vector3f(sin_h * dr.cos(phi), sin_h * dr.sin(phi), cos_h)
+            reflected = 2.0 * dr.dot(si.wi, h) * h - si.wi
+            bs = mi.BSDFSample3f()
+            bs.wo = dr.select(specular, reflected, mi.warp.square_to_cosine_hemisphere(sample2))
+            bs.pdf = self.pdf(ctx, si, bs.wo, active)
+            bs.eta = 1.0
+            bs.sampled_type = dr.select(specular, mi.UInt32(+mi.BSDFFlags.GlossyReflection),
+                                        mi.UInt32(+mi.BSDFFlags.DiffuseReflection))
+            bs.sampled_component = mi.UInt32(0)
+            weight = self.eval(ctx, si, bs.wo, active) / dr.maximum(bs.pdf, 1e-12)
+            return bs, dr.select(active & (bs.pdf > 0.0), weight, 0.0)
+
+        def traverse(self, callback):
+            pass
+
+        def to_string(self):
+            return "LayeredBSDF[the scene format's glTF layers]"
+
+    return LayeredBSDF
 
 
 class ReferenceError_(engine.VctError):
     """A scene the reference cannot render as the renderer would (one line naming the field)."""
-
-
-# ---- colour and Fresnel ---------------------------------------------------------------------
-
-def schlick(f0, cos):
-    return f0 + (1.0 - f0) * (1.0 - cos) ** 5
-
-
-def conductor_fresnel(n, k, cos):
-    """Unpolarized Fresnel reflectance of a conductor of complex index n + ik (vacuum outside)."""
-    sin2 = 1.0 - cos * cos
-    t = n * n - k * k - sin2
-    ab = np.sqrt(t * t + 4.0 * n * n * k * k)
-    a = np.sqrt(np.maximum(0.5 * (ab + t), 0.0))
-    rs = (ab - 2.0 * a * cos + cos * cos) / (ab + 2.0 * a * cos + cos * cos)
-    rp = rs * (ab * cos * cos - 2.0 * a * cos * sin2 + sin2 * sin2) / (ab * cos * cos + 2.0 * a * cos * sin2 + sin2 * sin2)
-    return 0.5 * (rs + rp)
-
-
-@functools.lru_cache(maxsize=1)
-def _fresnel_table():
-    """(F0, n, k) on a grid of F0 (denser towards 0): for each F0 the (n, k) with conductor
-    reflectance F0 at normal incidence whose curve deviates least (max over angles) from Schlick's."""
-    cos = np.linspace(0.0, 1.0, 257)
-    f0s = np.concatenate([np.geomspace(1e-4, 0.05, 60, endpoint=False), np.linspace(0.05, 1.0, 191)])
-    coarse = np.geomspace(1e-3, 200.0, 160)
-    table = []
-    for f0 in f0s:
-        if f0 >= 1.0:  # n = 0 reflects everything at every angle, as Schlick's F0 = 1 does
-            table.append((1.0, 0.0, table[-1][2]))
-            continue
-        target = schlick(f0, cos)[None]
-        ns = coarse
-        for _ in range(2):  # a coarse search over n, then a fine one around the best
-            k2 = (f0 * (ns + 1) ** 2 - (ns - 1) ** 2) / (1 - f0)
-            n, k = ns[k2 >= 0], np.sqrt(k2[k2 >= 0])
-            best = int(np.argmin(np.abs(conductor_fresnel(n[:, None], k[:, None], cos[None]) - target).max(axis=1)))
-            ns = np.linspace(n[max(best - 1, 0)], n[min(best + 1, len(n) - 1)], 41)
-        table.append((f0, n[best], k[best]))
-    return np.array(table)
-
-
-def fresnel_ior(f0):
-    """(eta, k) arrays shaped like f0 (reflectance at normal incidence, 0..1) whose conductor
-    Fresnel curve follows Schlick's with that F0 within 0.031 at every angle for F0 >= 0.005
-    (interpolated in a fitted table; F0 below 1e-4 is taken as 1e-4; below 0.005, where no
-    conductor curve rises as steeply near grazing as Schlick's, the error reaches 0.4)."""
-    table = _fresnel_table()
-    f0 = np.clip(np.asarray(f0, np.float64), table[0, 0], 1.0)
-    return np.interp(f0, table[:, 0], table[:, 1]), np.interp(f0, table[:, 0], table[:, 2])
 
 
 # ---- meshes -------------------------------------------------------------------------------
@@ -292,48 +322,18 @@ class Converter:
                                                  "tangent frame differently); give the part a scene material")
         base = material.base_color_texture
         wrap = self.wrap_of(base, mesh, f"{field}.base_color_texture") if base is not None else "repeat"
-        texture = self.rgb_of(base) if base is not None else None  # k_d = albedo x texture
-        albedo = np.asarray(material.albedo, np.float64)
-        k_d = albedo * texture if texture is not None else albedo  # (H, W, 3) or (3,)
-        metalness = float(material.metalness)
-        roughness = np.full((1, 1), float(material.roughness))
+        k_d = self.colour(material.albedo, self.rgb_of(base) if base is not None else None, wrap)
+        roughness, metalness = float(material.roughness), float(material.metalness)
         mr = material.metallic_roughness_texture
-        mr_wrap = "repeat"
-        if mr is not None:
-            mr_field = f"{field}.metallic_roughness_texture"
-            mr_wrap = self.wrap_of(mr, mesh, mr_field)
+        if mr is not None:  # per texel: G x roughness, B x metalness
             channels = self.rgb_of(mr)
-            if metalness > 0:
-                if np.ptp(channels[..., 2]) > 0:
-                    self.fail(mr_field, "metalness that varies across the texture (its B channel) is not converted")
-                metalness *= float(channels[0, 0, 2])
-            roughness = roughness * channels[..., 1]
-        if metalness > 0:  # F0 = mix(specular, k_d, m): per texel where k_d is textured
-            f0 = (1.0 - metalness) * float(material.specular) + metalness * k_d
-        else:
-            f0 = np.full(3, float(material.specular))
-        diffuse_factor = (1.0 - metalness) * albedo  # the diffuse reflectance is diffuse_factor x texture
-        if not np.any(f0 > 0):
-            return {"type": "diffuse", "reflectance": self.colour(diffuse_factor, texture, wrap)}
-        alpha = np.maximum(roughness, MIN_ROUGHNESS) ** 2
-        eta, k = fresnel_ior(f0)
-        specular = {"type": "roughconductor", "distribution": "beckmann",
-                    "alpha": float(alpha.flat[0]) if np.ptp(alpha) == 0 else self.bitmap(alpha, mr_wrap),
-                    "eta": self.ior(eta, wrap), "k": self.ior(k, wrap)}
-        if metalness >= 1.0 or not np.any(diffuse_factor > 0):
-            return specular
-        # The sum of the two layers: a blend of weight 1/2 of each, doubled.
-        specular["specular_reflectance"] = 2.0
-        return {"type": "blendbsdf", "weight": 0.5,
-                "bsdf_0": {"type": "diffuse", "reflectance": self.colour(2.0 * diffuse_factor, texture, wrap)},
-                "bsdf_1": specular}
-
-    def ior(self, values, wrap):
-        """eta or k: rgb where constant, else a per-texel float bitmap."""
-        values = np.asarray(values, np.float64)
-        if values.ndim == 1:
-            return {"type": "rgb", "value": [float(v) for v in values]}
-        return self.bitmap(values, wrap)
+            mr_wrap = self.wrap_of(mr, mesh, f"{field}.metallic_roughness_texture")
+            roughness = self.bitmap(roughness * channels[..., 1], mr_wrap)
+            metalness = self.bitmap(metalness * channels[..., 2], mr_wrap) if metalness > 0 else 0.0
+        if material.specular == 0 and metalness == 0:  # no specular layer: Lambert alone
+            return {"type": "diffuse", "reflectance": k_d}
+        return {"type": "vct_layered", "base_color": k_d, "roughness": roughness, "metalness": metalness,
+                "dielectric_f0": float(material.specular)}
 
     def surface(self, material, mesh, field):
         """(bsdf, emitter) dicts of a drawn part, or None where the part is cut out everywhere."""

@@ -50,7 +50,7 @@ class ConeTracePass:
         direct.texture.use(TEXTURE_UNIT["DIRECT_LIGHT"])
         program.set(**grid.uniforms(), **cone_uniforms, output_kind=OUTPUT_KIND["ao" if terms.ao else "radiance"], include_direct=terms.direct,
                          include_diffuse=terms.diffuse, include_specular=terms.specular, ao_distance=float(ao_distance),
-                         pixel_angle=float(camera.pixel_angle))
+                         pixel_angle=float(camera.pixel_angle), camera_position=tuple(camera.position))
         for pixel_list in (self.cone_pixels, self.shared_pixels, self.unshared_pixels):
             pixel_list.write(np.array([0, 1, 1, 0], dtype="u4").tobytes())  # no group, no pixel yet
         self.cone_pixels.bind_to_storage_buffer(STORAGE_BINDING["CONE_PIXELS"])

@@ -1,9 +1,22 @@
-// Reflectance models: Lambert diffuse and the normalized Blinn-Phong specular lobe.
+// The reflectance model: glTF 2.0's metallic-roughness BRDF (specification, Appendix B) with the
+// lecture's normalized Blinn-Phong lobe in place of GGX:
+//   f(l, v) = (1 - F(n.v)) c_diff / pi + F(v.h) D(h) Vis(l, v),  c_diff = (1 - m) k_d,
+//   F0 = mix(dielectric F0, k_d, m), D = (s + 2) / (2 pi) (n.h)^s, s = 2 / r^4 - 2,
+//   Vis = G1(n.l) G1(n.v) / (4 n.l n.v), Smith's masking of the Beckmann lobe of alpha = r^2,
+//   the lobe this Blinn-Phong one approximates (alpha^2 = 2 / (s + 2)).
+// The diffuse layer is weighted by the Fresnel reflectance of the view direction, 1 - F(n.v),
+// where glTF's fresnel_mix takes 1 - F(v.h) per light direction: that lets a surface seen at
+// grazing angles reflect more than it receives, this keeps the two layers within it, and
+// cones, which gather light from many directions at once, can weigh their light by it. A
+// dielectric F0 of 0 means no specular layer: Lambert alone.
 #include "engine_constants.glsl"
+
+// Roughness below this is read as this: the Blinn-Phong exponent stays finite.
+#define MIN_ROUGHNESS 0.05
 
 // Blinn-Phong exponent of roughness r: s = 2 / r^4 - 2 (the lecture's mapping).
 float blinn_phong_exponent(float roughness) {
-    float r4 = pow(max(roughness, 0.05), 4.0);
+    float r4 = pow(max(roughness, MIN_ROUGHNESS), 4.0);
     return max(2.0 / r4 - 2.0, 0.0);
 }
 
@@ -33,19 +46,49 @@ bool has_specular_layer(vec3 f0) {
     return any(greaterThan(f0, vec3(0.0)));
 }
 
+// The specular layer's Fresnel reflectance at cos_theta, zero without one.
+vec3 layer_fresnel(vec3 f0, float cos_theta) {
+    return has_specular_layer(f0) ? fresnel_schlick(f0, cos_theta) : vec3(0.0);
+}
+
 // Hemispherical albedo of the specular layer: Schlick's F averaged over the cosine-weighted
-// hemisphere, F0 + (1 - F0) 2 int (1 - mu)^5 mu dmu = F0 + (1 - F0) / 21; none without one (F0 = 0).
+// hemisphere, E = F0 + (1 - F0) 2 int (1 - mu)^5 mu dmu = F0 + (1 - F0) / 21; none without one.
 vec3 specular_albedo(vec3 f0) {
     return has_specular_layer(f0) ? f0 + (1.0 - f0) / 21.0 : vec3(0.0);
 }
 
-// BRDF times pi-free cosine-less form: f(l, v) = (1 - m) k_d / pi + F (s + 2) / (8 pi) (n.h)^s.
+// The diffuse layer's albedo seen from a direction at cos_view to the normal: c_diff (1 - F(n.v)).
+vec3 diffuse_layer_albedo(vec3 albedo, float metalness, float dielectric_f0, float cos_view) {
+    return (1.0 - metalness) * albedo * (1.0 - layer_fresnel(specular_f0(albedo, metalness, dielectric_f0), cos_view));
+}
+
+// Hemispherical albedo of the layered model, what a voxel passes on as a Lambertian lobe:
+// the diffuse layer's c_diff (1 - E) plus the specular layer's E (its lobe's shadowing loss
+// neglected), so rho <= 1 for every k_d <= 1.
+vec3 layered_albedo(vec3 albedo, float metalness, float dielectric_f0) {
+    vec3 e = specular_albedo(specular_f0(albedo, metalness, dielectric_f0));
+    return (1.0 - metalness) * albedo * (1.0 - e) + e;
+}
+
+// Smith's masking G1 of the Beckmann lobe of roughness alpha at cos_theta to the normal
+// (Walter et al. 2007's rational fit, a = 1 / (alpha tan theta)).
+float smith_g1(float cos_theta, float alpha) {
+    float c = clamp(cos_theta, 1e-4, 1.0);
+    float a = c / (alpha * sqrt(1.0 - c * c) + 1e-7);
+    return a >= 1.6 ? 1.0 : (3.535 * a + 2.181 * a * a) / (1.0 + 2.276 * a + 2.577 * a * a);
+}
+
+// f(l, v) of the layered model above (without the cosine).
 vec3 brdf(vec3 n, vec3 l, vec3 v, vec3 albedo, float roughness, float metalness, float dielectric_f0) {
-    vec3 diffuse = (1.0 - metalness) * albedo / PI;
+    float cos_view = max(dot(n, v), 1e-4);
+    vec3 diffuse = diffuse_layer_albedo(albedo, metalness, dielectric_f0, cos_view) / PI;
     vec3 f0 = specular_f0(albedo, metalness, dielectric_f0);
-    if (all(equal(f0, vec3(0.0)))) return diffuse;
+    if (!has_specular_layer(f0)) return diffuse;
     vec3 h = normalize(l + v);
     float s = blinn_phong_exponent(roughness);
-    float normalization = (s + 2.0) / (8.0 * PI); // normalized Blinn-Phong
-    return diffuse + fresnel_schlick(f0, dot(l, h)) * normalization * pow(max(dot(n, h), 0.0), s);
+    float distribution = (s + 2.0) / (2.0 * PI) * pow(max(dot(n, h), 0.0), s);  // normalized Blinn-Phong D
+    float alpha = pow(max(roughness, MIN_ROUGHNESS), 2.0);
+    float cos_light = max(dot(n, l), 1e-4);
+    float visibility = smith_g1(cos_light, alpha) * smith_g1(cos_view, alpha) / (4.0 * cos_light * cos_view);
+    return diffuse + fresnel_schlick(f0, dot(v, h)) * distribution * visibility;
 }

@@ -21,3 +21,8 @@ vec3 specular_fresnel(Surface s) {
     return fresnel_schlick(specular_f0(s.albedo, s.metalness, s.dielectric_f0),
                            max(dot(normalize(camera_position - s.position), s.normal), 0.0));
 }
+
+// The diffuse layer's albedo of surface s seen from the camera, (1 - m) k_d (1 - F(w_o . n)).
+vec3 diffuse_albedo(Surface s) {
+    return diffuse_layer_albedo(s.albedo, s.metalness, s.dielectric_f0, dot(normalize(camera_position - s.position), s.normal));
+}

@@ -11,7 +11,7 @@ layout(binding = TEX_VOXEL_EMITTER_LIGHT) uniform sampler3D voxel_emitter_light;
 
 struct VoxelSurface {
     bool covered;
-    vec3 albedo;       // reflectance (1 - m) k_d + specular albedo, averaged over the voxel's fragments
+    vec3 albedo;       // reflectance (lib/brdf.glsl layered_albedo), averaged over the voxel's fragments
     vec3 mean_normal;  // mean of the fragments' unit normals: its length is their coherence
     vec3 position;     // the voxel centre moved along the normal onto the (mean) surface
     vec3 emission;     // radiance of the front sides, W/(m^2 sr)
