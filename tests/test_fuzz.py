@@ -155,10 +155,13 @@ def write_document(directory, document):
 
 
 def assert_one_line_naming_a_field(line, source):
-    """`<file>: <field>: <message>`, the field rooted at a top-level key of a scene."""
+    """`<file>: <field>: <message>`, the field rooted at a top-level key of a scene, or
+    `<file>: unknown field "<key>" ...` for a key the scene's top level does not take."""
     assert "\n" not in line and "Traceback" not in line, line
     prefix = f"{source}: "
     assert line.startswith(prefix), line
+    if line[len(prefix):].startswith('unknown field "'):
+        return
     field, _, message = line[len(prefix):].partition(": ")
     assert message, line
     root = field.split(".")[0].split("[")[0].split(" ")[0]

@@ -14,11 +14,13 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Callable
 
+import jsonschema
 import numpy as np
 import pytest
 
 from conftest import REFERENCE, REQUIRE_REFERENCES, reference_file  # tests/ is on sys.path under pytest
 from engine import SceneError, VctWarning, load_scene
+from engine.scene_schema import default, schema_text
 from engine.transforms import normal_matrix, transform_points
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -319,7 +321,7 @@ BAD_SCENES = [
     BadScene("not-utf8", lambda: b'{"camera": "\xff"}', None, "UTF-8"),
     BadScene("unknown-material", _set(["objects", 0, "material"], "gold"), f"{LEFT_PLANE}.material", "gold"),
     BadScene("unknown-object-type", _set(["objects", 6, "type"], "cylinder"), f"{SHORT_BOX}.type", "cylinder"),
-    BadScene("unknown-light-type", _set(["lights", 0, "type"], "area"), "lights[0].type"),
+    BadScene("unknown-light-type", _set(["lights", 0, "type"], "area"), 'lights[0] "Omni Light".type', '"area"'),
     BadScene("missing-mesh-file", _add_object({"name": "Bunny", "type": "mesh", "material": "white",
                                                "file": "meshes/bunny.obj"}), 'objects[8] "Bunny".file', "bunny.obj"),
     BadScene("mesh-file-name-with-a-nul", _add_object({"name": "Nul", "type": "mesh", "material": "white",
@@ -344,7 +346,7 @@ BAD_SCENES = [
     BadScene("infinity-literal", _text('"vertical_fov_deg": 60.0', '"vertical_fov_deg": -Infinity'),
              "camera.vertical_fov_deg", "Infinity"),
     BadScene("nan-string", _set(["objects", 0, "vertices", 1], [-1, "NaN", -1]), f"{LEFT_PLANE}.vertices[1][1]", "number"),
-    BadScene("integer-too-large-for-a-float", _set(["camera", "position"], [0, 0, 10 ** 400]), "camera.position[2]", "finite"),
+    BadScene("integer-too-large-for-a-float", _set(["camera", "position"], [0, 0, 10 ** 400]), "camera.position[2]", "at most"),
     BadScene("vector-of-two", _set(["camera", "position"], [0.0, 0.0]), "camera.position", "3 numbers"),
     BadScene("vertex-of-four", _set(["objects", 0, "vertices", 2], [-1, 1, 1, 1]), f"{LEFT_PLANE}.vertices[2]", "3 numbers"),
     BadScene("missing-camera", _edit(lambda data: data.pop("camera")), "camera", "missing"),
@@ -374,6 +376,20 @@ BAD_SCENES = [
              "voxel_region.size", "at least"),
     BadScene("field-of-view-of-1e-300", _set(["camera", "vertical_fov_deg"], 1e-300), "camera.vertical_fov_deg", "at least"),
     BadScene("children-nested-too-deeply", _add_object(_nested_groups(40)), 'objects[8] "Level 39"', "nest more than"),
+    # Unknown or misspelled keys: named with their object, and the nearest valid key.
+    BadScene("misspelled-material-field", _set(["materials", "red", "albeod"], [1, 0, 0]), "materials.red",
+             'unknown field "albeod" (did you mean "albedo"?)'),
+    BadScene("misspelled-roughness", _set(["materials", "red", "roughnes"], 0.5), "materials.red",
+             'unknown field "roughnes" (did you mean "roughness"?)'),
+    BadScene("misspelled-node-field", _set(["objects", 6, "translaton"], [0, 0, 0]), SHORT_BOX,
+             'unknown field "translaton" (did you mean "translation"?)'),
+    BadScene("camera-fov", _set(["camera", "fov"], 40), "camera", 'unknown field "fov" (did you mean "vertical_fov_deg"?)'),
+    BadScene("a-field-of-another-node-type", _set(["objects", 6, "radius"], 0.3), SHORT_BOX, 'unknown field "radius"'),
+    BadScene("misspelled-top-level-key", _set(["objecs"], []), None, 'unknown field "objecs" (did you mean "objects"?)'),
+    BadScene("spot-inner-angle-beyond-outer", _set(["lights", 0], {"type": "spot", "position": [0, 0.7, 0], "direction": [0, -1, 0],
+                                                                  "intensity": [1, 1, 1], "outer_angle_deg": 30,
+                                                                  "inner_angle_deg": 40}), "lights[0].inner_angle_deg",
+             "at most outer_angle_deg (30)"),
 ]
 
 
@@ -422,6 +438,33 @@ def test_the_unedited_base_of_the_bad_input_table_loads(tmp_path):
     """Guards BAD_SCENES: each case fails because of its one edit, not because of the helpers."""
     scene = load_scene(write_scene(tmp_path, cornell_data()))
     assert scene.root.name == "Cornell Box" and len(scene.root.children) == 9
+
+
+SCENE_FILES = sorted(p for p in [*ROOT.glob("scenes/**/*.json"), *ROOT.glob("tests/scenes/*.json"), REFERENCE_CORNELL]
+                     if not p.name.endswith((".meta.json", ".schema.json")))
+
+
+@pytest.mark.parametrize("path", SCENE_FILES, ids=lambda p: str(p.relative_to(ROOT.parent)))
+def test_every_scene_of_the_repository_is_valid_by_the_published_schema(path):
+    """As an editor checks it: jsonschema alone, with scenes/scene.schema.json."""
+    if not path.exists():
+        reference_file(path)
+    schema = json.loads((ROOT / "scenes" / "scene.schema.json").read_text())
+    jsonschema.Draft202012Validator(schema).validate(json.loads(path.read_text()))
+
+
+def test_the_published_schema_is_the_one_the_loader_checks():
+    assert (ROOT / "scenes" / "scene.schema.json").read_text() == schema_text()
+
+
+def test_the_schema_holds_the_defaults_the_loader_uses(tmp_path):
+    """A material and a node with no optional field get the schema's defaults."""
+    scene = load_scene(write_scene(tmp_path, small_scene([{"name": "Q", "type": "box", "material": "m", "size": [1, 1, 1]}],
+                                                         materials={"m": {}})))
+    material, node = scene.materials["m"], scene.root.find("Q")
+    assert material.albedo.tolist() == default("material", "albedo") == [0.8, 0.8, 0.8]
+    assert (material.roughness, material.metalness, material.specular) == (1.0, 0.0, 0.0)
+    assert node.translation.tolist() == [0.0, 0.0, 0.0] and node.scale.tolist() == [1.0, 1.0, 1.0]
 
 
 @pytest.mark.parametrize("device", ["/dev/zero", "fifo"])
