@@ -20,6 +20,27 @@ def material_values(material):
             float(material.normal_scale), tuple(material.textures()))
 
 
+class _Same:
+    """A value compared by identity: a read-only array, which an edit replaces."""
+
+    def __init__(self, value):
+        self.value = value
+
+    def __eq__(self, other):
+        return isinstance(other, _Same) and other.value is self.value
+
+    __hash__ = None
+
+
+def environment_values(environment):
+    """What of an environment the passes read, as a comparable tuple (the image by identity);
+    None without one."""
+    if environment is None:
+        return None
+    return (tuple(float(x) for x in environment.radiance), _Same(environment.image), float(environment.scale),
+            float(environment.rotation_y_deg))
+
+
 def cutout_values(material):
     """What of a material shadow maps see: its alpha cut-out, if it has one."""
     if material.alpha_mode == "OPAQUE":
@@ -78,6 +99,8 @@ class FrameInputs:
         bounds_cache.keep_only(self.draws)
         self.lights = [light for _, light in scene.lights()]
         self.light_values = tuple(light_values(light) for light in self.lights)
+        self.environment = scene.environment
+        self.environment_values = environment_values(scene.environment)
         if self.draws:
             self.bounds = (np.min([d.bounds[0] for d in self.draws], axis=0), np.max([d.bounds[1] for d in self.draws], axis=0))
         else:

@@ -88,6 +88,9 @@ def _add_settings_arguments(parser, default_mode="gi"):
     parser.add_argument("--no-specular", action="store_true", help="gi: leave out specular indirect light")
     parser.add_argument("--exposure", type=_finite_float, default=d.exposure, help=f"exposure multiplier before tone mapping, at most {MAX_EXPOSURE:g} (default {d.exposure})")
     parser.add_argument("--shaders", help="GLSL directory to use instead of the project's glsl/ (for shader work)")
+    parser.add_argument("--environment", metavar="FILE|R,G,B",
+                        help="light from beyond the scene, instead of the scene file's: an equirectangular map of "
+                             "linear radiance (.exr or .hdr) or a uniform sky's radiance R,G,B in W/(m^2 sr)")
     parser.add_argument("--tonemap", choices=TONEMAPS, default=d.tonemap, help=f"tone curve for the PNG (default {d.tonemap})")
 
 
@@ -278,9 +281,56 @@ def check_finite(radiance, scene):
                        source=scene, field="radiance")
 
 
+def load_lit_scene(args):
+    """The scene of the command line with its --environment, if any; one warning line where
+    nothing can light it."""
+    import numpy as np
+
+    from .emitters import scene_emits
+    from .errors import warn
+    from .input_files import InputFiles, os_problem, read_radiance_map
+    from .limits import MAX_EMISSION
+    from .scene import Environment
+    from .scene_file import load_scene
+
+    scene = load_scene(args.scene)
+    if args.environment:
+        parts = args.environment.split(",")
+        try:
+            radiance = [float(part) for part in parts] if len(parts) == 3 else None
+        except ValueError:
+            radiance = None
+        if radiance is not None:
+            if not all(math.isfinite(v) and 0 <= v <= MAX_EMISSION for v in radiance):
+                raise VctError(f"a sky's radiance must be within 0..{MAX_EMISSION:g}, got {args.environment}",
+                               field="--environment")
+            scene.environment = Environment(radiance=np.array(radiance))
+        else:
+            inputs = InputFiles()
+            try:
+                image = read_radiance_map(args.environment, inputs)
+            except (OSError, ValueError) as exc:
+                raise VctError(os_problem(exc), source=args.environment, field="--environment") from None
+            scene.environment = Environment(image=image, name=f"{args.environment}: --environment")
+            scene.files += tuple(inputs.paths)
+    if not scene.lights() and not scene_emits(scene) and scene.environment is None:
+        warn("no light: the scene has no lights, no emissive surfaces and no environment, so the image is black",
+             source=args.scene)
+    return scene
+
+
+def warn_if_black(scene, radiance, settings, source):
+    """One warning line where lights exist but a lit image came out black."""
+    from .errors import warn
+
+    if settings.shown.terms and "ao" not in settings.shown.terms and scene.lights() and not radiance.any():
+        names = ", ".join(f'"{node.name}"' for node, _ in scene.lights())
+        warn(f"the image is black: the light of {names} reaches nothing the camera sees (enclosed by geometry, or "
+             "pointing away?)", source=source)
+
+
 def render_command(args):
     from .output import HDR_WRITERS, hdr_writer, png_writer, write_files
-    from .scene_file import load_scene
 
     check_writable(args.out, "--out")
     if args.hdr:
@@ -290,7 +340,7 @@ def render_command(args):
         if Path(args.hdr).suffix.lower() not in HDR_WRITERS:
             raise VctError(f"must end in {' or '.join(HDR_WRITERS)}", source=args.hdr, field="--hdr")
     settings = settings_from_args(args)
-    scene = load_scene(args.scene)
+    scene = load_lit_scene(args)
     width = args.width or scene.camera.width
     height = args.height or scene.camera.height
     with open_renderer(width, height, settings, args) as renderer:
@@ -300,6 +350,7 @@ def render_command(args):
         radiance = renderer.render(scene)
         pixels = renderer.tonemapped()
     check_finite(radiance, args.scene)
+    warn_if_black(scene, radiance, settings, args.scene)
     outputs = [(args.out, png_writer(pixels))]
     if args.hdr:
         outputs.insert(0, (args.hdr, hdr_writer(args.hdr, radiance)))
@@ -309,13 +360,12 @@ def render_command(args):
 
 
 def view_command(args):
-    from .scene_file import load_scene
     from .viewer.app import Viewer
 
     if args.screenshot:
         check_writable(args.screenshot, "--screenshot")
     settings = settings_from_args(args)
-    scene = load_scene(args.scene)
+    scene = load_lit_scene(args)
     size = (args.width or scene.camera.width, args.height or scene.camera.height)
     viewer = Viewer(scene, settings, size, glsl_root=shader_root(args), show_panels=not args.no_panels,
                     vsync=args.frames is None)
@@ -378,7 +428,6 @@ def bench_command(args):
     from .bench import benchmark, format_table, peak_rss_mb
     from .gl import renderer_name
     from .output import write_files
-    from .scene_file import load_scene
 
     grids = parse_grids(args.grids)
     settings = settings_from_args(args)
@@ -387,7 +436,7 @@ def bench_command(args):
     if args.json:
         check_writable(args.json, "--json")
     start = time.perf_counter()
-    scene = load_scene(args.scene)
+    scene = load_lit_scene(args)
     load_s, load_rss_mb = time.perf_counter() - start, peak_rss_mb()
     width, height = args.width or scene.camera.width, args.height or scene.camera.height
     reference = load_reference(args.reference, (height, width, 3)) if args.reference else None

@@ -29,6 +29,8 @@ TEXTURE_UNIT = {
     "VOXEL_INSPECT": 14,    # the volume a voxel view or a readback reads
     "VOXEL_EMITTED": 15,    # emission (rgb) and coverage (a) of every voxel, mipmapped: what specular cones add
     "VOXEL_EMITTER_LIGHT": 16,  # the emitters' shadowed irradiance per voxel (rgb), its visible fraction (a)
+    "ENVIRONMENT": 17,      # the sky's radiance, equirectangular, mipmapped (glsl/lib/environment.glsl)
+    "VOXEL_SKY_LIGHT": 18,  # the sky's irradiance per voxel, through the voxels (rgb)
     "BASE_COLOR_MAP": 20,   # the textures of the material being drawn (glsl/lib/material.glsl)
     "METAL_ROUGH_MAP": 21,
     "EMISSIVE_MAP": 22,
@@ -46,6 +48,7 @@ IMAGE_UNIT = {
     "EMISSION_OUT": 2,
     "EMITTED_OUT": 4,
     "EMITTER_LIGHT_OUT": 5,
+    "SKY_LIGHT_OUT": 5,     # the sky's light pass binds no other image at 5
     "FRONT": 3,             # the voxelizer's front-layer keys, per voxel and facing direction
     "INSPECT_OUT": 0,
     "IMAGE_OUT": 0,         # a screen target a compute pass adds to
@@ -190,6 +193,24 @@ def diffuse_cones():
     return np.array(directions), np.array(weights), half_angle
 
 
+SKY_CONE_COUNT = 16
+
+
+def sky_cones(count=SKY_CONE_COUNT):
+    """Cones over the hemisphere in the local frame (z = normal) for the sky's light: `count`
+    directions uniform in solid angle (a Fibonacci spiral: z = 1 - (i + 1/2) / count, the
+    golden angle apart in azimuth), each the axis of a cone of the solid angle 2 pi / count
+    (half-angle acos(1 - 1/count)), weighted by the cosine-weighted share of its region.
+    Returns (directions (count, 3), weights (count,), half_angle)."""
+    i = np.arange(count) + 0.5
+    z = 1.0 - i / count
+    r = np.sqrt(1.0 - z * z)
+    phi = i * math.pi * (3.0 - math.sqrt(5.0))
+    directions = np.stack([r * np.cos(phi), r * np.sin(phi), z], axis=1)
+    weights = z / z.sum()
+    return directions, weights, math.acos(1.0 - 1.0 / count)
+
+
 def struct_dtype(name):
     """The numpy record of a GLSL_STRUCTS layout."""
     kinds = {"vec4": ("<f4", 4), "uvec4": ("<u4", 4)}
@@ -230,4 +251,11 @@ def glsl_header():
     lines.append(f"const vec3 DIFFUSE_CONE_DIRECTIONS[{len(weights)}] = vec3[]({dirs});")
     ws = ", ".join(f"{w:.9f}" for w in weights)
     lines.append(f"const float DIFFUSE_CONE_WEIGHTS[{len(weights)}] = float[]({ws});")
+    directions, weights, half_angle = sky_cones()
+    lines.append(f"#define SKY_CONE_COUNT {len(weights)}")
+    lines.append(f"#define SKY_CONE_HALF_ANGLE {half_angle:.9f}")
+    dirs = ", ".join(f"vec3({d[0]:.9f}, {d[1]:.9f}, {d[2]:.9f})" for d in directions)
+    lines.append(f"const vec3 SKY_CONE_DIRECTIONS[{len(weights)}] = vec3[]({dirs});")
+    ws = ", ".join(f"{w:.9f}" for w in weights)
+    lines.append(f"const float SKY_CONE_WEIGHTS[{len(weights)}] = float[]({ws});")
     return "\n".join(lines) + "\n"

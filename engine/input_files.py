@@ -3,6 +3,7 @@ is a regular file (never a device such as /dev/zero, nor blocking on a pipe), up
 and every image decoded only once its header says it fits."""
 import io
 import os
+import re
 import stat
 import warnings
 
@@ -94,3 +95,69 @@ class InputFiles:
                 image = image.convert("RGBA" if "A" in image.mode or "transparency" in image.info else "RGB")
             pixels = np.asarray(image, dtype=np.uint8)
         return np.ascontiguousarray(pixels.reshape(pixels.shape[0], pixels.shape[1], -1))
+
+
+RADIANCE_MAP_FORMATS = (".exr", ".hdr")
+
+
+def read_radiance_map(path, inputs):
+    """Linear radiance (H, W, 3) float32, row 0 at the top, of an OpenEXR (half or float RGB) or
+    Radiance RGBE (.hdr) image read through `inputs`: its size read from its header and held to
+    the image limits before its pixels are decoded, every texel finite and non-negative.
+    OSError or ValueError says what is wrong."""
+    suffix = os.path.splitext(str(path))[1].lower()
+    if suffix not in RADIANCE_MAP_FORMATS:
+        raise ValueError(f"an environment map is linear radiance: {' or '.join(RADIANCE_MAP_FORMATS)}, not {suffix or 'no suffix'}")
+    data = inputs.read(path)
+    pixels = _read_exr(data) if suffix == ".exr" else _read_rgbe(data)
+    if inputs.pixels + pixels.shape[0] * pixels.shape[1] > MAX_INPUT_PIXELS:
+        raise ValueError(f"the scene's images would hold more than {MAX_INPUT_PIXELS} pixels together")
+    bad = ~np.isfinite(pixels) | (pixels < 0)
+    if bad.any():
+        row, column, _ = np.argwhere(bad)[0]
+        raise ValueError(f"texel (row {row}, column {column}) is {pixels[row, column].tolist()}: radiance must be finite "
+                         "and not negative")
+    inputs.pixels += pixels.shape[0] * pixels.shape[1]
+    return np.ascontiguousarray(pixels, np.float32)
+
+
+def _check_map_size(width, height):
+    if min(width, height) < 1 or max(width, height) > MAX_IMAGE_SIDE or width * height > MAX_IMAGE_PIXELS:
+        raise ValueError(f"{width}x{height} pixels: at most {MAX_IMAGE_SIDE} on a side and {MAX_IMAGE_PIXELS} in all")
+
+
+def _read_exr(data):
+    import OpenEXR
+
+    try:
+        header = OpenEXR.File(io.BytesIO(data), header_only=True).header()
+        (x0, y0), (x1, y1) = header["dataWindow"]
+        _check_map_size(int(x1) - int(x0) + 1, int(y1) - int(y0) + 1)
+        channels = OpenEXR.File(io.BytesIO(data), separate_channels=True).channels()
+    except ValueError:
+        raise
+    except Exception as exc:  # OpenEXR raises RuntimeError and others on broken files
+        raise ValueError(f"cannot decode OpenEXR ({' '.join(str(exc).split()) or type(exc).__name__})") from None
+    missing = [name for name in "RGB" if name not in channels]
+    if missing:
+        raise ValueError(f"needs channels R, G and B (it has {', '.join(sorted(channels)) or 'none'})")
+    planes = [channels[name].pixels for name in "RGB"]
+    if any(plane.dtype.kind != "f" for plane in planes):
+        raise ValueError("its channels must be floating point (half or float), not integers")
+    return np.stack(planes, axis=-1).astype(np.float32)
+
+
+def _read_rgbe(data):
+    import imagecodecs
+
+    header = re.search(rb"\n\n([-+][XY]) (\d+) ([-+][XY]) (\d+)\n", data[:65536])
+    if not data.startswith(b"#?") or header is None:
+        raise ValueError("not a Radiance RGBE (.hdr) file")
+    if (header.group(1), header.group(3)) != (b"-Y", b"+X"):
+        raise ValueError(f"orientation {header.group(1).decode()} {header.group(3).decode()}: only -Y H +X W (row 0 "
+                         "at the top) is read")
+    _check_map_size(int(header.group(4)), int(header.group(2)))
+    try:
+        return imagecodecs.rgbe_decode(data)[..., :3]
+    except Exception as exc:  # imagecodecs raises RgbeError and others on broken data
+        raise ValueError(f"cannot decode Radiance RGBE ({' '.join(str(exc).split()) or type(exc).__name__})") from None

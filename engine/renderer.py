@@ -32,11 +32,12 @@ from .passes.gbuffer_view import GBufferViewPass
 from .passes.inject import InjectPass
 from .passes.lighting import LightingPass
 from .passes.shadow import ShadowPass
+from .passes.sky_light import SkyLightPass
 from .passes.tonemap import TonemapPass
 from .passes.voxel_view import VoxelViewPass, shown_volume
 from .passes.voxelize import VoxelizePass
 from .scene import Scene
-from .scene_gpu import EmitterBuffers, SceneGeometry
+from .scene_gpu import EmitterBuffers, EnvironmentMap, SceneGeometry
 from .settings import RenderSettings
 from .shaders import GLSL_ROOT, ProgramLibrary
 from .voxel_grid import VoxelGrid
@@ -112,6 +113,7 @@ class Renderer:
         self.geometry = SceneGeometry(self.ctx)
         self.grid = VoxelGrid(self.ctx)
         self.emitters = EmitterBuffers(self.ctx)
+        self.environment = EnvironmentMap(self.ctx)
         self._passes = []
         try:
             with self._creating_targets(self.size):
@@ -121,9 +123,10 @@ class Renderer:
             raise
         self.bounces = BounceSchedule(self.inject, self.gather, self.faces)
         self.bounds_cache = BoundsCache()
-        self.stages = {name: Stage() for name in ("shadows", "gbuffer", "lighting", "emitters", "voxels",
-                                                  "emitter_light", "radiance", "bounces")}
+        self.stages = {name: Stage() for name in ("shadows", "gbuffer", "lighting", "emitters", "environment", "voxels",
+                                                  "emitter_light", "sky_light", "radiance", "bounces")}
         self.emitter_light_rounds = ClassRounds()
+        self.sky_light_rounds = ClassRounds()
 
     def _create_passes(self):
         """The passes of a frame, each with its programs and targets."""
@@ -133,6 +136,7 @@ class Renderer:
         self.gbuffer_view = self._add(GBufferViewPass(self.ctx, self.programs, self.size))
         self.voxelize = self._add(VoxelizePass(self.ctx, self.programs, self.geometry))
         self.emitter_light = self._add(EmitterLightPass(self.ctx, self.programs))
+        self.sky_light = self._add(SkyLightPass(self.ctx, self.programs))
         self.inject = self._add(InjectPass(self.ctx, self.programs))
         self.gather = self._add(GatherPass(self.ctx, self.programs))
         self.faces = self._add(FaceViewsPass(self.ctx, self.programs))
@@ -244,11 +248,15 @@ class Renderer:
                 return self.gbuffer_view.render(gbuffer, s.mode, camera)
         direct = self._lighting(gbuffer, shadow_maps, camera)
         emitters = self._emitters(frame)
-        if not s.shown.uses_voxels(emitters.count > 0):
+        environment = self._environment(frame)
+        if not s.shown.uses_voxels(emitters.count > 0 or frame.environment is not None):
             return direct
         self._voxels(frame, s, scene.source, emitters)
+        self.grid.sky_lit = frame.environment is not None
         if emitters.count:
             self._emitter_light(emitters, s)
+        if self.grid.sky_lit:
+            self._sky_light(environment, frame, s)
         if s.shown.uses_radiance:
             self._radiance(s, shadow_maps)
             self._bounces(s, shadow_maps)
@@ -257,7 +265,7 @@ class Renderer:
                 return self.voxel_view.render(self.grid, s.mode, s.voxel_mip, camera)
         with self.timed("cone_trace"):
             return self.cone_trace.render(gbuffer, direct, self.grid, self.bounces.gathered(self.grid), emitters,
-                                          s.cone_uniforms(), camera, s.image_terms(), s.ao_distance)
+                                          environment, s.cone_uniforms(), camera, s.image_terms(), s.ao_distance)
 
     def _shadows(self, frame, source):
         """Shadow maps: the tiles of the lights that changed; all of them when a shadow caster
@@ -305,6 +313,16 @@ class Renderer:
             stage.ran(inputs)
         return self.emitters
 
+    def _environment(self, frame):
+        """The environment's map, again when the environment changed."""
+        stage = self.stages["environment"]
+        inputs = (frame.environment_values,)
+        if stage.stale(inputs, self.track_changes):
+            with self.timed("environment"):
+                self.environment.upload(frame.environment)
+            stage.ran(inputs)
+        return self.environment
+
     def _voxels(self, frame, s, source, emitters):
         """Voxelize what changed: the draws whose mesh, transform or material differ from the
         ones the grid holds (all of them on a new grid); where surfaces emit, the emission
@@ -327,15 +345,27 @@ class Renderer:
 
     def _emitter_light(self, emitters, s):
         """The emitters' light at the voxels, when the voxels, the emitters or the cones that
-        shadow it changed. Its cones read the face views' coverage, so the face views are
-        composed first, with the gathers so far (the light they hold follows with the
-        bounces). Progressive frames (the viewer, converging bounces) spread it over the
-        interleave classes, one a frame, as the bounce is spread: an emitter edit makes no
-        frame pay for more than 1 voxel in K, and while an emitter keeps moving every voxel is
-        still relit once every K frames."""
-        stage = self.stages["emitter_light"]
+        shadow it changed."""
         inputs = (self.stages["voxels"].version, self.stages["emitters"].version, s.cone_step, s.cone_offset)
-        rounds = self.emitter_light_rounds
+        self._voxel_light("emitter_light", inputs, self.emitter_light_rounds, s, lambda class_index: (
+            self.emitter_light.run(self.grid, emitters, s.cone_uniforms(), self.grid.class_segment(class_index))))
+
+    def _sky_light(self, environment, frame, s):
+        """The environment's light at the voxels, when the voxels, the environment or the cones
+        that bring it changed."""
+        inputs = (self.stages["voxels"].version, frame.environment_values, s.cone_step, s.cone_offset)
+        self._voxel_light("sky_light", inputs, self.sky_light_rounds, s, lambda class_index: (
+            self.sky_light.run(self.grid, environment, s.cone_uniforms(), self.grid.anchor_segment(class_index)),
+            self.gather.fill(self.grid, self.grid.sky_light, self.grid.filled_segment(class_index))))
+
+    def _voxel_light(self, name, inputs, rounds, s, run):
+        """Run the stage `name` (`run` an interleave class) when `inputs` changed.
+        Its cones read the face views' coverage, so the face views are composed first, with the
+        gathers so far (the light they hold follows with the bounces). Progressive frames (the
+        viewer, converging bounces) spread it over the interleave classes, one a frame, as the
+        bounce is spread: an edit makes no frame pay for more than 1 voxel in K, and while an
+        emitter or the sky keeps changing every voxel is still relit once every K frames."""
+        stage = self.stages[name]
         if stage.stale(inputs, self.track_changes):
             rounds.restart(s.bounce_interleave if self._spreads_work(s) else 1)
             self.bounces.sort_classes(self.grid, rounds.interleave, self.timed)
@@ -343,8 +373,8 @@ class Renderer:
         chosen = rounds.next_class()
         if chosen is not None:
             self.bounces.sort_classes(self.grid, rounds.interleave, self.timed)
-            with self.timed("emitter_light"):
-                self.emitter_light.run(self.grid, emitters, s.cone_uniforms(), self.grid.class_segment(chosen))
+            with self.timed(name):
+                run(chosen)
             stage.ran(inputs)
 
     def _radiance(self, s, shadow_maps):
@@ -353,7 +383,8 @@ class Renderer:
         voxelization touched at once and, where the lights changed, each interleave class as
         the bounce updates it; other frames every voxel at once."""
         stage = self.stages["radiance"]
-        inputs = (self.stages["voxels"].version, self.stages["shadows"].version, self.stages["emitter_light"].version)
+        inputs = (self.stages["voxels"].version, self.stages["shadows"].version, self.stages["emitter_light"].version,
+                  self.stages["sky_light"].version, self.grid.sky_lit)
         if stage.stale(inputs, self.track_changes):
             interleave = self.bounces.interleave(s, self.progressive)
             if not self._spreads_work(s) or stage.inputs is None:
@@ -432,6 +463,7 @@ class Renderer:
                 self.readback.release()
             self.grid.release()
             self.emitters.release()
+            self.environment.release()
             self.geometry.release()
         if self._owns_context:
             self.ctx.release()

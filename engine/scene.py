@@ -192,6 +192,32 @@ class VoxelRegion:
     size: float
 
 
+@dataclass(eq=False)
+class Environment:
+    """The light that comes from beyond the scene: a sky of uniform `radiance` (W/(m^2 sr),
+    RGB), or an equirectangular `image` of linear radiance (H, W, 3) float32, read-only, row 0
+    at the top, times `scale`. Direction d (world space, turned by -rotation_y_deg about +y
+    into the image's frame) maps to u = atan2(d.x, -d.z) / (2 pi) (wrapped into [0, 1): the
+    left edge looks along -z, a quarter across along +x), v = acos(d.y) / pi (the top row looks
+    straight up): Mitsuba's `envmap` with `to_world` a rotation of rotation_y_deg about +y.
+    `name` says where the image came from, for messages."""
+
+    radiance: np.ndarray = field(default_factory=lambda: np.ones(3))
+    image: np.ndarray = None
+    scale: float = 1.0
+    rotation_y_deg: float = 0.0
+    name: str = "environment"
+
+    def __setattr__(self, name, value):
+        if isinstance(value, np.ndarray) and name == "image":
+            value.flags.writeable = False
+        super().__setattr__(name, value)
+
+    def rotation(self):
+        """3x3 matrix turning world directions into the image's frame."""
+        return transforms.rotate_euler_deg([0.0, -self.rotation_y_deg, 0.0])[:3, :3]
+
+
 @dataclass
 class Scene:
     name: str
@@ -199,6 +225,7 @@ class Scene:
     camera: Camera
     materials: dict
     voxel_region: VoxelRegion = None  # None: derived from the geometry's bounds
+    environment: Environment = None   # None: black beyond the scene
     source: str = None
     files: tuple = ()  # every file the scene was read from (resolved paths): outputs must not overwrite one
 

@@ -10,10 +10,10 @@ from pathlib import Path
 import numpy as np
 
 from .errors import SceneError
-from .input_files import InputFiles, os_problem
+from .input_files import InputFiles, os_problem, read_radiance_map
 from .limits import MATERIAL_RANGES, MAX_DEPTH, MAX_SCENE_BYTES, check_material, check_placement
 from .mesh_files import load_mesh_file
-from .scene import Camera, Light, Material, Node, Scene, VoxelRegion, box_mesh, quad_mesh, sphere_mesh
+from .scene import Camera, Environment, Light, Material, Node, Scene, VoxelRegion, box_mesh, quad_mesh, sphere_mesh
 from .scene_schema import LIGHT_TYPES, default, validate
 
 
@@ -142,8 +142,24 @@ class _SceneFile:
         region = None
         if "voxel_region" in data:
             region = VoxelRegion(np.array(data["voxel_region"]["center"], float), float(data["voxel_region"]["size"]))
+        environment = self.environment(data["environment"]) if "environment" in data else None
         return Scene(name=name, root=root, camera=camera, materials=self.materials, voxel_region=region,
-                     source=str(self.path), files=tuple(self.inputs.paths))
+                     environment=environment, source=str(self.path), files=tuple(self.inputs.paths))
+
+    def environment(self, spec):
+        if ("radiance" in spec) == ("map" in spec):
+            self.fail("environment", 'give "radiance" (a uniform sky) or "map" (an equirectangular image), one of them')
+        environment = Environment(scale=float(_value(spec, "scale", "environment")),
+                                  rotation_y_deg=float(_value(spec, "rotation_y_deg", "environment")))
+        if "radiance" in spec:
+            environment.radiance = np.array(spec["radiance"], float)
+            return environment
+        try:
+            environment.image = read_radiance_map(self.path.parent / spec["map"], self.inputs)
+        except (OSError, ValueError) as exc:  # ValueError: a NUL in the name, or an image that is no radiance map
+            self.fail("environment.map", f'"{spec["map"]}": {os_problem(exc)}')
+        environment.name = f'{self.path}: environment.map "{spec["map"]}"'
+        return environment
 
     def material(self, key, spec, field):
         material = Material(

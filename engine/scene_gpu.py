@@ -9,6 +9,7 @@ index buffer with its own bounds, so a draw skips the clusters outside a view fr
 touches a few cells)."""
 import ctypes
 import ctypes.util
+import math
 
 import numpy as np
 
@@ -233,6 +234,52 @@ class SceneGeometry:
             self._release_mesh(key)
         self.vertex_arrays.clear()
         self.textures.release()
+
+
+class EnvironmentMap:
+    """The scene's environment (engine.scene.Environment) as one RGBA32F texture with its mip
+    chain, repeating in u and clamped in v (glsl/lib/environment.glsl): the map, or one texel
+    of a uniform sky's radiance; uploaded when the environment changes."""
+
+    def __init__(self, ctx):
+        self.ctx = ctx
+        self.texture = None
+        self.environment = None
+        self.upload(None)
+
+    def upload(self, environment):
+        """Hold `environment` (None: none)."""
+        if self.texture is not None:
+            self.texture.release()
+        self.environment = environment
+        if environment is not None and environment.image is not None:
+            height, width = environment.image.shape[:2]
+            limit = self.ctx.info["GL_MAX_TEXTURE_SIZE"]
+            if max(width, height) > limit:
+                raise VctError(f"{width}x{height} exceeds the driver's texture limit of {limit}", source=environment.name)
+            rgb = environment.image
+        else:
+            rgb = np.zeros((1, 1, 3)) if environment is None else np.asarray(environment.radiance).reshape(1, 1, 3)
+        rgba = np.concatenate([rgb, np.ones(rgb.shape[:2] + (1,))], axis=2).astype("f4")
+        self.texture = self.ctx.texture((rgba.shape[1], rgba.shape[0]), 4, np.ascontiguousarray(rgba).tobytes(), dtype="f4")
+        self.texture.build_mipmaps()
+        self.texture.filter = (self.ctx.LINEAR_MIPMAP_LINEAR, self.ctx.LINEAR)
+        self.texture.repeat_x, self.texture.repeat_y = True, False
+
+    def bind(self, handle):
+        """Bind the map and set the uniforms of glsl/lib/environment.glsl."""
+        environment = self.environment
+        self.texture.use(TEXTURE_UNIT["ENVIRONMENT"])
+        rotation = environment.rotation() if environment is not None else np.eye(3)
+        handle.set(environment_present=environment is not None,
+                   environment_scale=float(environment.scale) if environment is not None else 0.0,
+                   environment_rotation=tuple(np.asarray(rotation, "f4").T.reshape(-1)),
+                   environment_texel_angle=2.0 * math.pi / self.texture.width)
+
+    def release(self):
+        if self.texture is not None:
+            self.texture.release()
+            self.texture = None
 
 
 class EmitterBuffers:

@@ -69,6 +69,14 @@ CAMERA = _object("The pinhole camera", {
     "height": {"type": "integer", "description": "image height in pixels", "exclusiveMinimum": 0, "maximum": MAX_MAGNITUDE,
                "default": 256},
 }, required=("position", "look_at"))
+ENVIRONMENT = _object("The light from beyond the scene: a uniform sky, or an equirectangular map (engine.scene."
+                      "Environment: +y up, the map's left edge looking along -z, as Mitsuba's envmap)", {
+    "radiance": _vector("a uniform sky's radiance, W/(m^2 sr), linear RGB", minimum=0.0, maximum=MAX_EMISSION),
+    "map": {"type": "string", "description": "an equirectangular map of linear radiance, .exr or .hdr, relative to "
+                                             "the scene file"},
+    "scale": _number("multiplies the radiance or the map", 0.0, MAX_EMISSION, default=1.0),
+    "rotation_y_deg": _number("turns the sky about +y, degrees (right-handed)", default=0.0),
+})
 VOXEL_REGION = _object("The cube the voxel grid spans (default: the scene's bounds padded by 5 %)", {
     "center": _vector(f"its centre, {POSITION}"),
     "size": _number("its side, metres", MIN_SCALE),
@@ -136,8 +144,9 @@ SCHEMA = {
         "objects": {"type": "array", "description": "the scene's nodes", "items": {"$ref": "#/$defs/node"}},
         "lights": {"type": "array", "description": "the scene's lights", "items": {"$ref": "#/$defs/light"}},
         "voxel_region": {"$ref": "#/$defs/voxel_region"},
+        "environment": {"$ref": "#/$defs/environment"},
     }, required=("camera",)),
-    "$defs": {"camera": CAMERA, "material": MATERIAL, "voxel_region": VOXEL_REGION,
+    "$defs": {"camera": CAMERA, "material": MATERIAL, "voxel_region": VOXEL_REGION, "environment": ENVIRONMENT,
               "node": _node(GEOMETRY_TYPES + LIGHT_TYPES), "light": _node(LIGHT_TYPES)},
 }
 _VALIDATOR = jsonschema.Draft202012Validator(SCHEMA)

@@ -27,10 +27,11 @@ class Mode:
     data: bool = False
     terms: tuple = ()
 
-    def uses_voxels(self, lit_by_emitters):
+    def uses_voxels(self, lit_through_voxels):
         """Whether the image reads the voxels: voxel views and cone-traced terms; direct light
-        alone only where emissive surfaces light the scene (their shadows are cones)."""
-        return self.uses_radiance or (self.stage == "cone_trace" and lit_by_emitters)
+        alone only where emissive surfaces or the environment light the scene (their shadows
+        are cones)."""
+        return self.uses_radiance or (self.stage == "cone_trace" and lit_through_voxels)
 
     @property
     def uses_radiance(self):

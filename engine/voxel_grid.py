@@ -7,7 +7,7 @@ passed to the passes that read and write it.
   `emitted` (emission, a = 1 where covered) with its hardware mip chain, the emission specular
   cones see;
 - `emitter_light`: the emitters' shadowed irradiance at each voxel's surface and the fraction
-  of it that arrives;
+  of it that arrives; `sky_light`: the environment's irradiance there, through the voxels;
 - the radiance: `base` (emission + injected direct light), the diffuse `gathered` by each
   voxel (two volumes, the latest and the one before, for closing the bounce series), and the
   six one-sided face views cones read, stacked along z in one volume `faces` (n x n x 6n,
@@ -37,7 +37,7 @@ def voxel_memory_bytes(n):
     voxels = n ** 3
     sums = 4 * len(VOXEL_SUM_CHANNELS) + 4 * VOXEL_FACES  # and the front-layer keys
     surface = TEXEL_BYTES * (3 * MIP_CHAIN + 1)              # albedo, normal (viewable), emitted; emission
-    radiance = TEXEL_BYTES * (MIP_CHAIN + 3)                 # base (viewable), two gathers, emitters' light
+    radiance = TEXEL_BYTES * (MIP_CHAIN + 4)                 # base (viewable), two gathers, emitters' and sky light
     faces = TEXEL_BYTES * VOXEL_FACES * MIP_CHAIN
     lists = 6 * 4 + 2 * 4 / 7 + 2 * 4 / 8                    # touched, covered x2, stale, classes, anchors; cells, stamps;
                                                              # level-1 cells' classes, cells by class
@@ -101,6 +101,7 @@ class VoxelGrid:
         self._resources = []
         self.version = 0  # bumped whenever the covered voxels change (lists rebuilt)
         self.emitting = False  # whether any surface emits (`emitted` has its mip chain, `emitter_light` holds their light)
+        self.sky_lit = False   # whether the scene has an environment (`sky_light` holds its light)
 
     # -- allocation ----------------------------------------------------------------------
 
@@ -125,6 +126,7 @@ class VoxelGrid:
         self.emitted = self._volume(mipmapped=True)
         self.gathered = [self._volume() for _ in range(2)]
         self.emitter_light = self._volume()
+        self.sky_light = self._volume()
         self.faces = self._volume(mipmapped=True, views=VOXEL_FACES)
         self.touched, self.covered, self.covered_next = (self._keep(VoxelList(ctx, voxels)) for _ in range(3))
         self.stale = self._keep(VoxelList(ctx, voxels))  # whose gather-anchor records to find again
@@ -189,7 +191,7 @@ class VoxelGrid:
     def uniforms(self):
         return dict(voxel_region_min=tuple(self.bounds()[0]), voxel_region_size=float(self.region.size),
                     voxel_grid=self.n, voxel_size=self.voxel_size, voxel_max_mip=float(self.mip_count - 1),
-                    voxel_emitters=self.emitting)
+                    voxel_emitters=self.emitting, voxel_sky=self.sky_lit)
 
     def bind_sums(self):
         """The voxelizer's sums and front-layer keys."""
@@ -198,11 +200,12 @@ class VoxelGrid:
         self.front.bind_to_image(IMAGE_UNIT["FRONT"], read=True, write=True, format=GL_IMAGE_FORMAT["r32ui"])
 
     def use_surface(self):
-        """The resolved surface volumes and the emitters' light at them."""
+        """The resolved surface volumes and the emitters' and the sky's light at them."""
         self.albedo.use(TEXTURE_UNIT["VOXEL_ALBEDO"])
         self.normal.use(TEXTURE_UNIT["VOXEL_NORMAL"])
         self.emission.use(TEXTURE_UNIT["VOXEL_EMISSION"])
         self.emitter_light.use(TEXTURE_UNIT["VOXEL_EMITTER_LIGHT"])
+        self.sky_light.use(TEXTURE_UNIT["VOXEL_SKY_LIGHT"])
 
     def use_faces(self):
         """The face views and the emission volume: what cones read."""
@@ -213,6 +216,14 @@ class VoxelGrid:
         """The voxels of an interleave class of the class list (None: every covered voxel)."""
         first, count = self.all_segment if class_index is None else self.class_segments[class_index]
         return VoxelSegment(self.class_list, first, count)
+
+    def anchor_segment(self, class_index):
+        """The gather's anchors of an interleave class, in the class list."""
+        return VoxelSegment(self.class_list, *self.anchor_segments[class_index])
+
+    def filled_segment(self, class_index):
+        """The voxels of an interleave class that interpolate the anchors, in the class list."""
+        return VoxelSegment(self.class_list, *self.filled_segments[class_index])
 
     def bind_faces(self, level=0):
         bind_image(self.faces, IMAGE_UNIT["FACES_OUT"], level=level)

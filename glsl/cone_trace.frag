@@ -3,7 +3,9 @@
 // plus cone-traced indirect light.
 //   direct:   the lighting pass's image + c_d / pi V E_emitters(p, n): the emitters' light
 //             exact at p (lib/emitters.glsl), times the fraction V of it that arrives,
-//             interpolated from the voxels around p (voxel_emitter_light.comp)
+//             interpolated from the voxels around p (voxel_emitter_light.comp) + c_d / pi
+//             E_sky: the environment's light through the voxels, interpolated likewise
+//             (voxel_sky_light.comp); where no surface is, the environment itself
 //   diffuse:  Lo = c_d sum_j w_j Lv(p, w_j, a_j), the lecture's 6 cones, with c_d the diffuse
 //             layer's albedo seen from the camera, (1 - m) k_d (1 - F(w_o . n)). They are
 //             traced once per voxel whenever the voxel radiance changes (voxel_gather.comp);
@@ -41,31 +43,34 @@ uniform bool include_diffuse;
 uniform bool include_specular;
 uniform float ao_distance;
 uniform float pixel_angle;  // radians between neighbouring pixels' rays
+uniform mat4 inverse_view_projection;
 layout(location = 0) out vec4 out_radiance;
 
 // What a pixel takes from the 8 voxels whose centres surround its point p, each weighted
 // trilinearly and by how its surface faces the pixel's normal n (facing_weight): the diffuse gather
 // sum_j w_j Lv(p, w_j) of the voxels that reflect light (`gathered`; `gathered_found` false
-// where none faces n) and the fraction of the emitters' light that arrives
-// (`emitter_visibility`; 1 where no voxel faces n, a thin surface seen from behind).
+// where none faces n), the fraction of the emitters' light that arrives (`emitter_visibility`;
+// 1 where no voxel faces n, a thin surface seen from behind) and the environment's irradiance
+// (`sky_irradiance`; 0 where no voxel faces n).
 struct VoxelInterpolation {
     vec3 gathered;
     bool gathered_found;
     float emitter_visibility;
+    vec3 sky_irradiance;
 };
 
-VoxelInterpolation interpolate_voxels(Surface s, bool want_gathered, bool want_visibility) {
+VoxelInterpolation interpolate_voxels(Surface s, bool want_gathered, bool want_visibility, bool want_sky) {
     vec3 c = voxel_uvw(s.position) * float(voxel_grid) - 0.5;  // in units of voxels, from voxel centres
     ivec3 base = ivec3(floor(c));
     vec3 f = c - vec3(base);
-    vec3 gathered_sum = vec3(0.0);
-    float gathered_total = 0.0, visibility_sum = 0.0, visibility_total = 0.0;
+    vec3 gathered_sum = vec3(0.0), sky_sum = vec3(0.0);
+    float gathered_total = 0.0, visibility_sum = 0.0, surface_total = 0.0;
     for (int k = 0; k < 8; ++k) {
         ivec3 corner = ivec3(k & 1, (k >> 1) & 1, k >> 2);
         ivec3 v = base + corner;
         if (any(lessThan(v, ivec3(0))) || any(greaterThanEqual(v, ivec3(voxel_grid)))) continue;
         vec4 g = want_gathered ? texelFetch(voxel_gathered, v, 0) : vec4(0.0);
-        if (g.a <= 0.0 && !want_visibility) continue;  // no surface, or none that reflects diffuse light
+        if (g.a <= 0.0 && !want_visibility && !want_sky) continue;  // no surface, or none that reflects diffuse light
         vec3 n_v = texelFetch(voxel_normal, v, 0).xyz;
         if (dot(n_v, n_v) <= 0.0) continue;  // no surface
         vec3 trilinear = mix(1.0 - f, f, vec3(corner));
@@ -74,23 +79,35 @@ VoxelInterpolation interpolate_voxels(Surface s, bool want_gathered, bool want_v
             gathered_sum += weight * g.rgb;
             gathered_total += weight;
         }
-        if (want_visibility) {
-            visibility_sum += weight * texelFetch(voxel_emitter_light, v, 0).a;
-            visibility_total += weight;
-        }
+        if (want_visibility) visibility_sum += weight * texelFetch(voxel_emitter_light, v, 0).a;
+        if (want_sky) sky_sum += weight * texelFetch(voxel_sky_light, v, 0).rgb;
+        surface_total += weight;
     }
     VoxelInterpolation result;
     result.gathered_found = gathered_total > 1e-4;
     result.gathered = result.gathered_found ? gathered_sum / gathered_total : vec3(0.0);
-    result.emitter_visibility = visibility_total > 1e-4 ? visibility_sum / visibility_total : 1.0;
+    bool surface_found = surface_total > 1e-4;
+    result.emitter_visibility = surface_found ? visibility_sum / surface_total : 1.0;
+    result.sky_irradiance = surface_found ? sky_sum / surface_total : vec3(0.0);
     return result;
+}
+
+// The direction of the camera ray through the centre of a pixel.
+vec3 view_direction(ivec2 pixel) {
+    vec2 ndc = (vec2(pixel) + 0.5) / vec2(textureSize(gbuffer_position, 0)) * 2.0 - 1.0;
+    vec4 far = inverse_view_projection * vec4(ndc, 1.0, 1.0);
+    return normalize(far.xyz / far.w - camera_position);
 }
 
 void main() {
     ivec2 pixel = ivec2(gl_FragCoord.xy);
     if (is_anchor(pixel)) imageStore(diffuse_in, pixel / 2, vec4(0.0));  // no diffuse cones traced (yet)
     Surface s = read_gbuffer(pixel);
-    if (!s.covered) { out_radiance = vec4(0.0); return; }
+    if (!s.covered) {  // the environment where no surface is, as the camera sees emitters
+        bool sky = include_direct && output_kind == OUTPUT_RADIANCE;
+        out_radiance = vec4(sky ? environment_radiance(view_direction(pixel), 0.5 * pixel_angle) : vec3(0.0), 0.0);
+        return;
+    }
     if (output_kind == OUTPUT_AO) {
         float occlusion = trace_diffuse(s.position, s.normal, ao_distance).a;
         out_radiance = vec4(vec3(1.0 - clamp(occlusion, 0.0, 1.0)), 1.0);
@@ -99,12 +116,14 @@ void main() {
     vec3 diffuse_layer = diffuse_albedo(s);
     bool diffuse = any(greaterThan(diffuse_layer, vec3(0.0)));
     bool lit_by_emitters = EMITTER_LIGHT && include_direct && diffuse;
-    VoxelInterpolation voxels = interpolate_voxels(s, include_diffuse && diffuse, lit_by_emitters);
+    bool lit_by_sky = voxel_sky && include_direct && diffuse;
+    VoxelInterpolation voxels = interpolate_voxels(s, include_diffuse && diffuse, lit_by_emitters, lit_by_sky);
     vec3 radiance = include_direct ? texelFetch(direct_light, pixel, 0).rgb : vec3(0.0);
 #ifdef EMITTERS
     if (lit_by_emitters)
         radiance += diffuse_layer / PI * emitter_irradiance(s.position, s.normal) * voxels.emitter_visibility;
 #endif
+    if (lit_by_sky) radiance += diffuse_layer / PI * voxels.sky_irradiance;
     // Pixels that need cones are listed (lib/cone_pixels.glsl): the diffuse cones where no
     // voxel faces the pixel's way, the specular cone where the surface reflects specularly;
     // traced at the anchors (even x and y) and shared with the pixels between them.

@@ -1,9 +1,10 @@
 #version 450 core
 // Light injection, over the covered voxels: the base radiance each voxel's surface sends out
 // before any bounce, evaluated at its surface point with its mean normal:
-//   L_base = L_e + rho / pi * (sum_lights E_l + E_emitters), rho the voxel's reflectance
-// (voxelize.frag), where dot(mean normal, l) in E_l is the mean of the fragments' cosines, and
-// E_emitters the emitters' shadowed light (voxel_emitter_light.comp). Runs when a light or a
+//   L_base = L_e + rho / pi * (sum_lights E_l + E_emitters + E_sky), rho the voxel's
+// reflectance (voxelize.frag), where dot(mean normal, l) in E_l is the mean of the fragments'
+// cosines, E_emitters the emitters' shadowed light (voxel_emitter_light.comp) and E_sky the
+// environment's (voxel_sky_light.comp). Runs when a light or a
 // shadow map changes, without revoxelizing, over a segment of a voxel list: the class list
 // (every voxel, or in progressive frames one interleave class) or the voxels a voxelization
 // touched.
@@ -28,6 +29,7 @@ void main() {
             irradiance += light_irradiance(i, s.position, s.mean_normal, l);
         }
         if (voxel_emitters) irradiance += texelFetch(voxel_emitter_light, v, 0).rgb;
+        if (voxel_sky) irradiance += texelFetch(voxel_sky_light, v, 0).rgb;
     }
     imageStore(base_out, v, vec4(s.emission + s.albedo / PI * irradiance, 1.0));
 }

@@ -24,7 +24,10 @@ What is converted, and how
 Geometry: every drawn mesh with its world transform, its own vertex normals as Mitsuba's
 shading normals (spheres are shaded smooth, as the renderer draws them) and its texture
 coordinates. Faces are one-sided by their winding (right-hand rule), as in the renderer.
-Camera: perspective, vertical field of view, the scene's width and height. Lights: point
+Camera: perspective, vertical field of view, the scene's width and height. Environment: a
+uniform sky is Mitsuba's `constant` emitter, a map its `envmap` with the same bitmap, `scale`
+and `to_world` the rotation about +y (engine.scene.Environment's convention is Mitsuba's).
+Lights: point
 (W/sr, inverse square), spot (Mitsuba's fall-off between the inner and outer angles is linear in
 angle, vct's smooth) and directional (W/m^2); `range` and `cast_shadows: false` are refused.
 
@@ -412,6 +415,15 @@ class Converter:
                 emitter = {"type": "directional", "direction": [float(v) for v in light.direction],
                            "irradiance": {"type": "rgb", "value": [float(v) for v in light.intensity]}}
             result[f"light{k}"] = emitter
+        environment = scene.environment
+        if environment is not None:  # the same convention (engine.scene.Environment): no conversion of the map
+            if environment.image is None:
+                result["environment"] = {"type": "constant", "radiance": {
+                    "type": "rgb", "value": [float(v) * environment.scale for v in environment.radiance]}}
+            else:
+                result["environment"] = {"type": "envmap", "bitmap": mi.Bitmap(np.array(environment.image, np.float32)),
+                                         "scale": float(environment.scale),
+                                         "to_world": mi.ScalarTransform4f.rotate([0, 1, 0], float(environment.rotation_y_deg))}
         # Shadow rays of `path` stop at any surface; `volpath` lets them through masks' holes.
         result["integrator"] = {"type": "volpath" if self.masked else "path", "max_depth": int(max_depth)}
         return result

@@ -9,6 +9,7 @@ anchor stood for."""
 import numpy as np
 
 from ..constants import GL_IMAGE_FORMAT, IMAGE_UNIT, STORAGE_BINDING, TEXTURE_UNIT
+from ..transforms import gl_bytes
 from .target import ScreenTarget
 
 OUTPUT_KIND = {"radiance": 0, "ao": 1}
@@ -38,19 +39,23 @@ class ConeTracePass:
         anchors = ((size[0] + 1) // 2, (size[1] + 1) // 2)
         self.specular_in, self.diffuse_in = (self.ctx.texture(anchors, 4, dtype="f4") for _ in range(2))
 
-    def render(self, gbuffer, direct, grid, gathered, emitters, cone_uniforms, camera, terms, ao_distance):
-        """`camera`: renderer.FrameCamera; `emitters`: scene_gpu.EmitterBuffers; `terms`:
-        settings.ImageTerms (which of direct, diffuse, specular, or AO)."""
+    def render(self, gbuffer, direct, grid, gathered, emitters, environment, cone_uniforms, camera, terms, ao_distance):
+        """`camera`: renderer.FrameCamera; `emitters`: scene_gpu.EmitterBuffers; `environment`:
+        scene_gpu.EnvironmentMap; `terms`: settings.ImageTerms (which of direct, diffuse,
+        specular, or AO)."""
         program = self.programs[emitters.count > 0]
         gbuffer.use()
         emitters.bind(program)
+        for handle in (program, self.pixels_program, self.shared_program):
+            environment.bind(handle)
         grid.use_surface()
         grid.use_faces()
         gathered.use(TEXTURE_UNIT["VOXEL_GATHERED"])
         direct.texture.use(TEXTURE_UNIT["DIRECT_LIGHT"])
         program.set(**grid.uniforms(), **cone_uniforms, output_kind=OUTPUT_KIND["ao" if terms.ao else "radiance"], include_direct=terms.direct,
                          include_diffuse=terms.diffuse, include_specular=terms.specular, ao_distance=float(ao_distance),
-                         pixel_angle=float(camera.pixel_angle), camera_position=tuple(camera.position))
+                         pixel_angle=float(camera.pixel_angle), camera_position=tuple(camera.position),
+                         inverse_view_projection=gl_bytes(np.linalg.inv(camera.view_projection)))
         for pixel_list in (self.cone_pixels, self.shared_pixels, self.unshared_pixels):
             pixel_list.write(np.array([0, 1, 1, 0], dtype="u4").tobytes())  # no group, no pixel yet
         self.cone_pixels.bind_to_storage_buffer(STORAGE_BINDING["CONE_PIXELS"])

@@ -101,14 +101,20 @@ class GatherPass:
         grid.use_faces()
         grid.class_list.bind_to_storage_buffer(STORAGE_BINDING["CLASS_LIST"])
         bind_image(out, IMAGE_UNIT["GATHERED_OUT"])
-        first, count = grid.anchor_segments[class_index]
-        self.program.set(**grid.uniforms(), **cone_uniforms, first=first, count=count)
-        grid.dispatch(self.program, count)
-        bind_image(out, IMAGE_UNIT["GATHERED_OUT"], read=True)
+        anchors = grid.anchor_segment(class_index)
+        self.program.set(**grid.uniforms(), **cone_uniforms, first=anchors.first, count=anchors.count)
+        grid.dispatch(self.program, anchors.count)
+        self.fill(grid, out, grid.filled_segment(class_index))
+
+    def fill(self, grid, volume, segment):
+        """Interpolate `volume` (the anchors' values written) at the voxels of `segment` (a
+        class's voxels that are not anchors) from the anchors around them."""
+        grid.use_surface()
+        grid.class_list.bind_to_storage_buffer(STORAGE_BINDING["CLASS_LIST"])
+        bind_image(volume, IMAGE_UNIT["GATHERED_OUT"], read=True)
         grid.gather_anchors.bind_to_storage_buffer(STORAGE_BINDING["GATHER_ANCHORS"])
-        first, count = grid.filled_segments[class_index]
-        self.fill_program.set(**grid.uniforms(), first=first, count=count)
-        grid.dispatch(self.fill_program, count)
+        self.fill_program.set(**grid.uniforms(), first=segment.first, count=segment.count)
+        grid.dispatch(self.fill_program, segment.count)
 
     def extrapolate(self, grid, latest, older, gain):
         """older <- latest + (latest - older) * gain, per covered voxel."""

@@ -5,15 +5,19 @@
 #include "lib/gbuffer.glsl"
 #include "lib/cone.glsl"
 #include "lib/brdf.glsl"
+#include "lib/environment.glsl"
 
 layout(binding = IMG_SPECULAR_IN, rgba32f) uniform image2D specular_in;  // per anchor: Lv
 uniform vec3 camera_position;
 
-// Lv(p, w_s, a_s) of surface s.
+// Lv(p, w_s, a_s) of surface s: what the cone gathers through the voxels, and the sky beyond
+// them seen through what it did not meet.
 vec3 specular_incoming(Surface s) {
     vec3 wo = normalize(camera_position - s.position);
     vec3 ws = 2.0 * max(dot(wo, s.normal), 0.0) * s.normal - wo;
-    return trace_cone(s.position, s.normal, ws, specular_tan_half_angle(s.roughness), 1e9, true, false, true).rgb;
+    float tan_half_angle = specular_tan_half_angle(s.roughness);
+    vec4 cone = trace_cone(s.position, s.normal, ws, tan_half_angle, 1e9, true, false, true);
+    return cone.rgb + (1.0 - min(cone.a, 1.0)) * environment_radiance(ws, atan(tan_half_angle));
 }
 
 // Schlick's F(w_o . n) of surface s.

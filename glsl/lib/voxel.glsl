@@ -5,6 +5,7 @@ uniform float voxel_region_size;
 uniform int voxel_grid;       // N voxels per side
 uniform float voxel_size;     // voxel_region_size / N
 uniform bool voxel_emitters;  // whether any surface emits (the emission volume and the emitters' light are built)
+uniform bool voxel_sky;       // whether the scene has an environment (the sky's light is built)
 
 // World position -> texture coordinates in [0,1]^3 (voxel i covers [i, i+1) / N).
 vec3 voxel_uvw(vec3 p) {

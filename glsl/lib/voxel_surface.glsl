@@ -8,6 +8,9 @@ layout(binding = TEX_VOXEL_EMISSION) uniform sampler3D voxel_emission; // rgb, a
 // The emitters' shadowed irradiance at each voxel's surface (rgb) and the fraction of their
 // unshadowed light that arrives (a), where voxel_emitters (voxel_emitter_light.comp).
 layout(binding = TEX_VOXEL_EMITTER_LIGHT) uniform sampler3D voxel_emitter_light;
+// The environment's irradiance at each voxel's surface through the voxels (rgb), where
+// voxel_sky (voxel_sky_light.comp).
+layout(binding = TEX_VOXEL_SKY_LIGHT) uniform sampler3D voxel_sky_light;
 
 struct VoxelSurface {
     bool covered;

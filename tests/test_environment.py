@@ -1,0 +1,239 @@
+"""The environment: light from beyond the scene (a uniform sky or an equirectangular map).
+
+Facts: the camera sees the map where no surface is, in Mitsuba's envmap convention (the map's
+left edge looking along -z, a quarter across along +x, rotation_y_deg turning it about +y),
+as the reference tool's Mitsuba scene does; a floor under a uniform sky alone receives
+E = pi L (direct light, and the same in gi with nothing to bounce); glTF's layers under a
+uniform sky (a white furnace) return the light that arrives, dielectrics and metals at every
+roughness, where layers simply added would return more; a mirror shows the sky; bad maps and
+bad --environment values exit 2 with one line; a scene nothing can light renders with one
+warning line, and so does one whose lights reach nothing the camera sees.
+"""
+import importlib.util
+import json
+import struct
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import engine
+from engine import SceneError, load_scene
+from test_cli import assert_one_line_error, vct  # tests/ is on sys.path under pytest
+
+ROOT = Path(__file__).resolve().parent.parent
+CARD = [[-0.5, -0.5, 0], [0.5, -0.5, 0], [0.5, 0.5, 0], [-0.5, 0.5, 0]]
+# Four bands of the map, centred on the directions -z, +x, +z, -x (u = 0, 1/4, 1/2, 3/4).
+BANDS = {"-z": [1.0, 0.0, 0.0], "+x": [0.0, 1.0, 0.0], "+z": [0.0, 0.0, 1.0], "-x": [1.0, 1.0, 1.0]}
+LOOK = {"-z": [0, 0, -1], "+x": [1, 0, 0], "+z": [0, 0, 1], "-x": [-1, 0, 0]}
+
+
+def band_map(width=64, height=32):
+    u = (np.arange(width) + 0.5) / width
+    band = np.floor((u + 1 / 8) * 4).astype(int) % 4
+    colours = np.array(list(BANDS.values()), np.float32)
+    return np.ascontiguousarray(np.broadcast_to(colours[band][None], (height, width, 3)))
+
+
+def write(directory, document, name="scene.json"):
+    path = Path(directory) / name
+    path.write_text(json.dumps(document))
+    return path
+
+
+def sky_scene(directory, objects=(), environment=None, look="-z", size=16, materials=None):
+    """The camera at the origin looking along `look`, a small card far below (so the scene has a
+    surface), and the environment."""
+    objects = list(objects) or [{"name": "Card", "type": "quad", "material": "m", "translation": [0, -50, 0],
+                                 "rotation": [-90, 0, 0], "vertices": CARD}]
+    return write(directory, {
+        "camera": {"position": [0, 0, 0], "look_at": LOOK[look], "vertical_fov_deg": 5, "width": size, "height": size},
+        "materials": materials or {"m": {"albedo": [0.5, 0.5, 0.5]}},
+        "objects": objects, "environment": environment or {"radiance": [1, 1, 1]}})
+
+
+@pytest.fixture(scope="module")
+def small():
+    with engine.Renderer(16, 16) as r:
+        yield r
+
+
+@pytest.mark.parametrize("look, rotation, seen", [("-z", 0, "-z"), ("+x", 0, "+x"), ("+z", 0, "+z"), ("-x", 0, "-x"),
+                                                  ("+x", 90, "+z"), ("-z", 90, "+x")])
+def test_the_camera_sees_the_map_where_no_surface_is_in_mitsubas_envmap_convention(small, tmp_path, look, rotation, seen):
+    """Turned by 90 degrees about +y, the map shows at +x what it shows at +z unturned."""
+    engine.save_exr(tmp_path / "bands.exr", band_map())
+    scene = load_scene(sky_scene(tmp_path, environment={"map": "bands.exr", "rotation_y_deg": rotation}, look=look))
+    image = small.render(scene, mode="gi", grid=16)
+    np.testing.assert_allclose(image[6:10, 6:10].reshape(-1, 3).mean(axis=0), BANDS[seen], atol=0.02)
+
+
+def test_the_reference_tool_reads_the_map_the_same_way(tmp_path):
+    mitsuba = pytest.importorskip("mitsuba")
+    spec = importlib.util.spec_from_file_location("reference_tool", ROOT / "tools" / "reference.py")
+    reference = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(reference)
+    reference.use_mitsuba("scalar_rgb")
+    engine.save_exr(tmp_path / "bands.exr", band_map())
+    for look, rotation, seen in (("+x", 0, "+x"), ("+x", 90, "+z")):
+        scene = load_scene(sky_scene(tmp_path, environment={"map": "bands.exr", "rotation_y_deg": rotation}, look=look, size=8))
+        image, _, _, _ = reference.render(scene, spp=8, max_depth=2, pass_spp=4)
+        np.testing.assert_allclose(image[3:5, 3:5].reshape(-1, 3).mean(axis=0), BANDS[seen], atol=0.02)
+    assert mitsuba is not None
+
+
+def floor_under_sky(directory, albedo=0.5):
+    floor = {"name": "Floor", "type": "quad", "material": "m", "vertices": [[-1, 0, 1], [1, 0, 1], [1, 0, -1], [-1, 0, -1]]}
+    return write(directory, {"camera": {"position": [0, 1, 0.01], "look_at": [0, 0, 0], "vertical_fov_deg": 10,
+                                        "width": 16, "height": 16},
+                             "materials": {"m": {"albedo": [albedo] * 3}}, "objects": [floor],
+                             "environment": {"radiance": [2, 2, 2]}})
+
+
+@pytest.mark.parametrize("mode", ["direct", "gi"])
+def test_a_floor_under_a_uniform_sky_alone_receives_pi_times_its_radiance(small, tmp_path, mode):
+    """L = rho / pi E = rho L_sky: 0.5 x 2 = 1; nothing else to bounce from, so gi is the same."""
+    image = small.render(load_scene(floor_under_sky(tmp_path)), mode=mode, grid=32)
+    assert image[4:12, 4:12].mean() == pytest.approx(1.0, rel=0.01)
+
+
+@pytest.mark.parametrize("material, returned", [
+    ({"albedo": [1, 1, 1], "specular": 0.04, "roughness": 0.1}, 1.0),
+    ({"albedo": [1, 1, 1], "specular": 0.04, "roughness": 0.5}, 1.0),
+    ({"albedo": [1, 1, 1], "specular": 0.04, "roughness": 1.0}, 1.0),
+    ({"albedo": [1, 1, 1], "metalness": 1.0, "roughness": 0.3}, 1.0),
+    ({"albedo": [0.5, 0.5, 0.5], "metalness": 1.0, "roughness": 0.3}, 0.5 + 0.5 * 0.5 ** 5),
+], ids=["dielectric-0.1", "dielectric-0.5", "dielectric-1", "white-metal", "grey-metal"])
+def test_a_white_furnace_of_gltf_layers_returns_at_most_what_arrives(small, tmp_path, material, returned):
+    """A card under a uniform sky of 1, seen at 60 degrees (n.v = 1/2): a white dielectric's layers
+    return (1 - F) + F = 1 of the light between them (added, they would return 1 + F = 1.07), a
+    metal its Schlick reflectance F0 + (1 - F0) (1/2)^5."""
+    scene = load_scene(write(tmp_path, {
+        "camera": {"position": [0, 0, 1.5], "look_at": [0, 0, 0], "vertical_fov_deg": 20, "width": 16, "height": 16},
+        "materials": {"s": material}, "environment": {"radiance": [1, 1, 1]},
+        "objects": [{"name": "Card", "type": "quad", "material": "s", "rotation": [0, 60, 0], "vertices": CARD}]}))
+    centre = small.render(scene, grid=32)[6:10, 6:10]
+    assert centre.max() <= 1.005
+    assert centre.mean() == pytest.approx(returned, rel=0.015)
+
+
+def test_a_mirror_shows_the_sky(small, tmp_path):
+    """A smooth metal floor seen at 45 degrees reflects the map's band in the mirrored direction:
+    looking down along -z, it shows what lies up along -z, red."""
+    engine.save_exr(tmp_path / "bands.exr", band_map())
+    mirror = {"name": "Mirror", "type": "quad", "material": "chrome", "vertices": [[-5, 0, 5], [5, 0, 5], [5, 0, -5], [-5, 0, -5]]}
+    scene = load_scene(write(tmp_path, {
+        "camera": {"position": [0, 1, 0], "look_at": [0, 0, -1], "vertical_fov_deg": 5, "width": 16, "height": 16},
+        "materials": {"chrome": {"albedo": [1, 1, 1], "metalness": 1.0, "roughness": 0.0}},
+        "objects": [mirror], "environment": {"map": "bands.exr"}}))
+    np.testing.assert_allclose(small.render(scene, grid=32)[6:10, 6:10].reshape(-1, 3).mean(axis=0), BANDS["-z"], atol=0.05)
+
+
+def test_a_closed_rooms_converged_brightness_follows_the_layered_albedo(small, tmp_path):
+    """A closed box of walls that emit 1 and reflect as a glTF dielectric of base colour 0.6: its
+    voxels pass on rho = 0.6 (1 - E) + E, E = 0.04 + 0.96 / 21, so the room settles at
+    L = 1 / (1 - rho); a wall seen head-on returns 1 + ((1 - F0) 0.6 + F0) L. Layers simply added
+    (rho = 0.6 + E) would make it 3.04 instead of 2.68."""
+    h = 2.0
+    walls = {"Floor": [[-h, -h, -h], [-h, -h, h], [h, -h, h], [h, -h, -h]], "Ceiling": [[-h, h, -h], [h, h, -h], [h, h, h], [-h, h, h]],
+             "Left": [[-h, -h, -h], [-h, h, -h], [-h, h, h], [-h, -h, h]], "Right": [[h, -h, -h], [h, -h, h], [h, h, h], [h, h, -h]],
+             "Back": [[-h, -h, -h], [h, -h, -h], [h, h, -h], [-h, h, -h]], "Front": [[-h, -h, h], [-h, h, h], [h, h, h], [h, -h, h]]}
+    scene = load_scene(write(tmp_path, {
+        "camera": {"position": [0, 0, 1.5], "look_at": [0, 0, 0], "vertical_fov_deg": 30, "width": 16, "height": 16},
+        "materials": {"wall": {"albedo": [0.6] * 3, "emission": [1, 1, 1], "specular": 0.04}},
+        "objects": [{"name": name, "type": "quad", "material": "wall", "vertices": v} for name, v in walls.items()]}))
+    e = 0.04 + 0.96 / 21
+    settled = 1.0 / (1.0 - (0.6 * (1 - e) + e))
+    seen = 1.0 + (0.96 * 0.6 + 0.04) * settled
+    assert small.render(scene, grid=64)[6:10, 6:10].mean() == pytest.approx(seen, rel=0.02)
+
+
+def header_only_exr(width, height):
+    """The header of a float RGB OpenEXR of width x height and no pixels."""
+    def attribute(name, kind, value):
+        return name.encode() + b"\0" + kind.encode() + b"\0" + struct.pack("<i", len(value)) + value
+    channels = b"".join(c.encode() + b"\0" + struct.pack("<iBBBBii", 2, 0, 0, 0, 0, 1, 1) for c in "BGR") + b"\0"
+    box = struct.pack("<iiii", 0, 0, width - 1, height - 1)
+    header = (attribute("channels", "chlist", channels) + attribute("compression", "compression", b"\0")
+              + attribute("dataWindow", "box2i", box) + attribute("displayWindow", "box2i", box)
+              + attribute("lineOrder", "lineOrder", b"\0") + attribute("pixelAspectRatio", "float", struct.pack("<f", 1))
+              + attribute("screenWindowCenter", "v2f", struct.pack("<ff", 0, 0))
+              + attribute("screenWindowWidth", "float", struct.pack("<f", 1)) + b"\0")
+    return struct.pack("<ii", 20000630, 2) + header + bytes(8 * height)
+
+
+def _map(pixels):
+    def make(directory):
+        engine.save_exr(Path(directory) / "sky.exr", np.asarray(pixels, np.float32))
+        return "sky.exr"
+    return make
+
+
+def _bytes(name, data):
+    def make(directory):
+        (Path(directory) / name).write_bytes(data)
+        return name
+    return make
+
+
+BAD_MAPS = {
+    "missing": (lambda directory: "nothing.exr", "file not found"),
+    "corrupt": (_bytes("sky.exr", b"not an OpenEXR file"), "cannot decode OpenEXR"),
+    "not floating point": (_bytes("sky.png", b"\x89PNG"), "linear radiance: .exr or .hdr, not .png"),
+    "negative texel": (_map([[[1, 1, 1], [1, -0.5, 1]]]), "texel (row 0, column 1) is [1.0, -0.5, 1.0]"),
+    "NaN texel": (_map([[[1, 1, 1], [np.nan, 1, 1]]]), "must be finite and not negative"),
+    "too many pixels": (_bytes("sky.exr", header_only_exr(20000, 4)), "20000x4 pixels: at most 16384 on a side"),
+}
+
+
+@pytest.mark.parametrize("case", BAD_MAPS)
+def test_a_bad_environment_map_is_one_line_naming_the_file_and_the_field(tmp_path, case):
+    make, problem = BAD_MAPS[case]
+    name = make(tmp_path)
+    path = sky_scene(tmp_path, environment={"map": name})
+    with pytest.raises(SceneError) as info:
+        load_scene(path)
+    assert str(info.value).startswith(f'{path}: environment.map: "{name}": ') and problem in str(info.value), str(info.value)
+
+
+def test_an_environment_is_a_sky_or_a_map_not_both(tmp_path):
+    with pytest.raises(SceneError, match='environment: give "radiance"'):
+        load_scene(sky_scene(tmp_path, environment={"radiance": [1, 1, 1], "map": "sky.exr"}))
+
+
+def test_environment_from_the_command_line_replaces_the_scenes(tmp_path):
+    """--environment R,G,B: a uniform sky; --environment FILE: a map; a bad one exits 2."""
+    scene = sky_scene(tmp_path, environment={"radiance": [1, 1, 1]})
+    out = tmp_path / "x.npy"
+    assert vct("render", scene, "--out", tmp_path / "x.png", "--hdr", out, "--environment", "0,0.5,0", "--grid", "16").returncode == 0
+    np.testing.assert_allclose(np.load(out)[6:10, 6:10].reshape(-1, 3).mean(axis=0), [0, 0.5, 0], atol=0.01)
+    engine.save_exr(tmp_path / "bands.exr", band_map())
+    assert vct("render", scene, "--out", tmp_path / "x.png", "--hdr", out, "--environment", tmp_path / "bands.exr",
+               "--grid", "16").returncode == 0
+    np.testing.assert_allclose(np.load(out)[6:10, 6:10].reshape(-1, 3).mean(axis=0), BANDS["-z"], atol=0.02)
+    assert_one_line_error(vct("render", scene, "--out", tmp_path / "y.png", "--environment", "1,-1,1"), "--environment")
+    assert_one_line_error(vct("render", scene, "--out", tmp_path / "y.png", "--environment", tmp_path / "none.exr"),
+                          "--environment", "file not found")
+
+
+def test_a_scene_nothing_can_light_renders_with_one_warning_line(tmp_path):
+    document = json.loads((ROOT / "scenes" / "cornell_box.json").read_text())
+    document["lights"] = []
+    path = write(tmp_path, document)
+    result = vct("render", path, "--out", tmp_path / "x.png", "--width", "16", "--height", "16", "--grid", "16")
+    assert result.returncode == 0 and len(result.stderr.splitlines()) == 1
+    assert result.stderr.startswith(f"vct: warning: {path}: no light: the scene has no lights, no emissive surfaces "
+                                    "and no environment")
+
+
+def test_a_light_enclosed_by_geometry_renders_with_one_warning_line_naming_it(tmp_path):
+    """The Cornell box's light inside a small closed box: the camera sees only its outside."""
+    document = json.loads((ROOT / "scenes" / "cornell_box.json").read_text())
+    document["objects"] = [{"name": "Lantern", "type": "box", "material": "white", "center": [0, 0.7, 0], "size": [0.3, 0.3, 0.3]}]
+    document["camera"]["position"] = [0, 0.7, 3]
+    document["camera"]["look_at"] = [0, 0.7, 0]
+    path = write(tmp_path, document)
+    result = vct("render", path, "--out", tmp_path / "x.png", "--width", "16", "--height", "16", "--grid", "16")
+    assert result.returncode == 0, result.stderr
+    assert result.stderr.startswith('vct: warning: ') and '"Omni Light" reaches nothing the camera sees' in result.stderr
+    assert len(result.stderr.splitlines()) == 1
