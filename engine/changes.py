@@ -17,7 +17,8 @@ def material_values(material):
     return (tuple(float(x) for x in material.albedo), float(material.roughness), float(material.metalness),
             float(material.specular), tuple(float(x) for x in material.emission), float(material.alpha),
             material.alpha_mode, float(material.alpha_cutoff), bool(material.double_sided),
-            float(material.normal_scale), tuple(material.textures()))
+            float(material.normal_scale), tuple(material.textures()), tuple(sorted(material.uv_sets.items())),
+            tuple(sorted(material.uv_transforms.items())))
 
 
 class _Same:

@@ -88,6 +88,8 @@ def _add_settings_arguments(parser, default_mode="gi"):
     parser.add_argument("--no-specular", action="store_true", help="gi: leave out specular indirect light")
     parser.add_argument("--exposure", type=_finite_float, default=d.exposure, help=f"exposure multiplier before tone mapping, at most {MAX_EXPOSURE:g} (default {d.exposure})")
     parser.add_argument("--shaders", help="GLSL directory to use instead of the project's glsl/ (for shader work)")
+    parser.add_argument("--camera", metavar="NAME",
+                        help="render from the camera node of this name (a glTF camera) instead of the scene's camera")
     parser.add_argument("--environment", metavar="FILE|R,G,B",
                         help="light from beyond the scene, instead of the scene file's: an equirectangular map of "
                              "linear radiance (.exr or .hdr) or a uniform sky's radiance R,G,B in W/(m^2 sr)")
@@ -110,7 +112,7 @@ def build_parser():
     render = commands.add_parser("render", help="render a scene headless to PNG (and linear HDR .npy or .exr)",
                                  description="Render a scene headless (EGL) to a tone-mapped PNG and optionally "
                                              "linear float32 radiance (H, W, 3), row 0 at the top, as .npy or OpenEXR.")
-    render.add_argument("scene", help="scene JSON file")
+    render.add_argument("scene", help="scene file: JSON, or glTF/GLB as a whole scene")
     render.add_argument("--out", required=True, help="output PNG path")
     render.add_argument("--hdr", help="also write linear radiance before tone mapping: FILE.npy (numpy float32) "
                                       "or FILE.exr (OpenEXR, float32 RGB)")
@@ -120,7 +122,7 @@ def build_parser():
                                description="Interactive viewer: fly camera, overlay, scene graph and inspector, "
                                            "GLSL hot reload. Keys: WASD/QE move, drag to look, scroll for speed, "
                                            "R reset camera, V vsync, F12/PrtScrn screenshot, Esc quit.")
-    view.add_argument("scene", help="scene JSON file")
+    view.add_argument("scene", help="scene file: JSON, or glTF/GLB as a whole scene")
     view.add_argument("--frames", type=_whole_number(1, MAX_VIEW_FRAMES),
                       help=f"render this many frames (at most {MAX_VIEW_FRAMES}), then exit")
     view.add_argument("--screenshot", help="with --frames: save the last frame (without panels) to this PNG")
@@ -132,7 +134,7 @@ def build_parser():
                                             "wall clock) for each grid size, for three kinds of frame as the viewer "
                                             "renders them once the bounces settled: static (the camera moves), light "
                                             "(the scene's first light moves), object (its smallest object moves).")
-    bench.add_argument("scene", help="scene JSON file")
+    bench.add_argument("scene", help="scene file: JSON, or glTF/GLB as a whole scene")
     bench.add_argument("--frames", type=_whole_number(1, MAX_BENCH_FRAMES), default=10,
                        help=f"timed frames per kind and grid, at most {MAX_BENCH_FRAMES} (default 10)")
     bench.add_argument("--warmup", type=_whole_number(0, MAX_BENCH_FRAMES), default=3,
@@ -293,7 +295,7 @@ def load_lit_scene(args):
     from .scene import Environment
     from .scene_file import load_scene
 
-    scene = load_scene(args.scene)
+    scene = load_scene(args.scene, camera=args.camera)
     if args.environment:
         parts = args.environment.split(",")
         try:

@@ -3,11 +3,17 @@
 - glTF 2.0 (.gltf with its buffers and images, or .glb): the default scene's node hierarchy
   (names; translation/rotation/scale or a matrix), one child node per primitive where a mesh has
   several, each with its material (the mapping is in engine.scene.Material's docstring). NORMAL,
-  TEXCOORD_0 and TANGENT come from the file; a primitive without NORMAL gets flat normals (as
-  the glTF spec says), one whose material has a normal texture but no TANGENT gets tangents
-  from its texture coordinates (Lengyel's per-triangle derivatives, summed per vertex).
-  Triangle lists, strips and fans; sparse accessors; data URIs and external files. Extensions
-  the file uses without requiring them are ignored, as glTF allows.
+  TEXCOORD_0, TEXCOORD_1, TANGENT and COLOR_0 come from the file; a primitive without NORMAL
+  gets flat normals (as the glTF spec says), one whose material has a normal texture but no
+  TANGENT gets tangents from its texture coordinates (Lengyel's per-triangle derivatives,
+  summed per vertex). Triangle lists, strips and fans; sparse accessors; data URIs and
+  external files. Cameras become NodeCameras of their nodes (perspective yfov and aspectRatio,
+  orthographic xmag/ymag; the node's -z is the view direction, +y up); KHR_lights_punctual
+  lights become Lights of their nodes (at the node's origin, shining along its -z): colour x
+  intensity, point and spot in candela, directional in lux, over LUMENS_PER_WATT = 683 into
+  W/sr and W/m^2; range; a spot's innerConeAngle and outerConeAngle (radians) as its inner and
+  outer angles. Extensions the file uses without requiring them and vct does not read are left
+  out, as glTF allows, with one warning naming them.
 - OBJ + MTL: one node per material (usemtl) group, named after its material. MTL, per
   material: Kd (x map_Kd) -> albedo (Kd defaults to 1 with map_Kd, else 0.8); Ke (x map_Ke) ->
   emission (Ke defaults to 1 with map_Ke, else 0); Ns -> roughness r = (2 / (Ns + 2))^(1/4),
@@ -48,11 +54,14 @@ import numpy as np
 from .errors import SceneError, warn
 from .input_files import InputFiles, os_problem
 from .json_reader import JsonReader
-from .limits import MAX_DEPTH, MAX_FILE_BYTES, MAX_MAGNITUDE, check_material, check_vertices
-from .scene import ALPHA_MODES, Material, Mesh, Node, Texture
+from .limits import MAX_DEPTH, MAX_FILE_BYTES, MAX_MAGNITUDE, MIN_FOV_DEG, check_material, check_vertices
+from .scene import ALPHA_MODES, IDENTITY_UV, TEXTURE_FIELDS, Light, Material, Mesh, Node, NodeCamera, Texture
 from .transforms import decompose, euler_deg_from_rotation, quaternion_rotation
 
-GLTF_EXTENSIONS = ("KHR_materials_emissive_strength",)  # the ones this reader understands
+# The extensions this reader understands; others a file uses are left out, with a warning.
+GLTF_EXTENSIONS = ("KHR_materials_emissive_strength", "KHR_lights_punctual", "KHR_texture_transform")
+LUMENS_PER_WATT = 683.0  # photometric to radiometric units at 555 nm: W/sr = cd / 683, W/m^2 = lux / 683
+MAX_SPOT_ANGLE_DEG = 89.0  # a spot light's shadow is one perspective view of twice its outer angle
 TRIMESH_FORMATS = (".ply", ".stl", ".off")
 
 
@@ -239,6 +248,9 @@ class _Gltf:
         if missing:
             self.json.fail("extensionsRequired", f"needs {', '.join(missing)}, which vct does not read "
                                                  f"(it reads {', '.join(GLTF_EXTENSIONS)})")
+        unread = sorted({str(e) for e in self.json.get(self.doc, "extensionsUsed", "", [], list)} - set(GLTF_EXTENSIONS))
+        if unread:
+            warn(f"uses extensions vct does not read, drawn without them: {', '.join(unread)}", source=name)
 
     def fail(self, field, message):
         self.json.fail(field, message)
@@ -448,6 +460,13 @@ class _Gltf:
                 self.fail(f"{field}.rotation", "must be a unit quaternion x, y, z, w")
             node.rotation_deg = euler_deg_from_rotation(quaternion_rotation(rotation))
             node.scale = self.json.vector(spec, "scale", field, [1.0, 1.0, 1.0])
+        if "camera" in spec:
+            node.camera = self.camera(self.json.index(spec, "camera", field, "cameras", len(self.list("cameras"))))
+        lights = self.json.get(self.json.get(spec, "extensions", field, {}, dict), "KHR_lights_punctual",
+                               f"{field}.extensions", {}, dict)
+        if "light" in lights:
+            node.light = self.light(self.json.index(lights, "light", f"{field}.extensions.KHR_lights_punctual", "lights",
+                                                    len(self.punctual_lights())))
         if "mesh" in spec:
             parts = self.mesh(self.json.index(spec, "mesh", field, "meshes", len(self.list("meshes"))))
             if len(parts) == 1:
@@ -460,6 +479,64 @@ class _Gltf:
             child = self.json.index_value(child, f"{field}.children[{k}]", "nodes", len(self.list("nodes")))
             node.children.append(self.node(child, depth + 1))
         return node
+
+    def camera(self, index):
+        """The NodeCamera of cameras[index]: perspective (yfov in radians, aspectRatio) or
+        orthographic (xmag, ymag: half the view's width and height)."""
+        read, field = self.json, f"cameras[{index}]"
+        spec = self.element("cameras", index)
+        kind = read.get(spec, "type", field, kind=str)
+        name = read.get(spec, "name", field, field, str)
+        if kind == "perspective":
+            where = f"{field}.perspective"
+            lens = read.get(spec, "perspective", field, kind=dict)
+            yfov = math.degrees(read.number(lens, "yfov", where, positive=True, maximum=math.radians(179.0)))
+            if yfov < MIN_FOV_DEG:
+                self.fail(f"{where}.yfov", f"must be at least {math.radians(MIN_FOV_DEG):g} (radians)")
+            aspect = read.number(lens, "aspectRatio", where, None, positive=True) if "aspectRatio" in lens else None
+            read.number(lens, "znear", where, positive=True)
+            return NodeCamera(name=name, vertical_fov_deg=yfov, aspect_ratio=aspect)
+        if kind == "orthographic":
+            where = f"{field}.orthographic"
+            lens = read.get(spec, "orthographic", field, kind=dict)
+            xmag, ymag = (read.number(lens, key, where, positive=True) for key in ("xmag", "ymag"))
+            read.number(lens, "znear", where, minimum=0.0)
+            return NodeCamera(name=name, projection="orthographic", half_height=ymag, aspect_ratio=xmag / ymag)
+        self.fail(f"{field}.type", f'must be "perspective" or "orthographic", got "{kind}"')
+
+    def punctual_lights(self):
+        extensions = self.json.get(self.doc, "extensions", "", {}, dict)
+        lights = self.json.get(extensions, "KHR_lights_punctual", "extensions", {}, dict)
+        return self.json.get(lights, "lights", "extensions.KHR_lights_punctual", [], list)
+
+    def light(self, index):
+        """The Light of KHR_lights_punctual's lights[index], in the node's frame (at its origin,
+        shining along -z): colour x intensity in candela (point, spot) or lux (directional),
+        turned into W/sr and W/m^2 at LUMENS_PER_WATT; range; the spot's cone angles."""
+        read, field = self.json, f"extensions.KHR_lights_punctual.lights[{index}]"
+        spec = self.punctual_lights()[index]
+        if not isinstance(spec, dict):
+            self.fail(field, "must be an object")
+        kind = read.get(spec, "type", field, kind=str)
+        if kind not in ("point", "spot", "directional"):
+            self.fail(f"{field}.type", f'must be "point", "spot" or "directional", got "{kind}"')
+        color = read.vector(spec, "color", field, [1.0, 1.0, 1.0], nonnegative=True)
+        intensity = read.number(spec, "intensity", field, 1.0, minimum=0.0, maximum=MAX_MAGNITUDE * LUMENS_PER_WATT)
+        light = Light(type=kind, intensity=color * intensity / LUMENS_PER_WATT, direction=np.array([0.0, 0.0, -1.0]))
+        if kind != "directional" and "range" in spec:
+            light.range = read.number(spec, "range", field, positive=True)
+        if kind == "spot":
+            where = f"{field}.spot"
+            cone = read.get(spec, "spot", field, {}, dict)
+            outer = math.degrees(read.number(cone, "outerConeAngle", where, math.pi / 4, positive=True))
+            inner = math.degrees(read.number(cone, "innerConeAngle", where, 0.0, minimum=0.0))
+            if outer > MAX_SPOT_ANGLE_DEG:
+                self.fail(f"{where}.outerConeAngle", f"must be at most {math.radians(MAX_SPOT_ANGLE_DEG):.4f} (radians: "
+                                                    f"{MAX_SPOT_ANGLE_DEG:g} degrees)")
+            if inner >= outer:
+                self.fail(f"{where}.innerConeAngle", "must be less than outerConeAngle")
+            light.inner_angle_deg, light.outer_angle_deg = inner, outer
+        return light
 
     def mesh(self, index):
         """[(Mesh, Material)] for the primitives of meshes[index] that hold a triangle of some
@@ -485,7 +562,8 @@ class _Gltf:
         where = f"{field}.attributes"
         positions = self.accessor(attributes, "POSITION", where, ("VEC3",), FLOAT)
         optional = {"NORMAL": (("VEC3",), FLOAT), "TEXCOORD_0": (("VEC2",), FLOAT + NORMALIZED_UV_TYPES),
-                    "TANGENT": (("VEC4",), FLOAT)}
+                    "TEXCOORD_1": (("VEC2",), FLOAT + NORMALIZED_UV_TYPES), "TANGENT": (("VEC4",), FLOAT),
+                    "COLOR_0": (("VEC3", "VEC4"), FLOAT + NORMALIZED_UV_TYPES)}
         found = {}
         for key, (types, components) in optional.items():
             if key in attributes:
@@ -501,18 +579,25 @@ class _Gltf:
         triangles = self.triangles(indices, mode, field)
         triangles = triangles[np.linalg.norm(face_normals(positions, triangles), axis=1) > 0]
         material = self.override or self.primitive_material(spec, field)
-        normals, texcoords, tangents = found.get("NORMAL"), found.get("TEXCOORD_0"), found.get("TANGENT")
+        normals, tangents = found.get("NORMAL"), found.get("TANGENT")
+        texcoords, texcoords1 = found.get("TEXCOORD_0"), found.get("TEXCOORD_1")
+        colors = found["COLOR_0"][:, :3] if "COLOR_0" in found else None
         if normals is not None:
             normals = self.unit_normals(normals, f"{where}.NORMAL", attributes["NORMAL"])
-        if material.textures() and texcoords is None:
-            self.fail(field, f'material "{material.name}" has textures but the primitive has no TEXCOORD_0')
+        for texture_field in (f for f in TEXTURE_FIELDS if getattr(material, f) is not None):
+            uv_set = material.uv_sets.get(texture_field, 0)
+            if (texcoords, texcoords1)[uv_set] is None:
+                self.fail(field, f'material "{material.name}" has textures on TEXCOORD_{uv_set} but the primitive has no '
+                                 f"TEXCOORD_{uv_set}")
         if normals is None:
-            positions, normals, triangles, texcoords, tangents = flat_normals(positions, triangles, texcoords, tangents)
+            positions, normals, triangles, texcoords, tangents, colors, texcoords1 = flat_normals(
+                positions, triangles, texcoords, tangents, colors, texcoords1)
         if material.normal_texture is not None and tangents is None:
-            tangents = generate_tangents(positions, normals, texcoords, triangles)
+            normal_uv = (texcoords, texcoords1)[material.uv_sets.get("normal_texture", 0)]
+            tangents = generate_tangents(positions, normals, normal_uv, triangles)
         if len(triangles) == 0:
             return None
-        return Mesh(positions, normals, triangles, texcoords, tangents), material
+        return Mesh(positions, normals, triangles, texcoords, tangents, colors, texcoords1), material
 
     def unit_normals(self, normals, field, index):
         """The normals scaled to unit length (glTF requires unit normals; some files are off
@@ -567,7 +652,11 @@ class _Gltf:
         alpha_mode = read.get(spec, "alphaMode", field, "OPAQUE", str)
         if alpha_mode not in ALPHA_MODES:
             self.fail(f"{field}.alphaMode", f'must be one of {", ".join(ALPHA_MODES)}, got "{alpha_mode}"')
-        normal_texture = self.texture(spec, "normalTexture", field, srgb=False)
+        uses = {"base_color_texture": self.texture(pbr, "baseColorTexture", pbr_field, srgb=True),
+                "metallic_roughness_texture": self.texture(pbr, "metallicRoughnessTexture", pbr_field, srgb=False),
+                "emissive_texture": self.texture(spec, "emissiveTexture", field, srgb=True),
+                "normal_texture": self.texture(spec, "normalTexture", field, srgb=False)}
+        normal_texture = uses["normal_texture"].texture
         material = Material(
             name=read.get(spec, "name", field, field, str),
             albedo=base_color[:3],
@@ -579,11 +668,10 @@ class _Gltf:
             alpha_mode=alpha_mode,
             alpha_cutoff=read.number(spec, "alphaCutoff", field, 0.5, minimum=0.0) if alpha_mode == "MASK" else 0.5,
             double_sided=read.get(spec, "doubleSided", field, False, bool),
-            base_color_texture=self.texture(pbr, "baseColorTexture", pbr_field, srgb=True),
-            metallic_roughness_texture=self.texture(pbr, "metallicRoughnessTexture", pbr_field, srgb=False),
-            emissive_texture=self.texture(spec, "emissiveTexture", field, srgb=True),
-            normal_texture=normal_texture,
             normal_scale=read.number(spec["normalTexture"], "scale", f"{field}.normalTexture", 1.0) if normal_texture else 1.0,
+            uv_sets={name: use.uv_set for name, use in uses.items() if use.uv_set},
+            uv_transforms={name: use.transform for name, use in uses.items() if use.transform != IDENTITY_UV},
+            **{name: use.texture for name, use in uses.items()},
         )
         emission_field = (f"{field}.emissiveFactor x extensions.KHR_materials_emissive_strength.emissiveStrength"
                           if strength_spec else f"{field}.emissiveFactor")
@@ -596,15 +684,19 @@ class _Gltf:
         return material
 
     def texture(self, obj, key, field, srgb):
-        """The Texture that the textureInfo obj[key] names, or None where there is none."""
+        """The TextureUse of the textureInfo obj[key]: its Texture (None where there is none),
+        the texture coordinate set it reads and the transform of its coordinates."""
         if key not in obj:
-            return None
+            return TextureUse(None, 0, IDENTITY_UV)
         read = self.json
         where = f"{field}.{key}"
         info = read.get(obj, key, field, kind=dict)
         index = read.index(info, "index", where, "textures", len(self.list("textures")))
-        if read.number(info, "texCoord", where, 0, whole=True, minimum=0) != 0:
-            self.fail(f"{where}.texCoord", "only TEXCOORD_0 is read")
+        uv_set = int(read.number(info, "texCoord", where, 0, whole=True, minimum=0, maximum=1))
+        transform = IDENTITY_UV
+        extensions = read.get(info, "extensions", where, {}, dict)
+        if "KHR_texture_transform" in extensions:
+            uv_set, transform = self.texture_transform(extensions, f"{where}.extensions", uv_set)
         texture_field = f"textures[{index}]"
         spec = self.element("textures", index)
         if "source" not in spec:
@@ -627,7 +719,19 @@ class _Gltf:
             pixels_key, _ = self.textures.decoded(self.image_bytes(image, image_field))
         except ValueError as exc:
             self.fail(where, f"{label}: {exc}")
-        return self.textures.texture(pixels_key, f"{self.json.path}: {label}", srgb, *wrap)
+        return TextureUse(self.textures.texture(pixels_key, f"{self.json.path}: {label}", srgb, *wrap), uv_set, transform)
+
+    def texture_transform(self, extensions, field, uv_set):
+        """(texture coordinate set, 2x3 matrix) of KHR_texture_transform: T(offset) R(rotation)
+        S(scale) applied to (u, v, 1), as the extension defines R = [[cos, sin], [-sin, cos]]."""
+        read, where = self.json, f"{field}.KHR_texture_transform"
+        spec = read.get(extensions, "KHR_texture_transform", field, kind=dict)
+        offset = read.vector(spec, "offset", where, [0.0, 0.0], length=2)
+        rotation = read.number(spec, "rotation", where, 0.0)
+        scale = read.vector(spec, "scale", where, [1.0, 1.0], length=2)
+        uv_set = int(read.number(spec, "texCoord", where, uv_set, whole=True, minimum=0, maximum=1))
+        c, s = math.cos(rotation), math.sin(rotation)
+        return uv_set, ((c * scale[0], s * scale[1], float(offset[0])), (-s * scale[0], c * scale[1], float(offset[1])))
 
     def image_bytes(self, image, field):
         if "bufferView" in image:
@@ -802,6 +906,7 @@ class _MtlLibrary:
 
 
 _MapImage = namedtuple("_MapImage", "name key pixels wrap")
+TextureUse = namedtuple("TextureUse", "texture uv_set transform")
 
 
 def _with_alpha(color, alpha):

@@ -52,7 +52,14 @@ class FrameCamera:
     forward: np.ndarray
     view_projection: np.ndarray
     far: float
-    pixel_angle: float  # radians between neighbouring pixels' rays, at the image centre
+    pixel_angle: float  # radians between neighbouring pixels' rays, at the image centre (0: orthographic)
+    orthographic: bool = False
+
+    def uniforms(self):
+        """The uniforms of glsl/lib/camera.glsl."""
+        return dict(camera_position=tuple(self.position), camera_forward=tuple(self.forward),
+                    camera_orthographic=self.orthographic,
+                    inverse_view_projection=transforms.gl_bytes(np.linalg.inv(self.view_projection)))
 
 
 def frame_camera(camera, size, bounds):
@@ -62,9 +69,10 @@ def frame_camera(camera, size, bounds):
     far = float(np.max(np.linalg.norm(corners - camera.position, axis=1))) * 1.1 + 1.0
     forward = camera.look_at - camera.position
     projection = camera.projection_matrix(size[0] / size[1], NEAR_PLANE, far)
-    pixel_angle = 2.0 * math.tan(math.radians(camera.vertical_fov_deg) / 2.0) / size[1]
+    orthographic = camera.projection == "orthographic"
+    pixel_angle = 0.0 if orthographic else 2.0 * math.tan(math.radians(camera.vertical_fov_deg) / 2.0) / size[1]
     return FrameCamera(np.asarray(camera.position, float), forward / np.linalg.norm(forward),
-                       projection @ camera.view_matrix(), far, pixel_angle)
+                       projection @ camera.view_matrix(), far, pixel_angle, orthographic)
 
 
 def _current(method):
@@ -299,7 +307,7 @@ class Renderer:
         inputs = (self.stages["gbuffer"].version, self.stages["shadows"].version)
         if stage.stale(inputs, self.track_changes):
             with self.timed("lighting"):
-                self.lighting.render(gbuffer, shadow_maps, camera.position)
+                self.lighting.render(gbuffer, shadow_maps, camera)
             stage.ran(inputs)
         return self.lighting.target
 

@@ -11,6 +11,8 @@ from . import transforms
 
 WRAP_MODES = ("REPEAT", "CLAMP_TO_EDGE", "MIRRORED_REPEAT")
 ALPHA_MODES = ("OPAQUE", "MASK", "BLEND")
+TEXTURE_FIELDS = ("base_color_texture", "metallic_roughness_texture", "emissive_texture", "normal_texture")
+IDENTITY_UV = ((1.0, 0.0, 0.0), (0.0, 1.0, 0.0))
 
 
 @dataclass(frozen=True, eq=False)
@@ -68,8 +70,11 @@ class Material:
     emissiveFactor x KHR_materials_emissive_strength.emissiveStrength, taken as radiance in
     W/(m^2 sr); emissive_texture = emissiveTexture; normal_texture, normal_scale =
     normalTexture and its scale; alpha_mode, alpha_cutoff, double_sided = alphaMode,
-    alphaCutoff (0.5 for BLEND), doubleSided. occlusionTexture is not read: the cone-traced
-    occlusion replaces it. From OBJ/MTL files: see engine/mesh_files.py."""
+    alphaCutoff (0.5 for BLEND), doubleSided; uv_sets, uv_transforms = each textureInfo's
+    texCoord and KHR_texture_transform (offset, rotation, scale, texCoord). A mesh's COLOR_0
+    (RGB; its alpha is not read) multiplies the base colour (Mesh.colors). occlusionTexture is
+    not read: the cone-traced occlusion replaces it. From OBJ/MTL files: see
+    engine/mesh_files.py."""
 
     name: str
     albedo: np.ndarray = field(default_factory=lambda: np.array([0.8, 0.8, 0.8]))
@@ -86,6 +91,11 @@ class Material:
     emissive_texture: Texture = None
     normal_texture: Texture = None
     normal_scale: float = 1.0
+    # Per texture field (base_color_texture, ...): the texture coordinate set it reads (0 or 1,
+    # default 0) and the 2x3 matrix applied to (u, v, 1) before sampling (KHR_texture_transform;
+    # default identity).
+    uv_sets: dict = field(default_factory=dict)
+    uv_transforms: dict = field(default_factory=dict)
 
     @property
     def alpha_tested(self):
@@ -94,8 +104,11 @@ class Material:
 
     def textures(self):
         """The textures this material uses, in field order."""
-        return [t for t in (self.base_color_texture, self.metallic_roughness_texture,
-                            self.emissive_texture, self.normal_texture) if t is not None]
+        return [getattr(self, name) for name in TEXTURE_FIELDS if getattr(self, name) is not None]
+
+    def uv_transform(self, texture_field):
+        """The 2x3 matrix a texture's coordinates go through (identity by default)."""
+        return self.uv_transforms.get(texture_field, IDENTITY_UV)
 
 
 @dataclass
@@ -116,6 +129,8 @@ class Mesh:
     indices: np.ndarray
     texcoords: np.ndarray = None
     tangents: np.ndarray = None
+    colors: np.ndarray = None      # (V, 3) linear RGB that multiplies the base colour (glTF COLOR_0)
+    texcoords1: np.ndarray = None  # (V, 2) a second set of texture coordinates (glTF TEXCOORD_1)
 
     def __setattr__(self, name, value):
         if isinstance(value, np.ndarray):
@@ -124,7 +139,7 @@ class Mesh:
 
     def arrays(self):
         """The arrays the mesh is made of: the same objects mean the same geometry."""
-        return (self.positions, self.normals, self.indices, self.texcoords, self.tangents)
+        return (self.positions, self.normals, self.indices, self.texcoords, self.tangents, self.colors, self.texcoords1)
 
     def bounds(self, matrix):
         p = transforms.transform_points(matrix, self.positions)
@@ -145,18 +160,48 @@ class Light:
 
 @dataclass
 class Camera:
+    """The camera an image is rendered from: perspective (`vertical_fov_deg`) or orthographic
+    (`half_height`: half the view's height in metres; its width follows the image's aspect)."""
+
     position: np.ndarray
     look_at: np.ndarray
     up: np.ndarray
     vertical_fov_deg: float
     width: int
     height: int
+    projection: str = "perspective"  # or "orthographic"
+    half_height: float = 1.0
+    name: str = "camera"
 
     def view_matrix(self):
         return transforms.look_at(self.position, self.look_at, self.up)
 
     def projection_matrix(self, aspect, near, far):
+        if self.projection == "orthographic":
+            return transforms.orthographic(self.half_height * aspect, self.half_height, near, far)
         return transforms.perspective(self.vertical_fov_deg, aspect, near, far)
+
+
+@dataclass
+class NodeCamera:
+    """A camera a node carries (a glTF camera): it looks along the node's -z with +y up.
+    Perspective: `vertical_fov_deg`; orthographic: `half_height` (and `half_width`);
+    `aspect_ratio` the image's width / height it was made for (None: not given)."""
+
+    name: str
+    projection: str = "perspective"
+    vertical_fov_deg: float = 60.0
+    half_height: float = 1.0
+    aspect_ratio: float = None
+
+    def placed(self, world, width, height):
+        """The Camera of this node under world matrix `world`, for an image of width x height."""
+        position = world[:3, 3].copy()
+        forward = world[:3, :3] @ np.array([0.0, 0.0, -1.0])
+        up = world[:3, :3] @ np.array([0.0, 1.0, 0.0])
+        return Camera(position=position, look_at=position + forward / np.linalg.norm(forward), up=up / np.linalg.norm(up),
+                      vertical_fov_deg=self.vertical_fov_deg, width=width, height=height, projection=self.projection,
+                      half_height=self.half_height, name=self.name)
 
 
 @dataclass
@@ -170,6 +215,7 @@ class Node:
     mesh: Mesh = None
     material: Material = None
     light: Light = None
+    camera: NodeCamera = None
     children: list = field(default_factory=list)
 
     def local_matrix(self):
@@ -247,6 +293,10 @@ class Scene:
                                     direction / norm if norm > 0 else light.direction, light.range,
                                     light.inner_angle_deg, light.outer_angle_deg, light.cast_shadows)))
         return out
+
+    def cameras(self):
+        """(node, world matrix) of every node that carries a camera, depth first."""
+        return [(n, m) for n, m in self.root.walk() if n.camera is not None]
 
     def textures(self):
         """The distinct textures of the drawn materials, in drawing order."""

@@ -1,6 +1,12 @@
-"""JSON scene files -> scene model. The file is checked against the scene format's schema
-(engine/scene_schema.py: fields, types, ranges, defaults) and then for what a schema cannot
-say (materials named but not defined, degenerate quads, world transforms, the files it names).
+"""Scene files -> scene model: a JSON scene file, or a glTF/GLB file as a whole scene.
+
+A JSON file is checked against the scene format's schema (engine/scene_schema.py: fields,
+types, ranges, defaults) and then for what a schema cannot say (materials named but not
+defined, degenerate quads, world transforms, the files it names). A glTF file is read by
+engine/mesh_files.py with its cameras and KHR_lights_punctual lights; its nodes are held to the
+same limits. The camera: the JSON file's, else the first camera of its mesh files (depth
+first), else one framing the scene's bounds (with a warning); `camera=NAME` picks a camera node
+by name instead. A JSON file's mesh files bring their lights unless it lists lights itself.
 Every fault raises SceneError naming the file and the field, e.g. `scenes/x.json: objects[6]
 "Short Box".size[0]: must be positive`."""
 import dataclasses
@@ -9,11 +15,18 @@ from pathlib import Path
 
 import numpy as np
 
-from .errors import SceneError
+from .errors import SceneError, warn
 from .input_files import InputFiles, os_problem, read_radiance_map
 from .limits import MATERIAL_RANGES, MAX_DEPTH, MAX_SCENE_BYTES, check_material, check_placement
 from .mesh_files import load_mesh_file
 from .scene import Camera, Environment, Light, Material, Node, Scene, VoxelRegion, box_mesh, quad_mesh, sphere_mesh
+
+GLTF_SUFFIXES = (".gltf", ".glb")
+# The image of a camera that a glTF file gives no size: this wide, its aspect ratio the
+# camera's (glTF aspectRatio, or xmag / ymag), else FALLBACK_ASPECT.
+DEFAULT_WIDTH = 640
+FALLBACK_ASPECT = 4.0 / 3.0
+FRAMING_FOV_DEG = 45.0
 from .scene_schema import LIGHT_TYPES, default, validate
 
 
@@ -99,9 +112,15 @@ def parse_scene_file(path, inputs):
     return document
 
 
-def load_scene(path):
-    """Load a JSON scene file into a Scene (pure Python/numpy, no GL)."""
-    return _SceneFile(Path(path)).scene()
+def load_scene(path, camera=None):
+    """Load a scene file (JSON, or glTF/GLB as a whole scene) into a Scene (pure Python/numpy,
+    no GL); `camera`: the name of the camera node to render from (None: the scene's own)."""
+    path = Path(path)
+    scene_file = _SceneFile(path)
+    scene = scene_file.gltf_scene() if path.suffix.lower() in GLTF_SUFFIXES else scene_file.scene()
+    if camera is not None:
+        scene.camera = scene_file.named_camera(scene, camera)
+    return scene
 
 
 def _vector(spec, key, definition):
@@ -123,6 +142,7 @@ class _SceneFile:
     def __init__(self, path):
         self.path = path
         self.inputs = InputFiles()
+        self.file_lights = True  # whether the lights of the mesh files are the scene's
         self.materials = {}
         self.meshes = {}  # primitive meshes by type, mesh files by (path, material)
 
@@ -131,9 +151,9 @@ class _SceneFile:
 
     def scene(self):
         data = parse_scene_file(self.path, self.inputs)
+        self.file_lights = "lights" not in data
         for key, spec in data.get("materials", {}).items():
             self.materials[key] = self.material(key, spec, f"materials.{key}")
-        camera = self.camera(data["camera"])
         name = data.get("name", self.path.stem)
         root = Node(name=_title(name))
         for key in ("objects", "lights"):
@@ -143,8 +163,42 @@ class _SceneFile:
         if "voxel_region" in data:
             region = VoxelRegion(np.array(data["voxel_region"]["center"], float), float(data["voxel_region"]["size"]))
         environment = self.environment(data["environment"]) if "environment" in data else None
-        return Scene(name=name, root=root, camera=camera, materials=self.materials, voxel_region=region,
-                     environment=environment, source=str(self.path), files=tuple(self.inputs.paths))
+        scene = Scene(name=name, root=root, camera=None, materials=self.materials, voxel_region=region,
+                      environment=environment, source=str(self.path), files=tuple(self.inputs.paths))
+        scene.camera = self.camera(data["camera"]) if "camera" in data else self.file_camera(scene)
+        return scene
+
+    def gltf_scene(self):
+        """A glTF/GLB file as a whole scene: its nodes, cameras and lights, under a root node
+        named after the file; held to the scene file's limits (engine.limits)."""
+        root = Node(name=_title(self.path.stem))
+        root.children = load_mesh_file(self.path, str(self.path), None, self.inputs)
+        for part in root.children:
+            self.check_file_nodes(part, np.eye(4), 1, "")
+        if not root.children or not any(n.mesh is not None for n, _ in root.walk()):
+            self.fail("", "holds no triangles")
+        scene = Scene(name=self.path.stem, root=root, camera=None, materials={}, source=str(self.path),
+                      files=tuple(self.inputs.paths))
+        scene.camera = self.file_camera(scene)
+        return scene
+
+    def file_camera(self, scene):
+        """The first camera node of the scene (depth first) placed in the world, at its image
+        size; or, where it has none, one framing the scene's bounds, with a warning."""
+        cameras = scene.cameras()
+        if cameras:
+            node, world = cameras[0]
+            return _placed(node, world)
+        warn("no camera: rendering from one that frames the scene's bounds", source=self.path)
+        return framing_camera(scene.bounds(), DEFAULT_WIDTH, round(DEFAULT_WIDTH / FALLBACK_ASPECT))
+
+    def named_camera(self, scene, name):
+        """The camera node called `name`, placed; SceneError listing the cameras where none is."""
+        for node, world in scene.cameras():
+            if node.name == name or node.camera.name == name:
+                return _placed(node, world)
+        names = ", ".join(f'"{node.name}"' for node, _ in scene.cameras()) or "none"
+        self.fail("camera", f'no camera node named "{name}" (the scene has: {names})')
 
     def environment(self, spec):
         if ("radiance" in spec) == ("map" in spec):
@@ -228,11 +282,13 @@ class _SceneFile:
         stack = [(top, parent_world, depth)]
         while stack:
             node, parent, level = stack.pop()
-            field = f'{where}: node "{node.name}"'
+            field = f'{where}: node "{node.name}"' if where else f'node "{node.name}"'
             if level > MAX_DEPTH:
                 self.fail(field, f"nests more than {MAX_DEPTH} levels deep (the scene's levels above it counted in)")
             world = parent @ node.local_matrix()
             check_placement(node, world, self.placement_failure(field))
+            if node.light is not None and not self.file_lights:  # the scene file lists its own lights
+                node.light = None
             stack.extend((child, world, level + 1) for child in reversed(node.children))
 
     def shape(self, spec, field, kind, node):
@@ -297,6 +353,27 @@ class _SceneFile:
                 self.fail(f"{field}.inner_angle_deg", f"must be at most outer_angle_deg ({light.outer_angle_deg:g})")
         light.cast_shadows = _value(spec, "cast_shadows", kind)
         return light
+
+
+def _placed(node, world):
+    """The Camera of a camera node, named after the node, at the image size its aspect ratio
+    gives."""
+    aspect = node.camera.aspect_ratio or FALLBACK_ASPECT
+    camera = node.camera.placed(world, DEFAULT_WIDTH, max(1, round(DEFAULT_WIDTH / aspect)))
+    camera.name = node.name
+    return camera
+
+
+def framing_camera(bounds, width, height):
+    """A perspective camera that sees the whole bounding sphere of `bounds` from the front (+z)
+    and a little above."""
+    lo, hi = (np.asarray(b, float) for b in bounds)
+    center = (lo + hi) / 2.0
+    radius = max(float(np.linalg.norm(hi - lo)) / 2.0, 1e-3)
+    direction = np.array([0.0, 0.25, 1.0]) / np.linalg.norm([0.0, 0.25, 1.0])
+    distance = radius / np.sin(np.radians(FRAMING_FOV_DEG) / 2.0)
+    return Camera(position=center + direction * distance, look_at=center, up=np.array([0.0, 1.0, 0.0]),
+                  vertical_fov_deg=FRAMING_FOV_DEG, width=width, height=height, name="framing")
 
 
 def _copy_tree(node):

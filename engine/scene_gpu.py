@@ -19,8 +19,9 @@ from .emitters import frame_emitters
 from .errors import VctError
 
 # Vertex attributes in buffer order, with their float counts. Meshes without texture
-# coordinates or tangents get zeros.
-VERTEX_ATTRIBUTES = (("in_position", 3), ("in_normal", 3), ("in_texcoord", 2), ("in_tangent", 4))
+# coordinates or tangents get zeros there, without vertex colours white.
+VERTEX_ATTRIBUTES = (("in_position", 3), ("in_normal", 3), ("in_texcoord", 2), ("in_tangent", 4), ("in_color", 3),
+                     ("in_texcoord1", 2))
 # Material texture -> (texture unit, the value it stands for when the material has none).
 MATERIAL_TEXTURES = {
     "base_color_texture": ("BASE_COLOR_MAP", (255, 255, 255, 255)),
@@ -151,7 +152,9 @@ class SceneGeometry:
             count = len(mesh.positions)
             columns = [mesh.positions, mesh.normals,
                        mesh.texcoords if mesh.texcoords is not None else np.zeros((count, 2)),
-                       mesh.tangents if mesh.tangents is not None else np.zeros((count, 4))]
+                       mesh.tangents if mesh.tangents is not None else np.zeros((count, 4)),
+                       mesh.colors if mesh.colors is not None else np.ones((count, 3)),
+                       mesh.texcoords1 if mesh.texcoords1 is not None else np.zeros((count, 2))]
             data = np.hstack([np.asarray(c, dtype="f4") for c in columns])
             clusters = MeshClusters(np.asarray(mesh.positions, np.float64), np.asarray(mesh.indices, np.int64).reshape(-1, 3))
             entry = (mesh.arrays(), self.ctx.buffer(data.tobytes()), self.ctx.buffer(clusters.triangles.astype("i4").tobytes()),
@@ -182,7 +185,9 @@ class SceneGeometry:
         handle.set(albedo=tuple(material.albedo), alpha=float(material.alpha), roughness=float(material.roughness),
                    metalness=float(material.metalness), dielectric_f0=float(material.specular),
                    emission=tuple(material.emission), normal_scale=float(material.normal_scale),
-                   alpha_cutoff=float(material.alpha_cutoff) if material.alpha_tested else -1.0)
+                   alpha_cutoff=float(material.alpha_cutoff) if material.alpha_tested else -1.0,
+                   uv_transforms=b"".join(_uv_matrix(material.uv_transform(name)) for name in MATERIAL_TEXTURES),
+                   uv_sets=tuple(int(material.uv_sets.get(name, 0)) for name in MATERIAL_TEXTURES))
         for field, (unit, _) in MATERIAL_TEXTURES.items():
             texture = getattr(material, field)
             gl_texture = self.textures.get(texture) if texture is not None else self.textures.defaults[field]
@@ -309,6 +314,18 @@ class EmitterBuffers:
             if buffer is not None:
                 buffer.release()
         self.triangles = self.patches = None
+
+
+def vertex_extras(mesh):
+    """Whether a mesh has vertex colours or a second texture coordinate set: the programs that
+    pass them on (VERTEX_EXTRAS) draw it."""
+    return mesh.colors is not None or mesh.texcoords1 is not None
+
+
+def _uv_matrix(rows):
+    """A 2x3 texture coordinate transform as the bytes of a GLSL mat3 (column-major)."""
+    (a, b, c), (d, e, f) = rows
+    return np.array([a, d, 0.0, b, e, 0.0, c, f, 1.0], "f4").tobytes()
 
 
 def _rgba(image):

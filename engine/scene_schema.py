@@ -139,13 +139,15 @@ SCHEMA = {
         "$schema": {"type": "string", "description": "this schema, for editors"},
         "name": {"type": "string", "description": "the scene's name (default: the file's stem)"},
         "about": {"type": "string", "description": "what the scene is, for its readers"},
-        "camera": {"$ref": "#/$defs/camera"},
+        "camera": {"$ref": "#/$defs/camera", "description": "the camera (default: the first camera of the mesh files, "
+                                                           "else one framing the scene)"},
         "materials": {"type": "object", "description": "materials by name", "additionalProperties": {"$ref": "#/$defs/material"}},
         "objects": {"type": "array", "description": "the scene's nodes", "items": {"$ref": "#/$defs/node"}},
-        "lights": {"type": "array", "description": "the scene's lights", "items": {"$ref": "#/$defs/light"}},
+        "lights": {"type": "array", "description": "the scene's lights (given, the mesh files' lights are left out)",
+                   "items": {"$ref": "#/$defs/light"}},
         "voxel_region": {"$ref": "#/$defs/voxel_region"},
         "environment": {"$ref": "#/$defs/environment"},
-    }, required=("camera",)),
+    }),
     "$defs": {"camera": CAMERA, "material": MATERIAL, "voxel_region": VOXEL_REGION, "environment": ENVIRONMENT,
               "node": _node(GEOMETRY_TYPES + LIGHT_TYPES), "light": _node(LIGHT_TYPES)},
 }

@@ -215,12 +215,13 @@ class ProgramHandle:
         return self.program[name]
 
     def set(self, **uniforms):
-        """Set the uniforms the program uses; ones the compiler removed are skipped."""
+        """Set the uniforms the program uses; ones the compiler removed are skipped, and so are
+        the trailing elements of an array it shortened to the ones it reads."""
         for name, value in uniforms.items():
             if name in self.program:
                 member = self.program[name]
                 if isinstance(value, (bytes, bytearray)):
-                    member.write(value)
+                    member.write(value[:member.array_length * member.element_size])
                 else:
                     member.value = value
 

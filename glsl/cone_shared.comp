@@ -26,7 +26,7 @@ layout(binding = IMG_IMAGE_OUT, rgba32f) uniform image2D image_out;
 // How well the cones of anchor a stand for surface s's: same plane, facing the same way.
 float anchor_similarity(Surface a, Surface s) {
     if (!a.covered) return 0.0;
-    if (abs(dot(a.position - s.position, s.normal)) > PLANE_TOLERANCE * distance(camera_position, s.position)) return 0.0;
+    if (abs(dot(a.position - s.position, s.normal)) > PLANE_TOLERANCE * camera_distance(s.position)) return 0.0;
     return pow(max(dot(a.normal, s.normal), 0.0), NORMAL_EXPONENT);
 }
 

@@ -43,7 +43,6 @@ uniform bool include_diffuse;
 uniform bool include_specular;
 uniform float ao_distance;
 uniform float pixel_angle;  // radians between neighbouring pixels' rays
-uniform mat4 inverse_view_projection;
 layout(location = 0) out vec4 out_radiance;
 
 // What a pixel takes from the 8 voxels whose centres surround its point p, each weighted
@@ -94,9 +93,9 @@ VoxelInterpolation interpolate_voxels(Surface s, bool want_gathered, bool want_v
 
 // The direction of the camera ray through the centre of a pixel.
 vec3 view_direction(ivec2 pixel) {
-    vec2 ndc = (vec2(pixel) + 0.5) / vec2(textureSize(gbuffer_position, 0)) * 2.0 - 1.0;
-    vec4 far = inverse_view_projection * vec4(ndc, 1.0, 1.0);
-    return normalize(far.xyz / far.w - camera_position);
+    vec3 origin, direction;
+    camera_ray((vec2(pixel) + 0.5) / vec2(textureSize(gbuffer_position, 0)) * 2.0 - 1.0, origin, direction);
+    return direction;
 }
 
 void main() {

@@ -1,6 +1,7 @@
 #version 450 core
 // G-buffer geometry: world position, normal, texture coordinates and, for a material with a
-// normal map (NORMAL_MAP defined), tangent of every visible surface. Without one the tangent is
+// normal map (NORMAL_MAP defined), tangent of every visible surface; for a mesh with vertex
+// colours or a second texture coordinate set (VERTEX_EXTRAS), those. Without them they are
 // not passed on: on llvmpipe every output of this stage costs each triangle's setup time.
 in vec3 in_position;
 in vec3 in_normal;
@@ -15,6 +16,12 @@ out vec2 texcoord;
 in vec4 in_tangent;
 out vec4 world_tangent;
 #endif
+#ifdef VERTEX_EXTRAS
+in vec3 in_color;
+in vec2 in_texcoord1;
+out vec3 vertex_color;
+out vec2 texcoord1;
+#endif
 
 void main() {
     vec4 p = model * vec4(in_position, 1.0);
@@ -24,5 +31,9 @@ void main() {
     world_tangent = vec4(mat3(model) * in_tangent.xyz, in_tangent.w);
 #endif
     texcoord = in_texcoord;
+#ifdef VERTEX_EXTRAS
+    vertex_color = in_color;
+    texcoord1 = in_texcoord1;
+#endif
     gl_Position = view_projection * p;
 }

@@ -1,13 +1,12 @@
 #version 450 core
 // G-buffer inspection: albedo, normal encoded as 0.5 n + 0.5, or view depth / far plane.
 #include "lib/gbuffer.glsl"
+#include "lib/camera.glsl"
 
 #define VIEW_ALBEDO 0
 #define VIEW_NORMAL 1
 #define VIEW_DEPTH 2
 uniform int view;
-uniform vec3 camera_position;
-uniform vec3 camera_forward;
 uniform float far_plane;
 layout(location = 0) out vec4 out_value;
 

@@ -3,14 +3,14 @@
 #include "lib/gbuffer.glsl"
 #include "lib/lights.glsl"
 #include "lib/brdf.glsl"
+#include "lib/camera.glsl"
 
-uniform vec3 camera_position;
 layout(location = 0) out vec4 out_radiance;
 
 void main() {
     Surface s = read_gbuffer(ivec2(gl_FragCoord.xy));
     if (!s.covered) { out_radiance = vec4(0.0); return; }
-    vec3 v = normalize(camera_position - s.position);
+    vec3 v = to_camera(s.position);
     vec3 radiance = s.emission;
     for (int i = 0; i < light_count; ++i) {
         vec3 l;

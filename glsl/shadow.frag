@@ -5,7 +5,8 @@
 #include "lib/material.glsl"
 
 in vec2 texcoord;
+in vec2 texcoord1;
 
 void main() {
-    if (cut_out(sample_material(texcoord).alpha)) discard;
+    if (cut_out(sample_material(texcoord, texcoord1, vec3(1.0)).alpha)) discard;
 }

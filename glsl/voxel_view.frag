@@ -4,6 +4,7 @@
 // then divided by the opacity gathered so that partly covered mip cells show their value.
 #include "engine_constants.glsl"
 #include "lib/voxel.glsl"
+#include "lib/camera.glsl"
 
 #define SHOW_RADIANCE 0
 #define SHOW_NORMAL 1
@@ -11,25 +12,22 @@
 layout(binding = TEX_VOXEL_INSPECT) uniform sampler3D volume;
 uniform int show;
 uniform float mip;
-uniform mat4 inverse_view_projection;
-uniform vec3 camera_position;
 uniform vec2 viewport_size;
 layout(location = 0) out vec4 out_value;
 
 void main() {
-    vec2 ndc = gl_FragCoord.xy / viewport_size * 2.0 - 1.0;
-    vec4 far_point = inverse_view_projection * vec4(ndc, 1.0, 1.0);
-    vec3 direction = normalize(far_point.xyz / far_point.w - camera_position);
+    vec3 origin, direction;
+    camera_ray(gl_FragCoord.xy / viewport_size * 2.0 - 1.0, origin, direction);
     // Clip the ray to the region's box.
     vec3 box_min = voxel_region_min, box_max = voxel_region_min + voxel_region_size;
-    vec3 t0 = (box_min - camera_position) / direction, t1 = (box_max - camera_position) / direction;
+    vec3 t0 = (box_min - origin) / direction, t1 = (box_max - origin) / direction;
     float t_enter = max(max(min(t0.x, t1.x), min(t0.y, t1.y)), max(min(t0.z, t1.z), 0.0));
     float t_exit = min(min(max(t0.x, t1.x), max(t0.y, t1.y)), max(t0.z, t1.z));
     float cell = voxel_size * exp2(mip);
     float step_length = 0.25 * cell;
     vec4 sum = vec4(0.0);
     for (float t = t_enter; t < t_exit && sum.a < 0.99; t += step_length) {
-        vec3 uvw = voxel_uvw(camera_position + direction * t);
+        vec3 uvw = voxel_uvw(origin + direction * t);
         // Nearest-texel lookup shows the voxels as blocks.
         vec3 texel = (floor(uvw * float(textureSize(volume, int(mip)).x)) + 0.5) / float(textureSize(volume, int(mip)).x);
         vec4 s = textureLod(volume, texel, mip);

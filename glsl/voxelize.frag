@@ -29,6 +29,13 @@
 in vec3 gs_position;
 in vec3 gs_normal;
 in vec2 gs_texcoord;
+#ifdef VERTEX_EXTRAS
+in vec3 gs_color;
+in vec2 gs_texcoord1;
+#else
+const vec3 gs_color = vec3(1.0);
+const vec2 gs_texcoord1 = vec2(0.0);
+#endif
 flat in vec4 gs_pixel_bounds;
 uniform int stage;
 uniform bool touched_only;
@@ -53,7 +60,7 @@ void add_emission(uint i, uint low_channel, uint carry_channel, float radiance) 
 }
 
 void main() {
-    MaterialSample m = sample_material(gs_texcoord);  // before any discard: derivatives need the neighbours
+    MaterialSample m = sample_material(gs_texcoord, gs_texcoord1, gs_color);  // before any discard: derivatives need the neighbours
     if (cut_out(m.alpha)) discard;
     // Dilation grows the triangle at acute corners; clip it to its own bounding box.
     vec2 pixel = gl_FragCoord.xy;

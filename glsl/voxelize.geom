@@ -13,6 +13,12 @@ in vec2 vs_texcoord[];
 out vec3 gs_position;
 out vec3 gs_normal;
 out vec2 gs_texcoord;
+#ifdef VERTEX_EXTRAS
+in vec3 vs_color[];
+in vec2 vs_texcoord1[];
+out vec3 gs_color;
+out vec2 gs_texcoord1;
+#endif
 flat out vec4 gs_pixel_bounds;  // the undilated triangle's bounding box in pixels, grown by half a pixel
 
 // Voxel-space coordinates swizzled so the dominant axis becomes depth.
@@ -62,6 +68,10 @@ void main() {
         gs_position = w.x * vs_position[0] + w.y * vs_position[1] + w.z * vs_position[2];
         gs_normal = w.x * vs_normal[0] + w.y * vs_normal[1] + w.z * vs_normal[2];
         gs_texcoord = w.x * vs_texcoord[0] + w.y * vs_texcoord[1] + w.z * vs_texcoord[2];
+#ifdef VERTEX_EXTRAS
+        gs_color = w.x * vs_color[0] + w.y * vs_color[1] + w.z * vs_color[2];
+        gs_texcoord1 = w.x * vs_texcoord1[0] + w.y * vs_texcoord1[1] + w.z * vs_texcoord1[2];
+#endif
         gs_pixel_bounds = bounds;
         gl_Position = vec4(dilated, w.x * depth[0] + w.y * depth[1] + w.z * depth[2], 1.0);
         EmitVertex();

@@ -24,7 +24,8 @@ CORNELL = ROOT / "scenes" / "cornell_box.json"
 SMALL = ["--mode", "direct", "--width", "32", "--height", "32"]
 
 SETTINGS_OPTIONS = ["--width", "--height", "--mode", "--grid", "--bounces", "--mip", "--cone-step", "--cone-offset",
-                    "--ao-distance", "--no-direct", "--no-diffuse", "--no-specular", "--exposure", "--shaders", "--tonemap"]
+                    "--ao-distance", "--no-direct", "--no-diffuse", "--no-specular", "--exposure", "--shaders", "--tonemap",
+                    "--camera", "--environment"]
 HELP = {
     (): ["render", "view", "bench"],
     ("render",): ["scene", "--out", "--hdr", *SETTINGS_OPTIONS],

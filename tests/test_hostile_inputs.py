@@ -420,7 +420,7 @@ def test_control_characters_in_a_path_are_escaped_so_the_error_is_one_line(tmp_p
 
 
 def test_a_library_warning_on_the_way_to_an_error_is_not_printed(tmp_path, monkeypatch, capsys):
-    def load_scene_warning(path):
+    def load_scene_warning(path, **options):
         np.float32(1e39)  # numpy: overflow encountered in cast
         raise SceneError("the error", source=path)
     monkeypatch.setattr("engine.scene_file.load_scene", load_scene_warning)

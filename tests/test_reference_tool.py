@@ -98,9 +98,9 @@ def test_a_specular_layer_becomes_the_layered_bsdf_with_the_materials_factors(re
                          "gold": {"albedo": [1.0, 0.78, 0.34], "metalness": 1.0, "roughness": 0.01}})
     plastic, gold = (shape["bsdf"] for shape in shapes(convert(reference, scene, tmp_path)))
     assert plastic == {"type": "vct_layered", "base_color": {"type": "rgb", "value": [0.1, 0.2, 0.6]},
-                       "roughness": 0.4, "metalness": 0.0, "dielectric_f0": 0.04}
+                       "roughness": 0.4, "metalness": 0.0, "dielectric_f0": 0.04, "vertex_colors": False}
     assert gold == {"type": "vct_layered", "base_color": {"type": "rgb", "value": [1.0, 0.78, 0.34]},
-                    "roughness": 0.01, "metalness": 1.0, "dielectric_f0": 0.0}
+                    "roughness": 0.01, "metalness": 1.0, "dielectric_f0": 0.0, "vertex_colors": False}
     assert reference.MIN_ROUGHNESS == 0.05
 
 

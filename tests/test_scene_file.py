@@ -349,7 +349,6 @@ BAD_SCENES = [
     BadScene("integer-too-large-for-a-float", _set(["camera", "position"], [0, 0, 10 ** 400]), "camera.position[2]", "at most"),
     BadScene("vector-of-two", _set(["camera", "position"], [0.0, 0.0]), "camera.position", "3 numbers"),
     BadScene("vertex-of-four", _set(["objects", 0, "vertices", 2], [-1, 1, 1, 1]), f"{LEFT_PLANE}.vertices[2]", "3 numbers"),
-    BadScene("missing-camera", _edit(lambda data: data.pop("camera")), "camera", "missing"),
     BadScene("albedo-above-one", _set(["materials", "red", "albedo"], [1.2, 0.05, 0.05]), "materials.red.albedo", "at most 1"),
     BadScene("double-sided-not-a-boolean", _set(["materials", "red", "double_sided"], "yes"), "materials.red.double_sided", "must be"),
     BadScene("negative-albedo", _set(["materials", "red", "albedo"], [0.65, -0.05, 0.05]), "materials.red.albedo[1]", "negative"),
@@ -451,6 +450,20 @@ def test_every_scene_of_the_repository_is_valid_by_the_published_schema(path):
         reference_file(path)
     schema = json.loads((ROOT / "scenes" / "scene.schema.json").read_text())
     jsonschema.Draft202012Validator(schema).validate(json.loads(path.read_text()))
+
+
+def test_a_scene_without_a_camera_is_seen_from_one_framing_its_bounds_with_one_warning(tmp_path):
+    """The bounding sphere of the Cornell box (corners at +-1) fills the 45-degree view."""
+    data = cornell_data()
+    del data["camera"]
+    with pytest.warns(VctWarning, match="no camera: rendering from one that frames the scene's bounds") as record:
+        scene = load_scene(write_scene(tmp_path, data))
+    assert len(record) == 1
+    camera = scene.camera
+    np.testing.assert_allclose(camera.look_at, [0, 0, 0], atol=1e-9)
+    distance = np.linalg.norm(camera.position - camera.look_at)
+    assert distance * math.sin(math.radians(camera.vertical_fov_deg / 2)) == pytest.approx(math.sqrt(3))
+    assert (camera.width, camera.height) == (640, 480)
 
 
 def test_the_published_schema_is_the_one_the_loader_checks():

@@ -16,15 +16,13 @@
 
 glTF texture coordinates: (0, 0) is the image's top-left. Run: .venv/bin/python tools/make_textured_box.py
 """
-import io
-import json
 import math
-import struct
 import sys
 from pathlib import Path
 
 import numpy as np
-from PIL import Image
+
+from gltf_writer import Gltf  # tools/ is on sys.path when a tool runs
 
 OUT = Path(__file__).resolve().parent.parent / "scenes" / "references" / "textured_box.glb"
 
@@ -88,56 +86,6 @@ def quad():
     return positions, np.tile([0.0, 0.0, 1.0], (4, 1)), texcoords, np.array([0, 1, 2, 0, 2, 3])
 
 
-class Gltf:
-    def __init__(self):
-        self.doc = {"asset": {"version": "2.0", "generator": "tools/make_textured_box.py"}, "scene": 0,
-                    "scenes": [{"nodes": []}], "nodes": [], "meshes": [], "materials": [], "textures": [],
-                    "images": [], "samplers": [], "accessors": [], "bufferViews": [], "buffers": [{"byteLength": 0}]}
-        self.blob = bytearray()
-
-    def add(self, key, spec):
-        self.doc[key].append(spec)
-        return len(self.doc[key]) - 1
-
-    def view(self, data, target=None):
-        self.blob += b"\0" * (-len(self.blob) % 4)
-        spec = {"buffer": 0, "byteOffset": len(self.blob), "byteLength": len(data)}
-        if target:
-            spec["target"] = target
-        self.blob += data
-        return self.add("bufferViews", spec)
-
-    def accessor(self, array, kind, component=5126, target=34962):
-        array = np.asarray(array)
-        data = array.astype("<f4" if component == 5126 else "<u2").tobytes()
-        spec = {"bufferView": self.view(data, target), "componentType": component, "count": len(array), "type": kind}
-        if kind == "VEC3" and component == 5126:
-            spec["min"], spec["max"] = array.min(axis=0).tolist(), array.max(axis=0).tolist()
-        return self.add("accessors", spec)
-
-    def texture(self, pixels, name):
-        out = io.BytesIO()
-        Image.fromarray(pixels).save(out, format="PNG")
-        image = self.add("images", {"name": name, "bufferView": self.view(out.getvalue()), "mimeType": "image/png"})
-        return self.add("textures", {"source": image, "sampler": 0})
-
-    def mesh(self, name, geometry, material):
-        positions, normals, texcoords, indices = geometry
-        primitive = {"attributes": {"POSITION": self.accessor(positions, "VEC3"),
-                                    "NORMAL": self.accessor(normals, "VEC3"),
-                                    "TEXCOORD_0": self.accessor(texcoords, "VEC2")},
-                     "indices": self.accessor(indices, "SCALAR", 5123, 34963), "material": material}
-        return self.add("meshes", {"name": name, "primitives": [primitive]})
-
-    def glb(self):
-        self.doc["buffers"][0]["byteLength"] = len(self.blob)
-        text = json.dumps(self.doc, separators=(",", ":")).encode()
-        text += b" " * (-len(text) % 4)
-        blob = bytes(self.blob) + b"\0" * (-len(self.blob) % 4)
-        chunks = struct.pack("<II", len(text), 0x4E4F534A) + text + struct.pack("<II", len(blob), 0x004E4942) + blob
-        return struct.pack("<4sII", b"glTF", 2, 12 + len(chunks)) + chunks
-
-
 def y_rotation(degrees):
     """glTF quaternion (x, y, z, w) of a rotation about +y."""
     half = math.radians(degrees) / 2
@@ -145,7 +93,7 @@ def y_rotation(degrees):
 
 
 def build():
-    g = Gltf()
+    g = Gltf("tools/make_textured_box.py")
     g.add("samplers", {"wrapS": 33071, "wrapT": 33071})  # clamp to edge; magFilter/minFilter left to the renderer
     painted_material = g.add("materials", {"name": "Painted", "pbrMetallicRoughness": {
         "baseColorTexture": {"index": g.texture(painted(), "painted")}, "metallicFactor": 0.0, "roughnessFactor": 1.0}})

@@ -111,8 +111,9 @@ def use_mitsuba(variant="scalar_rgb"):
 
 def _layered_bsdf_class():
     """The Mitsuba BSDF of the scene format's layered model (the module docstring), for the
-    variant selected: k_d `base_color` (a texture), `roughness` and `metalness` (float textures),
-    `dielectric_f0` (a float)."""
+    variant selected: k_d `base_color` (a texture; times the mesh's "vertex_color" attribute
+    where `vertex_colors`), `roughness` and `metalness` (float textures), `dielectric_f0` (a
+    float)."""
     import drjit as dr
 
     class LayeredBSDF(mi.BSDF):
@@ -122,6 +123,7 @@ def _layered_bsdf_class():
             self.roughness = props.get_texture("roughness")
             self.metalness = props.get_texture("metalness")
             self.dielectric_f0 = props.get("dielectric_f0")
+            self.vertex_colors = props.get("vertex_colors", False)
             flags = mi.BSDFFlags.DiffuseReflection | mi.BSDFFlags.GlossyReflection | mi.BSDFFlags.FrontSide
             self.m_components = [flags]
             self.m_flags = flags
@@ -129,6 +131,8 @@ def _layered_bsdf_class():
         def layers(self, si, active):
             """(c_diff, F0, Blinn-Phong exponent s, Beckmann alpha) at the surface point."""
             k_d = self.base_color.eval(si, active)
+            if self.vertex_colors:  # the mesh's COLOR_0 times the base colour
+                k_d *= mi.Color3f(si.shape.eval_attribute_3("vertex_color", si, active))
             metalness = self.metalness.eval_1(si, active)
             roughness = dr.maximum(self.roughness.eval_1(si, active), MIN_ROUGHNESS)
             f0 = dr.lerp(mi.Color3f(self.dielectric_f0), k_d, metalness)
@@ -213,15 +217,14 @@ class ReferenceError_(engine.VctError):
 
 # ---- meshes -------------------------------------------------------------------------------
 
-def write_ply(path, positions, indices, normals=None, texcoords=None):
-    """Binary PLY that Mitsuba's `ply` shape reads: x y z [nx ny nz] [u v], triangles."""
+def write_ply(path, positions, indices, normals=None, texcoords=None, colors=None):
+    """Binary PLY that Mitsuba's `ply` shape reads: x y z [nx ny nz] [u v] [r g b] (the vertex
+    colours Mitsuba names "vertex_color"), triangles."""
     columns, names = [np.asarray(positions, np.float32)], ["x", "y", "z"]
-    if normals is not None:
-        columns.append(np.asarray(normals, np.float32))
-        names += ["nx", "ny", "nz"]
-    if texcoords is not None:
-        columns.append(np.asarray(texcoords, np.float32))
-        names += ["u", "v"]
+    for values, value_names in ((normals, ["nx", "ny", "nz"]), (texcoords, ["u", "v"]), (colors, ["r", "g", "b"])):
+        if values is not None:
+            columns.append(np.asarray(values, np.float32))
+            names += value_names
     vertices = np.ascontiguousarray(np.hstack(columns), dtype="<f4")
     faces = np.zeros(len(indices), dtype=[("n", "u1"), ("i", "<i4", (3,))])
     faces["n"] = 3
@@ -260,15 +263,19 @@ class Converter:
 
     # -- textures
 
-    def bitmap(self, array, wrap="repeat", nearest=False):
-        """A Mitsuba bitmap texture of linear float values (H, W, C), row 0 at the image's top."""
+    def bitmap(self, array, wrap="repeat", nearest=False, uv_transform=None):
+        """A Mitsuba bitmap texture of linear float values (H, W, C), row 0 at the image's top,
+        read through the 2x3 texture coordinate transform `uv_transform` (identity: None)."""
         array = np.ascontiguousarray(array, np.float32)
         if array.ndim == 2:
             array = array[..., None]
-        return {"type": "bitmap", "bitmap": mi.Bitmap(array), "raw": True,
-                "filter_type": "nearest" if nearest else "bilinear", "wrap_mode": wrap}
+        texture = {"type": "bitmap", "bitmap": mi.Bitmap(array), "raw": True,
+                   "filter_type": "nearest" if nearest else "bilinear", "wrap_mode": wrap}
+        if uv_transform is not None:
+            texture["to_uv"] = mi.ScalarTransform3f(np.vstack([np.asarray(uv_transform, np.float64), [0.0, 0.0, 1.0]]))
+        return texture
 
-    def colour(self, value, texture=None, wrap="repeat"):
+    def colour(self, value, texture=None, wrap="repeat", uv_transform=None):
         """rgb(value), or a float bitmap (texture times value) where a texture is given or a value
         exceeds 1 (Mitsuba refuses reflectances above 1 in rgb, not in float bitmaps)."""
         value = np.asarray(value, np.float64)
@@ -276,7 +283,14 @@ class Converter:
             if np.all(value <= 1.0):
                 return {"type": "rgb", "value": [float(v) for v in value]}
             return self.bitmap(value.reshape(1, 1, 3))
-        return self.bitmap(texture * value, wrap)
+        return self.bitmap(texture * value, wrap, uv_transform=uv_transform)
+
+    def uv_transform(self, material, texture_field, field):
+        """The texture's coordinate transform for a bitmap; textures on the second coordinate
+        set are refused (Mitsuba's meshes hold one)."""
+        if material.uv_sets.get(texture_field, 0) != 0:
+            self.fail(f"{field}.{texture_field}", "reads TEXCOORD_1: Mitsuba's meshes hold one set of texture coordinates")
+        return material.uv_transform(texture_field)
 
     @staticmethod
     def rgb_of(texture):
@@ -325,18 +339,20 @@ class Converter:
                                                  "tangent frame differently); give the part a scene material")
         base = material.base_color_texture
         wrap = self.wrap_of(base, mesh, f"{field}.base_color_texture") if base is not None else "repeat"
-        k_d = self.colour(material.albedo, self.rgb_of(base) if base is not None else None, wrap)
+        k_d = self.colour(material.albedo, self.rgb_of(base) if base is not None else None, wrap,
+                          self.uv_transform(material, "base_color_texture", field))
         roughness, metalness = float(material.roughness), float(material.metalness)
         mr = material.metallic_roughness_texture
         if mr is not None:  # per texel: G x roughness, B x metalness
             channels = self.rgb_of(mr)
             mr_wrap = self.wrap_of(mr, mesh, f"{field}.metallic_roughness_texture")
-            roughness = self.bitmap(roughness * channels[..., 1], mr_wrap)
-            metalness = self.bitmap(metalness * channels[..., 2], mr_wrap) if metalness > 0 else 0.0
-        if material.specular == 0 and metalness == 0:  # no specular layer: Lambert alone
+            mr_uv = self.uv_transform(material, "metallic_roughness_texture", field)
+            roughness = self.bitmap(roughness * channels[..., 1], mr_wrap, uv_transform=mr_uv)
+            metalness = self.bitmap(metalness * channels[..., 2], mr_wrap, uv_transform=mr_uv) if metalness > 0 else 0.0
+        if material.specular == 0 and metalness == 0 and mesh.colors is None:  # no specular layer: Lambert alone
             return {"type": "diffuse", "reflectance": k_d}
         return {"type": "vct_layered", "base_color": k_d, "roughness": roughness, "metalness": metalness,
-                "dielectric_f0": float(material.specular)}
+                "dielectric_f0": float(material.specular), "vertex_colors": mesh.colors is not None}
 
     def surface(self, material, mesh, field):
         """(bsdf, emitter) dicts of a drawn part, or None where the part is cut out everywhere."""
@@ -347,8 +363,9 @@ class Converter:
         if material.double_sided:
             bsdf = {"type": "twosided", "bsdf": bsdf}
         if keep is not None:
-            bsdf = {"type": "mask", "opacity": self.bitmap(keep, self.wrap_of(material.base_color_texture, mesh, field),
-                                                          nearest=True), "bsdf": bsdf}
+            bsdf = {"type": "mask", "opacity": self.bitmap(keep, self.wrap_of(material.base_color_texture, mesh, field), nearest=True,
+                                                          uv_transform=material.uv_transform("base_color_texture")),
+                    "bsdf": bsdf}
             self.masked = True
         emitter = None
         emission = np.asarray(material.emission, np.float64)
@@ -363,7 +380,8 @@ class Converter:
                     shape = max(radiance.shape[:2], keep.shape, key=lambda s: s[0] * s[1])
                     radiance = _resample(radiance, shape) * _resample(keep[..., None], shape)
                     wrap = self.wrap_of(material.base_color_texture, mesh, field)
-                emitter = {"type": "area", "radiance": self.bitmap(radiance, wrap)}
+                uv = material.uv_transform("emissive_texture" if texture is not None else "base_color_texture")
+                emitter = {"type": "area", "radiance": self.bitmap(radiance, wrap, uv_transform=uv)}
         return bsdf, emitter
 
     # -- the scene
@@ -371,15 +389,18 @@ class Converter:
     def scene_dict(self, spp, max_depth, sampler="independent"):
         scene = self.scene
         camera = scene.camera
+        to_world = mi.ScalarTransform4f.look_at(origin=[float(v) for v in camera.position],
+                                               target=[float(v) for v in camera.look_at], up=[float(v) for v in camera.up])
         sensor = {
-            "type": "perspective", "fov": float(camera.vertical_fov_deg), "fov_axis": "y",
-            "to_world": mi.ScalarTransform4f.look_at(origin=[float(v) for v in camera.position],
-                                                     target=[float(v) for v in camera.look_at],
-                                                     up=[float(v) for v in camera.up]),
+            "type": "perspective", "fov": float(camera.vertical_fov_deg), "fov_axis": "y", "to_world": to_world,
             "film": {"type": "hdrfilm", "width": int(camera.width), "height": int(camera.height),
                      "rfilter": {"type": "box"}, "pixel_format": "rgb"},
             "sampler": {"type": sampler, "sample_count": int(spp)},
         }
+        if camera.projection == "orthographic":  # its view spans [-1, 1]^2, scaled to the half-extents
+            half_width = camera.half_height * camera.width / camera.height
+            del sensor["fov"], sensor["fov_axis"]
+            sensor.update(type="orthographic", to_world=to_world @ mi.ScalarTransform4f.scale([half_width, camera.half_height, 1.0]))
         result = {"type": "scene", "sensor": sensor}
         for k, (node, world) in enumerate(scene.drawables()):
             material = node.material
@@ -438,7 +459,7 @@ class Converter:
             indices = indices[:, ::-1]
         if needs_texcoords and mesh.texcoords is None:
             self.fail(field, "the material has textures but the mesh has no texture coordinates")
-        write_ply(path, positions, indices, normals, mesh.texcoords)
+        write_ply(path, positions, indices, normals, mesh.texcoords, mesh.colors)
 
 
 def _has_textures(material):
@@ -529,6 +550,8 @@ def main(argv=None):
     parser.add_argument("--variant", default="scalar_rgb", choices=["scalar_rgb", "llvm_ad_rgb"])
     parser.add_argument("--png-exposure", type=float, default=0.6, help="preview: clip(radiance * exposure, 0, 1), sRGB")
     parser.add_argument("--note", default=None, help="a line stored in the meta (what the scene tests)")
+    parser.add_argument("--width", type=positive_int, help="image width (default: the scene camera's)")
+    parser.add_argument("--height", type=positive_int, help="image height (default: the scene camera's)")
     args = parser.parse_args(argv)
     if args.max_depth == 0 or args.max_depth < -1:
         parser.error("argument --max-depth: must be -1 (all bounces) or at least 1")
@@ -550,6 +573,8 @@ def main(argv=None):
         return 2
     try:
         scene = engine.load_scene(args.scene)
+        scene.camera.width = args.width or scene.camera.width
+        scene.camera.height = args.height or scene.camera.height
         with tempfile.TemporaryDirectory() as mesh_dir:  # convert first: bad input fails before rendering
             scene_dict(scene, args.pass_spp, args.max_depth, mesh_dir, args.sampler)
         commit = git_commit()  # before rendering: the code that renders is the code of this commit

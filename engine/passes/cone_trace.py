@@ -9,7 +9,6 @@ anchor stood for."""
 import numpy as np
 
 from ..constants import GL_IMAGE_FORMAT, IMAGE_UNIT, STORAGE_BINDING, TEXTURE_UNIT
-from ..transforms import gl_bytes
 from .target import ScreenTarget
 
 OUTPUT_KIND = {"radiance": 0, "ao": 1}
@@ -54,8 +53,7 @@ class ConeTracePass:
         direct.texture.use(TEXTURE_UNIT["DIRECT_LIGHT"])
         program.set(**grid.uniforms(), **cone_uniforms, output_kind=OUTPUT_KIND["ao" if terms.ao else "radiance"], include_direct=terms.direct,
                          include_diffuse=terms.diffuse, include_specular=terms.specular, ao_distance=float(ao_distance),
-                         pixel_angle=float(camera.pixel_angle), camera_position=tuple(camera.position),
-                         inverse_view_projection=gl_bytes(np.linalg.inv(camera.view_projection)))
+                         pixel_angle=float(camera.pixel_angle), **camera.uniforms())
         for pixel_list in (self.cone_pixels, self.shared_pixels, self.unshared_pixels):
             pixel_list.write(np.array([0, 1, 1, 0], dtype="u4").tobytes())  # no group, no pixel yet
         self.cone_pixels.bind_to_storage_buffer(STORAGE_BINDING["CONE_PIXELS"])
@@ -68,7 +66,7 @@ class ConeTracePass:
                                     | self.ctx.SHADER_IMAGE_ACCESS_BARRIER_BIT)
             self.target.texture.bind_to_image(IMAGE_UNIT["IMAGE_OUT"], read=True, write=True, format=GL_IMAGE_FORMAT["rgba32f"])
             for program in (self.pixels_program, self.shared_program):
-                program.set(**grid.uniforms(), **cone_uniforms, camera_position=tuple(camera.position))
+                program.set(**grid.uniforms(), **cone_uniforms, **camera.uniforms())
             barrier = (self.ctx.SHADER_IMAGE_ACCESS_BARRIER_BIT | self.ctx.TEXTURE_FETCH_BARRIER_BIT
                        | self.ctx.SHADER_STORAGE_BARRIER_BIT | self.ctx.COMMAND_BARRIER_BIT)
             self.pixels_program.program.run_indirect(self.cone_pixels)  # the anchors first

@@ -4,6 +4,7 @@ textures), with a depth buffer; back faces of single-sided materials are culled.
 GBuffer the screen passes read."""
 from .. import transforms
 from ..constants import HDR_FORMAT, TEXTURE_UNIT
+from ..scene_gpu import vertex_extras
 
 
 class GBuffer:
@@ -33,9 +34,12 @@ class GBufferPass:
     def __init__(self, ctx, programs, geometry, size):
         self.ctx = ctx
         self.geometry = geometry
-        # Per whether the material has a normal map: without one, no tangent is interpolated.
-        self.programs = {mapped: programs.program({"NORMAL_MAP": 1} if mapped else None, vertex_shader="gbuffer.vert",
-                                                  fragment_shader="gbuffer.frag") for mapped in (False, True)}
+        # Per whether the material has a normal map (else no tangent is interpolated) and the mesh
+        # vertex colours or a second texture coordinate set (else neither is).
+        self.programs = {(mapped, extras): programs.program(
+            {name: 1 for name, wanted in (("NORMAL_MAP", mapped), ("VERTEX_EXTRAS", extras)) if wanted},
+            vertex_shader="gbuffer.vert", fragment_shader="gbuffer.frag")
+            for mapped in (False, True) for extras in (False, True)}
         self.target = GBuffer(ctx, size)
 
     def resize(self, size):
@@ -48,8 +52,9 @@ class GBufferPass:
         self.ctx.viewport = (0, 0, *gbuffer.size)
         gbuffer.framebuffer.clear(0.0, 0.0, 0.0, 0.0, depth=1.0)
         self.ctx.enable_only(self.ctx.DEPTH_TEST)
-        for mapped, program in self.programs.items():
-            subset = [draw for draw in draws if (draw.material.normal_texture is not None) == mapped]
+        for (mapped, extras), program in self.programs.items():
+            subset = [draw for draw in draws if (draw.material.normal_texture is not None) == mapped
+                      and vertex_extras(draw.mesh) == extras]
             if subset:
                 program.set(view_projection=transforms.gl_bytes(view_projection))
                 self.geometry.draw(program, subset, materials=True, cull_single_sided=True, view_projection=view_projection)

@@ -14,8 +14,7 @@ class GBufferViewPass:
 
     def render(self, gbuffer, view, camera):
         gbuffer.use()
-        self.program.set(view=VIEWS[view], camera_position=tuple(camera.position),
-                         camera_forward=tuple(camera.forward), far_plane=float(camera.far))
+        self.program.set(**camera.uniforms(), view=VIEWS[view], far_plane=float(camera.far))
         self.target.draw(self.program)
         return self.target
 

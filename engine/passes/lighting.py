@@ -11,10 +11,11 @@ class LightingPass:
     def resize(self, size):
         self.target.resize(size)
 
-    def render(self, gbuffer, shadow_maps, camera_position):
+    def render(self, gbuffer, shadow_maps, camera):
+        """`camera`: renderer.FrameCamera."""
         gbuffer.use()
         shadow_maps.bind(self.program)
-        self.program.set(camera_position=tuple(camera_position))
+        self.program.set(**camera.uniforms())
         self.target.draw(self.program)
         return self.target
 

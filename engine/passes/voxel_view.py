@@ -1,8 +1,5 @@
 """Voxel views: the grid ray-marched from the camera at one mip level, as blocks: the base
 radiance (emission + injected direct light), the mean normals or the albedo."""
-import numpy as np
-
-from .. import transforms
 from ..constants import TEXTURE_UNIT
 from .target import ScreenTarget
 
@@ -26,9 +23,8 @@ class VoxelViewPass:
         volume = shown_volume(grid, view)
         volume.build_mipmaps()  # an inspection view: the hardware mip chain of this volume
         volume.use(TEXTURE_UNIT["VOXEL_INSPECT"])
-        self.program.set(**grid.uniforms(), show=SHOW[view], mip=float(mip),
-                         inverse_view_projection=transforms.gl_bytes(np.linalg.inv(camera.view_projection)),
-                         camera_position=tuple(camera.position), viewport_size=tuple(float(x) for x in self.target.size))
+        self.program.set(**grid.uniforms(), **camera.uniforms(), show=SHOW[view], mip=float(mip),
+                         viewport_size=tuple(float(x) for x in self.target.size))
         self.target.draw(self.program)
         return self.target
 

@@ -12,6 +12,7 @@ date."""
 import numpy as np
 
 from ..constants import CELL_LIST_LEVELS, IMAGE_UNIT, STORAGE_BINDING, TEXTURE_UNIT
+from ..scene_gpu import vertex_extras
 from ..voxel_grid import bind_image
 
 STAGES = {"MARK": 0, "FRONT": 1, "ADD": 2}  # glsl/voxelize.frag VOXELIZE_*
@@ -21,8 +22,10 @@ class VoxelizePass:
     def __init__(self, ctx, programs, geometry):
         self.ctx = ctx
         self.geometry = geometry
-        self.program = programs.program(vertex_shader="voxelize.vert", geometry_shader="voxelize.geom",
-                                        fragment_shader="voxelize.frag")
+        # Per whether the mesh has vertex colours or a second texture coordinate set.
+        self.programs = {extras: programs.program({"VERTEX_EXTRAS": 1} if extras else None, vertex_shader="voxelize.vert",
+                                                  geometry_shader="voxelize.geom", fragment_shader="voxelize.frag")
+                         for extras in (False, True)}
         self.mark_covered = programs.compute("voxel_mark_covered.comp")
         self.resolve = programs.compute("voxel_resolve.comp")
         self.keep = programs.compute("voxel_keep.comp")
@@ -51,11 +54,14 @@ class VoxelizePass:
 
     def _rasterize(self, grid, draws, stage, touched_only, box):
         """Rasterize the parts of `draws` inside the world `box` in one of the fragment stages."""
-        self.program.set(**grid.uniforms(), stage=STAGES[stage], touched_only=touched_only)
         grid.framebuffer.use()
         self.ctx.viewport = (0, 0, grid.n, grid.n)
         self.ctx.disable(self.ctx.DEPTH_TEST | self.ctx.CULL_FACE | self.ctx.BLEND)
-        self.geometry.draw(self.program, draws, materials=True, box=box)
+        for extras, program in self.programs.items():
+            subset = [draw for draw in draws if vertex_extras(draw.mesh) == extras]
+            if subset:
+                program.set(**grid.uniforms(), stage=STAGES[stage], touched_only=touched_only)
+                self.geometry.draw(program, subset, materials=True, box=box)
         self.ctx.memory_barrier(self.ctx.SHADER_STORAGE_BARRIER_BIT | self.ctx.SHADER_IMAGE_ACCESS_BARRIER_BIT)
 
     def _resolve_and_relist(self, grid):
@@ -103,6 +109,6 @@ class VoxelizePass:
             grid.level_counts[level] = source_count
 
     def release(self):
-        for handle in (self.program, self.mark_covered, self.resolve, self.keep, self.cells, self.clear_cells):
+        for handle in (*self.programs.values(), self.mark_covered, self.resolve, self.keep, self.cells, self.clear_cells):
             handle.release()
 

@@ -1,6 +1,8 @@
 // The material of the surface being drawn (engine.scene.Material): its factors times its
-// textures at the surface's texture coordinates. A material without a texture has a white one
-// bound (a flat normal for the normal map), so every factor is sampled the same way.
+// textures at the surface's texture coordinates, the base colour times the mesh's vertex
+// colour. A material without a texture has a white one bound (a flat normal for the normal
+// map), so every factor is sampled the same way. Each texture reads texture coordinate set 0
+// or 1 through its own 2D affine transform (KHR_texture_transform).
 #include "engine_constants.glsl"
 
 layout(binding = TEX_BASE_COLOR_MAP) uniform sampler2D base_color_map;    // sRGB, decoded by the sampler
@@ -15,6 +17,17 @@ uniform float dielectric_f0;
 uniform vec3 emission;
 uniform float normal_scale;
 uniform float alpha_cutoff;  // cut out where alpha < alpha_cutoff; negative: opaque
+uniform mat3 uv_transforms[4];  // per map (MAP_*): (u, v, 1) -> its coordinates
+uniform ivec4 uv_sets;          // per map: texture coordinate set 0 or 1
+#define MAP_BASE_COLOR 0
+#define MAP_METAL_ROUGH 1
+#define MAP_EMISSIVE 2
+#define MAP_NORMAL 3
+
+// The texture coordinates map `map` reads, from the surface's two sets.
+vec2 map_uv(int map, vec2 uv0, vec2 uv1) {
+    return (uv_transforms[map] * vec3(uv_sets[map] == 1 ? uv1 : uv0, 1.0)).xy;
+}
 
 struct MaterialSample {
     vec3 albedo;
@@ -24,17 +37,18 @@ struct MaterialSample {
     vec3 emission;
 };
 
-// The material at uv, filtered over the fragment's footprint (a pixel of the image, a voxel, a
-// shadow texel): trilinear, at the level of detail of the footprint's longest side.
-MaterialSample sample_material(vec2 uv) {
+// The material at the surface's texture coordinates uv0, uv1 with vertex colour `color`,
+// filtered over the fragment's footprint (a pixel of the image, a voxel, a shadow texel):
+// trilinear, at the level of detail of the footprint's longest side.
+MaterialSample sample_material(vec2 uv0, vec2 uv1, vec3 color) {
     MaterialSample m;
-    vec4 base = texture(base_color_map, uv);
-    vec4 metal_rough = texture(metal_rough_map, uv);
-    m.albedo = albedo * base.rgb;
+    vec4 base = texture(base_color_map, map_uv(MAP_BASE_COLOR, uv0, uv1));
+    vec4 metal_rough = texture(metal_rough_map, map_uv(MAP_METAL_ROUGH, uv0, uv1));
+    m.albedo = albedo * base.rgb * color;
     m.alpha = alpha * base.a;
     m.roughness = roughness * metal_rough.g;
     m.metalness = metalness * metal_rough.b;
-    m.emission = emission * texture(emissive_map, uv).rgb;
+    m.emission = emission * texture(emissive_map, map_uv(MAP_EMISSIVE, uv0, uv1)).rgb;
     return m;
 }
 
@@ -46,10 +60,10 @@ bool cut_out(float material_alpha) {
 // The shading normal of a material with a normal map: its normal in the tangent frame
 // (tangent.xyz, bitangent tangent.w cross(n, tangent)), its x and y scaled by normal_scale; the
 // surface normal n where the mesh has no tangents.
-vec3 shading_normal(vec3 n, vec4 tangent, vec2 uv) {
+vec3 shading_normal(vec3 n, vec4 tangent, vec2 uv0, vec2 uv1) {
     if (dot(tangent.xyz, tangent.xyz) == 0.0) return n;
     vec3 t = normalize(tangent.xyz - n * dot(n, tangent.xyz));
     vec3 b = tangent.w * cross(n, t);
-    vec3 m = texture(normal_map, uv).xyz * 2.0 - 1.0;
+    vec3 m = texture(normal_map, map_uv(MAP_NORMAL, uv0, uv1)).xyz * 2.0 - 1.0;
     return normalize(t * (m.x * normal_scale) + b * (m.y * normal_scale) + n * m.z);
 }

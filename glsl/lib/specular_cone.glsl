@@ -6,14 +6,14 @@
 #include "lib/cone.glsl"
 #include "lib/brdf.glsl"
 #include "lib/environment.glsl"
+#include "lib/camera.glsl"
 
 layout(binding = IMG_SPECULAR_IN, rgba32f) uniform image2D specular_in;  // per anchor: Lv
-uniform vec3 camera_position;
 
 // Lv(p, w_s, a_s) of surface s: what the cone gathers through the voxels, and the sky beyond
 // them seen through what it did not meet.
 vec3 specular_incoming(Surface s) {
-    vec3 wo = normalize(camera_position - s.position);
+    vec3 wo = to_camera(s.position);
     vec3 ws = 2.0 * max(dot(wo, s.normal), 0.0) * s.normal - wo;
     float tan_half_angle = specular_tan_half_angle(s.roughness);
     vec4 cone = trace_cone(s.position, s.normal, ws, tan_half_angle, 1e9, true, false, true);
@@ -22,11 +22,10 @@ vec3 specular_incoming(Surface s) {
 
 // Schlick's F(w_o . n) of surface s.
 vec3 specular_fresnel(Surface s) {
-    return fresnel_schlick(specular_f0(s.albedo, s.metalness, s.dielectric_f0),
-                           max(dot(normalize(camera_position - s.position), s.normal), 0.0));
+    return fresnel_schlick(specular_f0(s.albedo, s.metalness, s.dielectric_f0), max(dot(to_camera(s.position), s.normal), 0.0));
 }
 
 // The diffuse layer's albedo of surface s seen from the camera, (1 - m) k_d (1 - F(w_o . n)).
 vec3 diffuse_albedo(Surface s) {
-    return diffuse_layer_albedo(s.albedo, s.metalness, s.dielectric_f0, dot(normalize(camera_position - s.position), s.normal));
+    return diffuse_layer_albedo(s.albedo, s.metalness, s.dielectric_f0, dot(to_camera(s.position), s.normal));
 }
