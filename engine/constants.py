@@ -193,7 +193,12 @@ def diffuse_cones():
     return np.array(directions), np.array(weights), half_angle
 
 
-SKY_CONE_COUNT = 16
+SKY_CONE_COUNT = 32
+# The sky's cones read the mip level one below their footprint's (cells a quarter of the cone's
+# diameter wide, so the lookups span its inner half) and step by that: a surface beside the cone
+# (a wall along a cone that leaves through an opening) stays out of its lookups until the cone
+# itself reaches it, where at the footprint's own level the lookups take it in long before.
+SKY_CONE_LEVEL_OFFSET = 1.0
 
 
 def sky_cones(count=SKY_CONE_COUNT):
@@ -254,6 +259,7 @@ def glsl_header():
     directions, weights, half_angle = sky_cones()
     lines.append(f"#define SKY_CONE_COUNT {len(weights)}")
     lines.append(f"#define SKY_CONE_HALF_ANGLE {half_angle:.9f}")
+    lines.append(f"#define SKY_CONE_LEVEL_OFFSET {SKY_CONE_LEVEL_OFFSET:.1f}")
     dirs = ", ".join(f"vec3({d[0]:.9f}, {d[1]:.9f}, {d[2]:.9f})" for d in directions)
     lines.append(f"const vec3 SKY_CONE_DIRECTIONS[{len(weights)}] = vec3[]({dirs});")
     ws = ", ".join(f"{w:.9f}" for w in weights)

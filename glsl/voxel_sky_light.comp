@@ -2,7 +2,8 @@
 // The environment's light at the voxels of a list segment (the gather's anchors; the others
 // interpolate them, voxel_fill.comp), where the scene has one: at the voxel's surface point
 // along its normalized mean normal (as the emitters' light, voxel_emitter_light.comp), through
-// SKY_CONE_COUNT cones over the hemisphere (engine/constants.py sky_cones),
+// SKY_CONE_COUNT cones over the hemisphere (engine/constants.py sky_cones), each reading the
+// voxels one level finer than its footprint (SKY_CONE_LEVEL_OFFSET),
 //   E = pi sum_j w_j (1 - a_j) L_sky(w_j, a)      (a_j: the cone's opacity on its way out)
 // so a cone that leaves the grid unoccluded brings the sky's radiance around its direction,
 // prefiltered to its aperture. Light injection adds rho / pi E; the pixels interpolate E.
@@ -29,7 +30,7 @@ void main() {
         float tan_half = tan(SKY_CONE_HALF_ANGLE);
         for (int j = 0; j < SKY_CONE_COUNT; ++j) {
             vec3 w = frame * SKY_CONE_DIRECTIONS[j];
-            float opacity = trace_cone(s.position, n, w, tan_half, 1e9, false, true, false).a;
+            float opacity = trace_cone(s.position, n, w, tan_half, 1e9, false, true, false, SKY_CONE_LEVEL_OFFSET).a;
             irradiance += SKY_CONE_WEIGHTS[j] * (1.0 - min(opacity, 1.0)) * environment_radiance(w, SKY_CONE_HALF_ANGLE);
         }
         irradiance *= PI;  // E = pi x the cosine-weighted mean radiance

@@ -11,6 +11,7 @@ warning line, and so does one whose lights reach nothing the camera sees.
 """
 import importlib.util
 import json
+import math
 import struct
 from pathlib import Path
 
@@ -105,13 +106,14 @@ def test_a_floor_under_a_uniform_sky_alone_receives_pi_times_its_radiance(small,
     ({"albedo": [0.5, 0.5, 0.5], "metalness": 1.0, "roughness": 0.3}, 0.5 + 0.5 * 0.5 ** 5),
 ], ids=["dielectric-0.1", "dielectric-0.5", "dielectric-1", "white-metal", "grey-metal"])
 def test_a_white_furnace_of_gltf_layers_returns_at_most_what_arrives(small, tmp_path, material, returned):
-    """A card under a uniform sky of 1, seen at 60 degrees (n.v = 1/2): a white dielectric's layers
-    return (1 - F) + F = 1 of the light between them (added, they would return 1 + F = 1.07), a
-    metal its Schlick reflectance F0 + (1 - F0) (1/2)^5."""
+    """A card under a uniform sky of 1, seen at 60 degrees from its normal (n.v = 1/2): a white
+    dielectric's layers return (1 - F) + F = 1 of the light between them (added, they would return
+    1 + F = 1.07), a metal its Schlick reflectance F0 + (1 - F0) (1/2)^5."""
+    eye = [1.5 * math.sin(math.radians(60)), 0, 1.5 * math.cos(math.radians(60))]
     scene = load_scene(write(tmp_path, {
-        "camera": {"position": [0, 0, 1.5], "look_at": [0, 0, 0], "vertical_fov_deg": 20, "width": 16, "height": 16},
+        "camera": {"position": eye, "look_at": [0, 0, 0], "vertical_fov_deg": 20, "width": 16, "height": 16},
         "materials": {"s": material}, "environment": {"radiance": [1, 1, 1]},
-        "objects": [{"name": "Card", "type": "quad", "material": "s", "rotation": [0, 60, 0], "vertices": CARD}]}))
+        "objects": [{"name": "Card", "type": "quad", "material": "s", "vertices": CARD}]}))
     centre = small.render(scene, grid=32)[6:10, 6:10]
     assert centre.max() <= 1.005
     assert centre.mean() == pytest.approx(returned, rel=0.015)

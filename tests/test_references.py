@@ -26,14 +26,16 @@ def test_textured_box_direct_light_matches_its_reference():
 
 
 def test_textured_box_converged_gi_matches_its_reference():
-    """The same scene with all bounces: the textures' colours bounce through the voxels;
-    within 20 % (relative MAE), luminance within 10 %."""
+    """The same scene with all bounces: the textures' colours bounce through the voxels, the
+    glTF dielectrics' diffuse layers reflecting what their specular layers leave; within 10 %
+    (relative MAE, measured 0.064), luminance within 5 % (1.013; a diffuse layer not reduced by
+    the specular one's share came out 23 % bright)."""
     scene = engine.load_scene(REFERENCES / "textured_box.json")
     with engine.Renderer(256, 256) as r:
         gi = r.render(scene, grid=128)
     expected = reference("textured_box_gi")
-    assert rel_mae(gi, expected) <= 0.20
-    assert luminance_ratio(gi, expected) == pytest.approx(1.0, abs=0.10)
+    assert rel_mae(gi, expected) <= 0.10
+    assert luminance_ratio(gi, expected) == pytest.approx(1.0, abs=0.05)
 
 
 # Measured at grid 128 (README, Accuracy): the bounds hold those figures with a margin and fail
