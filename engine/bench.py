@@ -22,8 +22,8 @@ from .emitters import scene_emits
 from .settings import MODE_TABLE
 
 FRAME_KINDS = ("static", "light", "object")
-PASS_ORDER = ("shadow", "gbuffer", "lighting", "emitters", "voxelize", "emission_mipmap", "emitter_light", "inject",
-              "classes", "gather", "faces", "mipmap", "cone_trace", "voxel_view", "gbuffer_view")
+PASS_ORDER = ("shadow", "gbuffer", "lighting", "emitters", "environment", "voxelize", "emission_mipmap", "emitter_light",
+              "sky_light", "inject", "classes", "gather", "faces", "mipmap", "cone_trace", "voxel_view", "gbuffer_view")
 SETTLE_FRAMES = 400  # progressive frames allowed for the radiance to settle before timing
 
 

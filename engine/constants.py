@@ -193,6 +193,11 @@ def diffuse_cones():
     return np.array(directions), np.array(weights), half_angle
 
 
+# The specular cones' lookups are at least 4 voxels wide (level 1): a narrow cone reading single
+# voxels crosses an oblique plane's voxel staircase in 1, 2 or 3 voxels depending on where it
+# meets a step, and draws the steps as stripes in glossy reflections.
+SPECULAR_CONE_MIN_DIAMETER = 4.0
+
 SKY_CONE_COUNT = 32
 # The sky's cones read the mip level one below their footprint's (cells a quarter of the cone's
 # diameter wide, so the lookups span its inner half) and step by that: a surface beside the cone
@@ -260,6 +265,7 @@ def glsl_header():
     lines.append(f"#define SKY_CONE_COUNT {len(weights)}")
     lines.append(f"#define SKY_CONE_HALF_ANGLE {half_angle:.9f}")
     lines.append(f"#define SKY_CONE_LEVEL_OFFSET {SKY_CONE_LEVEL_OFFSET:.1f}")
+    lines.append(f"#define SPECULAR_CONE_MIN_DIAMETER {SPECULAR_CONE_MIN_DIAMETER:.1f}")
     dirs = ", ".join(f"vec3({d[0]:.9f}, {d[1]:.9f}, {d[2]:.9f})" for d in directions)
     lines.append(f"const vec3 SKY_CONE_DIRECTIONS[{len(weights)}] = vec3[]({dirs});")
     ws = ", ".join(f"{w:.9f}" for w in weights)

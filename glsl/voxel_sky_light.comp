@@ -30,7 +30,7 @@ void main() {
         float tan_half = tan(SKY_CONE_HALF_ANGLE);
         for (int j = 0; j < SKY_CONE_COUNT; ++j) {
             vec3 w = frame * SKY_CONE_DIRECTIONS[j];
-            float opacity = trace_cone(s.position, n, w, tan_half, 1e9, false, true, false, SKY_CONE_LEVEL_OFFSET).a;
+            float opacity = trace_cone(s.position, n, w, tan_half, 1e9, false, true, false, SKY_CONE_LEVEL_OFFSET, 1.0).a;
             irradiance += SKY_CONE_WEIGHTS[j] * (1.0 - min(opacity, 1.0)) * environment_radiance(w, SKY_CONE_HALF_ANGLE);
         }
         irradiance *= PI;  // E = pi x the cosine-weighted mean radiance

@@ -198,6 +198,20 @@ def test_a_bad_environment_map_is_one_line_naming_the_file_and_the_field(tmp_pat
     assert str(info.value).startswith(f'{path}: environment.map: "{name}": ') and problem in str(info.value), str(info.value)
 
 
+def test_a_map_wider_than_the_drivers_textures_is_an_error_naming_it(small, tmp_path):
+    """The driver's GL_MAX_TEXTURE_SIZE (here made 64) bounds the map: a VctError naming the
+    scene file and the map, before anything is drawn."""
+    engine.save_exr(tmp_path / "wide.exr", np.ones((64, 128, 3), np.float32))
+    scene = load_scene(sky_scene(tmp_path, environment={"map": "wide.exr"}))
+    limit = small.ctx.info["GL_MAX_TEXTURE_SIZE"]
+    small.ctx.info["GL_MAX_TEXTURE_SIZE"] = 64
+    try:
+        with pytest.raises(engine.VctError, match=r'environment.map "wide.exr".*128x64 exceeds the driver.s texture limit of 64'):
+            small.render(scene, grid=16)
+    finally:
+        small.ctx.info["GL_MAX_TEXTURE_SIZE"] = limit
+
+
 def test_an_environment_is_a_sky_or_a_map_not_both(tmp_path):
     with pytest.raises(SceneError, match='environment: give "radiance"'):
         load_scene(sky_scene(tmp_path, environment={"radiance": [1, 1, 1], "map": "sky.exr"}))

@@ -95,8 +95,10 @@ vec4 sample_faces(vec3 uvw, float mip, FaceWeights f, bool wide) {
 // cornell_spheres). `emitted`: add the emission of the surfaces met (the specular cones), from the
 // emission volume: its mean over the covered voxels of the cell, e.rgb / e.a, seen from every side.
 // `level_offset`: read that many levels below the footprint's and step by the narrower lookups
-// (the sky's cones: SKY_CONE_LEVEL_OFFSET); 0 for the others.
-//   d = max(voxel, 2 tan(a/2) t 2^-level_offset) the cone's diameter at distance t (narrowed)
+// (the sky's cones: SKY_CONE_LEVEL_OFFSET); 0 for the others. `min_diameter`: the narrowest
+// lookups, in voxels (1, or SPECULAR_CONE_MIN_DIAMETER for the specular cones).
+//   d = max(min_diameter voxel, 2 tan(a/2) t 2^-level_offset)   the cone's diameter at distance
+//                                                t (narrowed), at least the narrowest lookup's
 //   mip = log2(d / voxel) - 1                    a trilinear lookup averages over a tent two
 //                                                cells wide, so cells of d/2 span d
 //   c = min(1, a 2^mip)                          a mip cell 2^mip voxels wide with mean coverage
@@ -107,7 +109,7 @@ vec4 sample_faces(vec3 uvw, float mip, FaceWeights f, bool wide) {
 //                                                makes the result independent of the step
 //   t += step = cone_step * d
 vec4 trace_cone(vec3 p, vec3 n, vec3 direction, float tan_half_angle, float max_distance, bool wide,
-                bool blend_levels, bool emitted, float level_offset) {
+                bool blend_levels, bool emitted, float level_offset, float min_diameter) {
     vec3 start = p + n * (cone_offset * voxel_size);
     vec4 gathered = vec4(0.0);
     float spread = tan_half_angle / sqrt(1.0 + tan_half_angle * tan_half_angle);  // sin(half-angle)
@@ -115,7 +117,7 @@ vec4 trace_cone(vec3 p, vec3 n, vec3 direction, float tan_half_angle, float max_
     float t = voxel_size;  // start one voxel out along the cone
     float diameter_scale = 2.0 * tan_half_angle * exp2(-level_offset);
     while (gathered.a < 1.0 && t < max_distance) {
-        float diameter = max(voxel_size, diameter_scale * t);
+        float diameter = max(min_diameter * voxel_size, diameter_scale * t);
         float mip = min(max(log2(diameter / voxel_size) - 1.0, 0.0), voxel_max_mip);  // 1^3 spans the region
         if (!blend_levels) mip = round(mip);
         vec3 uvw = voxel_uvw(start + direction * t);
@@ -149,7 +151,7 @@ vec4 trace_diffuse(vec3 p, vec3 n, float max_distance) {
     float tan_half = tan(DIFFUSE_CONE_HALF_ANGLE);
     vec4 sum = vec4(0.0);
     for (int j = 0; j < DIFFUSE_CONE_COUNT; ++j) {
-        vec4 cone = trace_cone(p, n, frame * DIFFUSE_CONE_DIRECTIONS[j], tan_half, max_distance, false, true, false, 0.0);
+        vec4 cone = trace_cone(p, n, frame * DIFFUSE_CONE_DIRECTIONS[j], tan_half, max_distance, false, true, false, 0.0, 1.0);
         sum += DIFFUSE_CONE_WEIGHTS[j] * cone;
     }
     return sum;
