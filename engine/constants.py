@@ -30,7 +30,8 @@ TEXTURE_UNIT = {
     "VOXEL_EMITTED": 15,    # emission (rgb) and coverage (a) of every voxel, mipmapped: what specular cones add
     "VOXEL_EMITTER_LIGHT": 16,  # the emitters' shadowed irradiance per voxel (rgb), its visible fraction (a)
     "ENVIRONMENT": 17,      # the sky's radiance, equirectangular, mipmapped (glsl/lib/environment.glsl)
-    "VOXEL_SKY_LIGHT": 18,  # the sky's irradiance per voxel, through the voxels (rgb)
+    "VOXEL_SKY_LIGHT": 18,  # the sky's irradiance per voxel, through the voxels (rgb), filtered
+    "VOXEL_SKY_TRACED": 19, # the same as the anchors' cones traced it and the others interpolated it
     "BASE_COLOR_MAP": 20,   # the textures of the material being drawn (glsl/lib/material.glsl)
     "METAL_ROUGH_MAP": 21,
     "EMISSIVE_MAP": 22,
@@ -198,27 +199,19 @@ def diffuse_cones():
 # meets a step, and draws the steps as stripes in glossy reflections.
 SPECULAR_CONE_MIN_DIAMETER = 4.0
 
+# The sky's light at a voxel: SKY_CONE_COUNT cones over its hemisphere, uniform in solid angle
+# (z = 1 - (j + u) / count, the golden angle apart in azimuth and turned by u'), each of the
+# solid angle 2 pi / count, weighted by its cosine; u and u' are the voxel's own (a hash of its
+# coordinates, glsl/voxel_sky_light.comp), so neighbouring voxels sample the sky between each
+# other's cones, and SKY_FILTER_RADIUS averages them (glsl/voxel_sky_filter.comp).
 SKY_CONE_COUNT = 32
+SKY_CONE_HALF_ANGLE = math.acos(1.0 - 1.0 / SKY_CONE_COUNT)
+SKY_FILTER_RADIUS = 2
 # The sky's cones read the mip level one below their footprint's (cells a quarter of the cone's
 # diameter wide, so the lookups span its inner half) and step by that: a surface beside the cone
 # (a wall along a cone that leaves through an opening) stays out of its lookups until the cone
 # itself reaches it, where at the footprint's own level the lookups take it in long before.
 SKY_CONE_LEVEL_OFFSET = 1.0
-
-
-def sky_cones(count=SKY_CONE_COUNT):
-    """Cones over the hemisphere in the local frame (z = normal) for the sky's light: `count`
-    directions uniform in solid angle (a Fibonacci spiral: z = 1 - (i + 1/2) / count, the
-    golden angle apart in azimuth), each the axis of a cone of the solid angle 2 pi / count
-    (half-angle acos(1 - 1/count)), weighted by the cosine-weighted share of its region.
-    Returns (directions (count, 3), weights (count,), half_angle)."""
-    i = np.arange(count) + 0.5
-    z = 1.0 - i / count
-    r = np.sqrt(1.0 - z * z)
-    phi = i * math.pi * (3.0 - math.sqrt(5.0))
-    directions = np.stack([r * np.cos(phi), r * np.sin(phi), z], axis=1)
-    weights = z / z.sum()
-    return directions, weights, math.acos(1.0 - 1.0 / count)
 
 
 def struct_dtype(name):
@@ -261,13 +254,9 @@ def glsl_header():
     lines.append(f"const vec3 DIFFUSE_CONE_DIRECTIONS[{len(weights)}] = vec3[]({dirs});")
     ws = ", ".join(f"{w:.9f}" for w in weights)
     lines.append(f"const float DIFFUSE_CONE_WEIGHTS[{len(weights)}] = float[]({ws});")
-    directions, weights, half_angle = sky_cones()
-    lines.append(f"#define SKY_CONE_COUNT {len(weights)}")
-    lines.append(f"#define SKY_CONE_HALF_ANGLE {half_angle:.9f}")
+    lines.append(f"#define SKY_CONE_COUNT {SKY_CONE_COUNT}")
+    lines.append(f"#define SKY_CONE_HALF_ANGLE {SKY_CONE_HALF_ANGLE:.9f}")
     lines.append(f"#define SKY_CONE_LEVEL_OFFSET {SKY_CONE_LEVEL_OFFSET:.1f}")
+    lines.append(f"#define SKY_FILTER_RADIUS {SKY_FILTER_RADIUS}")
     lines.append(f"#define SPECULAR_CONE_MIN_DIAMETER {SPECULAR_CONE_MIN_DIAMETER:.1f}")
-    dirs = ", ".join(f"vec3({d[0]:.9f}, {d[1]:.9f}, {d[2]:.9f})" for d in directions)
-    lines.append(f"const vec3 SKY_CONE_DIRECTIONS[{len(weights)}] = vec3[]({dirs});")
-    ws = ", ".join(f"{w:.9f}" for w in weights)
-    lines.append(f"const float SKY_CONE_WEIGHTS[{len(weights)}] = float[]({ws});")
     return "\n".join(lines) + "\n"

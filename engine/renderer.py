@@ -364,7 +364,8 @@ class Renderer:
         inputs = (self.stages["voxels"].version, frame.environment_values, s.cone_step, s.cone_offset)
         self._voxel_light("sky_light", inputs, self.sky_light_rounds, s, lambda class_index: (
             self.sky_light.run(self.grid, environment, s.cone_uniforms(), self.grid.anchor_segment(class_index)),
-            self.gather.fill(self.grid, self.grid.sky_light, self.grid.filled_segment(class_index))))
+            self.gather.fill(self.grid, self.grid.sky_traced, self.grid.filled_segment(class_index)),
+            self.sky_light.filter(self.grid)))
 
     def _voxel_light(self, name, inputs, rounds, s, run):
         """Run the stage `name` (`run` an interleave class) when `inputs` changed.

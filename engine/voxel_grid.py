@@ -7,7 +7,8 @@ passed to the passes that read and write it.
   `emitted` (emission, a = 1 where covered) with its hardware mip chain, the emission specular
   cones see;
 - `emitter_light`: the emitters' shadowed irradiance at each voxel's surface and the fraction
-  of it that arrives; `sky_light`: the environment's irradiance there, through the voxels;
+  of it that arrives; `sky_light`: the environment's irradiance there, through the voxels, and
+  `sky_traced`, the same as the anchors' cones brought it, before it is averaged;
 - the radiance: `base` (emission + injected direct light), the diffuse `gathered` by each
   voxel (two volumes, the latest and the one before, for closing the bounce series), and the
   six one-sided face views cones read, stacked along z in one volume `faces` (n x n x 6n,
@@ -126,7 +127,7 @@ class VoxelGrid:
         self.emitted = self._volume(mipmapped=True)
         self.gathered = [self._volume() for _ in range(2)]
         self.emitter_light = self._volume()
-        self.sky_light = self._volume()
+        self.sky_light, self.sky_traced = self._volume(), self._volume()
         self.faces = self._volume(mipmapped=True, views=VOXEL_FACES)
         self.touched, self.covered, self.covered_next = (self._keep(VoxelList(ctx, voxels)) for _ in range(3))
         self.stale = self._keep(VoxelList(ctx, voxels))  # whose gather-anchor records to find again

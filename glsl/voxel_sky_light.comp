@@ -1,14 +1,15 @@
 #version 450 core
 // The environment's light at the voxels of a list segment (the gather's anchors; the others
-// interpolate them, voxel_fill.comp), where the scene has one: at the voxel's surface point
-// along its normalized mean normal (as the emitters' light, voxel_emitter_light.comp), through
-// SKY_CONE_COUNT cones over the hemisphere (engine/constants.py sky_cones), each reading the
-// voxels one level finer than its footprint (SKY_CONE_LEVEL_OFFSET),
-//   E = pi sum_j w_j (1 - a_j) L_sky(w_j, a)      (a_j: the cone's opacity on its way out)
+// interpolate them, voxel_fill.comp, and voxel_sky_filter.comp averages the result), where the
+// scene has one: at the voxel's surface point along its normalized mean normal (as the
+// emitters' light, voxel_emitter_light.comp), through SKY_CONE_COUNT cones over the hemisphere,
+// uniform in solid angle and offset by the voxel's own jitter (engine/constants.py), each
+// reading the voxels one level finer than its footprint (SKY_CONE_LEVEL_OFFSET),
+//   E = pi sum_j z_j (1 - a_j) L_sky(w_j, a) / sum_j z_j   (z_j = n . w_j; a_j: the cone's
+//                                                            opacity on its way out)
 // so a cone that leaves the grid unoccluded brings the sky's radiance around its direction,
-// prefiltered to its aperture. Light injection adds rho / pi E; the pixels interpolate E.
-// Runs when the voxels or the environment change, over every class at once or one
-// interleave class a frame in the viewer.
+// prefiltered to its aperture. Runs when the voxels or the environment change, over every
+// class at once or one interleave class a frame in the viewer.
 #include "lib/voxel_surface.glsl"
 #include "lib/cone.glsl"
 #include "lib/environment.glsl"
@@ -19,6 +20,22 @@ layout(std430, binding = SSBO_VOXEL_LIST) readonly buffer VoxelList { uint voxel
 uniform uint first;  // the segment of the list to light
 uniform uint count;
 
+// The voxel's own offsets of its cones in [0, 1)^2: a hash of its coordinates.
+vec2 cone_jitter(ivec3 v) {
+    uint h = uint(v.x) * 73856093u ^ uint(v.y) * 19349663u ^ uint(v.z) * 83492791u;
+    h ^= h >> 16; h *= 0x7feb352du; h ^= h >> 15; h *= 0x846ca68bu; h ^= h >> 16;
+    return vec2(float(h & 0xffffu), float(h >> 16)) / 65536.0;
+}
+
+// Cone j of the voxel's set in its tangent frame (z along the normal): z = 1 - (j + u) / count,
+// the golden angle apart in azimuth, turned by u'.
+vec3 sky_cone(int j, vec2 jitter) {
+    float z = 1.0 - (float(j) + jitter.x) / float(SKY_CONE_COUNT);
+    float azimuth = 2.0 * PI * (float(j) * 0.381966011 + jitter.y);  // (3 - sqrt 5) / 2 turns apart
+    float r = sqrt(max(1.0 - z * z, 0.0));
+    return vec3(r * cos(azimuth), r * sin(azimuth), z);
+}
+
 void main() {
     if (gl_GlobalInvocationID.x >= count) return;
     ivec3 v = unpack_voxel(voxel_list[first + gl_GlobalInvocationID.x]);
@@ -28,12 +45,16 @@ void main() {
         vec3 n = normalize(s.mean_normal);
         mat3 frame = tangent_frame(n);
         float tan_half = tan(SKY_CONE_HALF_ANGLE);
+        vec2 jitter = cone_jitter(v);
+        float cosine_sum = 0.0;
         for (int j = 0; j < SKY_CONE_COUNT; ++j) {
-            vec3 w = frame * SKY_CONE_DIRECTIONS[j];
+            vec3 local = sky_cone(j, jitter);
+            vec3 w = frame * local;
             float opacity = trace_cone(s.position, n, w, tan_half, 1e9, false, true, false, SKY_CONE_LEVEL_OFFSET, 1.0).a;
-            irradiance += SKY_CONE_WEIGHTS[j] * (1.0 - min(opacity, 1.0)) * environment_radiance(w, SKY_CONE_HALF_ANGLE);
+            irradiance += local.z * (1.0 - min(opacity, 1.0)) * environment_radiance(w, SKY_CONE_HALF_ANGLE);
+            cosine_sum += local.z;
         }
-        irradiance *= PI;  // E = pi x the cosine-weighted mean radiance
+        irradiance *= PI / cosine_sum;  // E = pi x the cosine-weighted mean radiance
     }
     imageStore(sky_light_out, v, vec4(irradiance, 1.0));
 }

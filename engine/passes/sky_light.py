@@ -1,27 +1,40 @@
 """The environment's light at the voxels: the sky's irradiance at a voxel's surface point through
 SKY_CONE_COUNT cones over its hemisphere, each bringing the sky around its direction as far as
-the voxels let it through (the face views must hold the grid's current coverage). Traced at the
-gather's anchors of a segment of the class list when the voxels or the environment change; the
-other voxels interpolate them as they interpolate the gather (GatherPass.fill). Light injection
-adds it to the base radiance, and the image interpolates it per pixel."""
-from ..constants import IMAGE_UNIT, STORAGE_BINDING
+the voxels let it through (the face views must hold the grid's current coverage), each voxel's
+cones offset by a jitter of its own. Traced at the gather's anchors of a segment of the class
+list when the voxels or the environment change into grid.sky_traced, the other voxels
+interpolating them as they interpolate the gather (GatherPass.fill); then averaged over the
+like-facing voxels around each covered voxel into grid.sky_light, which light injection adds to
+the base radiance and the image interpolates per pixel."""
+from ..constants import IMAGE_UNIT, STORAGE_BINDING, TEXTURE_UNIT
 from ..voxel_grid import bind_image
 
 
 class SkyLightPass:
     def __init__(self, ctx, programs):
         self.program = programs.compute("voxel_sky_light.comp")
+        self.filter_program = programs.compute("voxel_sky_filter.comp")
 
     def run(self, grid, environment, cone_uniforms, segment):
         """`environment`: scene_gpu.EnvironmentMap; `segment`: a VoxelSegment of the class list
-        (the anchors of a class). Writes grid.sky_light for those voxels."""
+        (the anchors of a class). Writes grid.sky_traced for those voxels."""
         grid.use_surface()
         grid.use_faces()
         segment.buffer.bind_to_storage_buffer(STORAGE_BINDING["VOXEL_LIST"])
         environment.bind(self.program)
-        bind_image(grid.sky_light, IMAGE_UNIT["SKY_LIGHT_OUT"])
+        bind_image(grid.sky_traced, IMAGE_UNIT["SKY_LIGHT_OUT"])
         self.program.set(**grid.uniforms(), **cone_uniforms, first=segment.first, count=segment.count)
         grid.dispatch(self.program, segment.count)
 
+    def filter(self, grid):
+        """grid.sky_light of every covered voxel from grid.sky_traced around it."""
+        grid.use_surface()
+        grid.sky_traced.use(TEXTURE_UNIT["VOXEL_SKY_TRACED"])
+        grid.covered.bind("COVERED")
+        bind_image(grid.sky_light, IMAGE_UNIT["SKY_LIGHT_OUT"])
+        self.filter_program.set(**grid.uniforms())
+        grid.dispatch(self.filter_program, grid.covered.count)
+
     def release(self):
         self.program.release()
+        self.filter_program.release()
