@@ -206,12 +206,13 @@ SPECULAR_CONE_MIN_DIAMETER = 4.0
 # other's cones, and SKY_FILTER_RADIUS averages them (glsl/voxel_sky_filter.comp).
 SKY_CONE_COUNT = 32
 SKY_CONE_HALF_ANGLE = math.acos(1.0 - 1.0 / SKY_CONE_COUNT)
-SKY_FILTER_RADIUS = 2
-# The sky's cones read the mip level one below their footprint's (cells a quarter of the cone's
-# diameter wide, so the lookups span its inner half) and step by that: a surface beside the cone
-# (a wall along a cone that leaves through an opening) stays out of its lookups until the cone
-# itself reaches it, where at the footprint's own level the lookups take it in long before.
-SKY_CONE_LEVEL_OFFSET = 1.0
+SKY_FILTER_RADIUS = 3
+# The sky's cones read 1.75 mip levels below their footprint's (lookups over the inner 30 % of the
+# cone's diameter, 2^-1.75) and step by those: a surface beside the cone (a wall along a cone that
+# leaves through an opening) stays out of its lookups until the cone itself reaches it, where at
+# the footprint's own level the lookups take it in long before. (Measured against path-traced
+# skies through a ceiling opening and an open ceiling: README, "Sky cones read finer".)
+SKY_CONE_LEVEL_OFFSET = 1.75
 
 
 def struct_dtype(name):
@@ -256,7 +257,7 @@ def glsl_header():
     lines.append(f"const float DIFFUSE_CONE_WEIGHTS[{len(weights)}] = float[]({ws});")
     lines.append(f"#define SKY_CONE_COUNT {SKY_CONE_COUNT}")
     lines.append(f"#define SKY_CONE_HALF_ANGLE {SKY_CONE_HALF_ANGLE:.9f}")
-    lines.append(f"#define SKY_CONE_LEVEL_OFFSET {SKY_CONE_LEVEL_OFFSET:.1f}")
+    lines.append(f"#define SKY_CONE_LEVEL_OFFSET {SKY_CONE_LEVEL_OFFSET:.2f}")
     lines.append(f"#define SKY_FILTER_RADIUS {SKY_FILTER_RADIUS}")
     lines.append(f"#define SPECULAR_CONE_MIN_DIAMETER {SPECULAR_CONE_MIN_DIAMETER:.1f}")
     return "\n".join(lines) + "\n"

@@ -4,7 +4,7 @@
 // scene has one: at the voxel's surface point along its normalized mean normal (as the
 // emitters' light, voxel_emitter_light.comp), through SKY_CONE_COUNT cones over the hemisphere,
 // uniform in solid angle and offset by the voxel's own jitter (engine/constants.py), each
-// reading the voxels one level finer than its footprint (SKY_CONE_LEVEL_OFFSET),
+// reading the voxels finer than its footprint (SKY_CONE_LEVEL_OFFSET),
 //   E = pi sum_j z_j (1 - a_j) L_sky(w_j, a) / sum_j z_j   (z_j = n . w_j; a_j: the cone's
 //                                                            opacity on its way out)
 // so a cone that leaves the grid unoccluded brings the sky's radiance around its direction,

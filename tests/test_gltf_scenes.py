@@ -106,6 +106,16 @@ def test_the_room_renders_from_its_own_camera_lit_by_its_own_lights(tmp_path):
     assert image.shape == (32, 32, 3) and image.mean() > 0.05 and np.all(np.isfinite(image))
 
 
+def test_bench_times_a_gltf_file_as_the_scene(tmp_path):
+    """`vct bench room.glb`: the file's own camera, lights and objects in the frame kinds."""
+    result = vct("bench", ROOM, "--grids", "16", "--frames", "1", "--warmup", "0", "--width", "32", "--height", "32",
+                 "--json", tmp_path / "bench.json")
+    assert result.returncode == 0, result.stderr
+    moves = {r["frame"]: r["moves"] for r in json.loads((tmp_path / "bench.json").read_text())}
+    meshes = {node.name for node, _ in load_scene(ROOM).drawables()}
+    assert moves["static"] == "camera" and moves["light"] == "Ceiling Lamp" and moves["object"] in meshes
+
+
 def test_a_perspective_camera_looks_along_its_nodes_minus_z_with_the_files_field_of_view(tmp_path):
     g = Gltf()
     node(g, {"mesh": face(g, CARD, texcoords=None)})

@@ -112,6 +112,19 @@ def test_view_frames_screenshot_equals_headless_render(display, tmp_path):
     assert a.std() > 10  # a real image, not a blank window
 
 
+def test_a_gltf_file_is_viewed_from_its_own_camera_as_it_renders(display, tmp_path):
+    """`vct view room.glb`: the file is the scene, seen from its camera, lit by its KHR lights."""
+    env = dict(os.environ, DISPLAY=display)
+    room = ROOT / "scenes" / "references" / "gltf_room.glb"
+    view_png, render_png = tmp_path / "view.png", tmp_path / "render.png"
+    size = ["--mode", "direct", "--width", SMALL[0], "--height", SMALL[1]]
+    viewed = vct("view", room, "--frames", 3, "--screenshot", view_png, *size, env=env)
+    assert viewed.returncode == 0, viewed.stderr
+    assert vct("render", room, "--out", render_png, *size).returncode == 0
+    a, b = read_png(view_png), read_png(render_png)
+    assert np.abs(a - b).mean() < 1.0 and a.std() > 10
+
+
 def test_view_without_display_is_one_line_error(tmp_path):
     env = {k: v for k, v in os.environ.items() if k not in ("DISPLAY", "WAYLAND_DISPLAY")}
     result = vct("view", SCENE, "--frames", 1, env=env)
