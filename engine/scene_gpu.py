@@ -17,6 +17,7 @@ from . import transforms
 from .constants import STORAGE_BINDING, TEXTURE_UNIT
 from .emitters import frame_emitters
 from .errors import VctError
+from .scene import IDENTITY_UV
 
 # Vertex attributes in buffer order, with their float counts. Meshes without texture
 # coordinates or tangents get zeros there, without vertex colours white.
@@ -316,10 +317,13 @@ class EmitterBuffers:
         self.triangles = self.patches = None
 
 
-def vertex_extras(mesh):
-    """Whether a mesh has vertex colours or a second texture coordinate set: the programs that
-    pass them on (VERTEX_EXTRAS) draw it."""
-    return mesh.colors is not None or mesh.texcoords1 is not None
+def vertex_extras(draw):
+    """Whether a draw's mesh has vertex colours or a second texture coordinate set, or its
+    material reads set 1 or transforms its texture coordinates: the programs that pass them on
+    and transform them (VERTEX_EXTRAS) draw it."""
+    mesh, material = draw.mesh, draw.material
+    return (mesh.colors is not None or mesh.texcoords1 is not None or any(material.uv_sets.values())
+            or any(transform != IDENTITY_UV for transform in material.uv_transforms.values()))
 
 
 def _uv_matrix(rows):

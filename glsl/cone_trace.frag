@@ -24,13 +24,19 @@
 #include "lib/brdf.glsl"
 #include "lib/specular_cone.glsl"
 #include "lib/cone_pixels.glsl"
-// EMITTERS is defined in the program for scenes where surfaces emit (passes/cone_trace.py): on
-// llvmpipe the emitters' code costs the other scenes' pixels 5 ms a frame even when skipped.
+// EMITTERS is defined in the program for scenes where surfaces emit, SKY for scenes with an
+// environment (passes/cone_trace.py): on llvmpipe their code costs the other scenes' pixels
+// time even where it is skipped.
 #ifdef EMITTERS
 #include "lib/emitters.glsl"
 #define EMITTER_LIGHT true
 #else
 #define EMITTER_LIGHT false
+#endif
+#ifdef SKY
+#define SKY_LIGHT true
+#else
+#define SKY_LIGHT false
 #endif
 
 #define OUTPUT_RADIANCE 0
@@ -103,7 +109,7 @@ void main() {
     if (is_anchor(pixel)) imageStore(diffuse_in, pixel / 2, vec4(0.0));  // no diffuse cones traced (yet)
     Surface s = read_gbuffer(pixel);
     if (!s.covered) {  // the environment where no surface is, as the camera sees emitters
-        bool sky = include_direct && output_kind == OUTPUT_RADIANCE;
+        bool sky = SKY_LIGHT && include_direct && output_kind == OUTPUT_RADIANCE;
         out_radiance = vec4(sky ? environment_radiance(view_direction(pixel), 0.5 * pixel_angle) : vec3(0.0), 0.0);
         return;
     }
@@ -115,7 +121,7 @@ void main() {
     vec3 diffuse_layer = diffuse_albedo(s);
     bool diffuse = any(greaterThan(diffuse_layer, vec3(0.0)));
     bool lit_by_emitters = EMITTER_LIGHT && include_direct && diffuse;
-    bool lit_by_sky = voxel_sky && include_direct && diffuse;
+    bool lit_by_sky = SKY_LIGHT && include_direct && diffuse;
     VoxelInterpolation voxels = interpolate_voxels(s, include_diffuse && diffuse, lit_by_emitters, lit_by_sky);
     vec3 radiance = include_direct ? texelFetch(direct_light, pixel, 0).rgb : vec3(0.0);
 #ifdef EMITTERS

@@ -1,7 +1,8 @@
 #version 450 core
 // G-buffer geometry: world position, normal, texture coordinates and, for a material with a
 // normal map (NORMAL_MAP defined), tangent of every visible surface; for a mesh with vertex
-// colours or a second texture coordinate set (VERTEX_EXTRAS), those. Without them they are
+// colours or a second texture coordinate set, or a material that transforms its texture
+// coordinates (VERTEX_EXTRAS), those. Without them they are
 // not passed on: on llvmpipe every output of this stage costs each triangle's setup time.
 in vec3 in_position;
 in vec3 in_normal;

@@ -17,9 +17,11 @@ OUTPUT_KIND = {"radiance": 0, "ao": 1}
 class ConeTracePass:
     def __init__(self, ctx, programs, size):
         self.ctx = ctx
-        # The image's program for scenes without emitters and for scenes with them (EMITTERS).
-        self.programs = {lit: programs.program({"EMITTERS": 1} if lit else None, vertex_shader="fullscreen.vert",
-                                               fragment_shader="cone_trace.frag") for lit in (False, True)}
+        # The image's programs, by whether surfaces emit (EMITTERS) and whether the scene has an
+        # environment (SKY).
+        self.programs = {(lit, sky): programs.program({name: 1 for name, on in (("EMITTERS", lit), ("SKY", sky)) if on} or None,
+                                                      vertex_shader="fullscreen.vert", fragment_shader="cone_trace.frag")
+                         for lit in (False, True) for sky in (False, True)}
         self.pixels_program = programs.compute("cone_pixels.comp")
         self.shared_program = programs.compute("cone_shared.comp")
         self.target = ScreenTarget(ctx, size)
@@ -42,7 +44,7 @@ class ConeTracePass:
         """`camera`: renderer.FrameCamera; `emitters`: scene_gpu.EmitterBuffers; `environment`:
         scene_gpu.EnvironmentMap; `terms`: settings.ImageTerms (which of direct, diffuse,
         specular, or AO)."""
-        program = self.programs[emitters.count > 0]
+        program = self.programs[emitters.count > 0, environment.environment is not None]
         gbuffer.use()
         emitters.bind(program)
         for handle in (program, self.pixels_program, self.shared_program):

@@ -34,8 +34,8 @@ class GBufferPass:
     def __init__(self, ctx, programs, geometry, size):
         self.ctx = ctx
         self.geometry = geometry
-        # Per whether the material has a normal map (else no tangent is interpolated) and the mesh
-        # vertex colours or a second texture coordinate set (else neither is).
+        # Per whether the material has a normal map (else no tangent is interpolated) and the draw
+        # vertex colours, a second texture coordinate set or texture transforms (else none).
         self.programs = {(mapped, extras): programs.program(
             {name: 1 for name, wanted in (("NORMAL_MAP", mapped), ("VERTEX_EXTRAS", extras)) if wanted},
             vertex_shader="gbuffer.vert", fragment_shader="gbuffer.frag")
@@ -54,7 +54,7 @@ class GBufferPass:
         self.ctx.enable_only(self.ctx.DEPTH_TEST)
         for (mapped, extras), program in self.programs.items():
             subset = [draw for draw in draws if (draw.material.normal_texture is not None) == mapped
-                      and vertex_extras(draw.mesh) == extras]
+                      and vertex_extras(draw) == extras]
             if subset:
                 program.set(view_projection=transforms.gl_bytes(view_projection))
                 self.geometry.draw(program, subset, materials=True, cull_single_sided=True, view_projection=view_projection)

@@ -22,7 +22,8 @@ class VoxelizePass:
     def __init__(self, ctx, programs, geometry):
         self.ctx = ctx
         self.geometry = geometry
-        # Per whether the mesh has vertex colours or a second texture coordinate set.
+        # Per whether the draw has vertex colours, a second texture coordinate set or texture
+        # transforms (scene_gpu.vertex_extras).
         self.programs = {extras: programs.program({"VERTEX_EXTRAS": 1} if extras else None, vertex_shader="voxelize.vert",
                                                   geometry_shader="voxelize.geom", fragment_shader="voxelize.frag")
                          for extras in (False, True)}
@@ -58,7 +59,7 @@ class VoxelizePass:
         self.ctx.viewport = (0, 0, grid.n, grid.n)
         self.ctx.disable(self.ctx.DEPTH_TEST | self.ctx.CULL_FACE | self.ctx.BLEND)
         for extras, program in self.programs.items():
-            subset = [draw for draw in draws if vertex_extras(draw.mesh) == extras]
+            subset = [draw for draw in draws if vertex_extras(draw) == extras]
             if subset:
                 program.set(**grid.uniforms(), stage=STAGES[stage], touched_only=touched_only)
                 self.geometry.draw(program, subset, materials=True, box=box)

@@ -80,10 +80,10 @@ float smith_g1(float cos_theta, float alpha) {
 
 // f(l, v) of the layered model above (without the cosine).
 vec3 brdf(vec3 n, vec3 l, vec3 v, vec3 albedo, float roughness, float metalness, float dielectric_f0) {
+    vec3 f0 = specular_f0(albedo, metalness, dielectric_f0);
+    if (!has_specular_layer(f0)) return (1.0 - metalness) * albedo / PI;  // F = 0: Lambert alone
     float cos_view = max(dot(n, v), 1e-4);
     vec3 diffuse = diffuse_layer_albedo(albedo, metalness, dielectric_f0, cos_view) / PI;
-    vec3 f0 = specular_f0(albedo, metalness, dielectric_f0);
-    if (!has_specular_layer(f0)) return diffuse;
     vec3 h = normalize(l + v);
     float s = blinn_phong_exponent(roughness);
     float distribution = (s + 2.0) / (2.0 * PI) * pow(max(dot(n, h), 0.0), s);  // normalized Blinn-Phong D

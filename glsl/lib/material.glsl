@@ -1,8 +1,11 @@
 // The material of the surface being drawn (engine.scene.Material): its factors times its
 // textures at the surface's texture coordinates, the base colour times the mesh's vertex
 // colour. A material without a texture has a white one bound (a flat normal for the normal
-// map), so every factor is sampled the same way. Each texture reads texture coordinate set 0
-// or 1 through its own 2D affine transform (KHR_texture_transform).
+// map), so every factor is sampled the same way. Where VERTEX_EXTRAS is defined (draws whose
+// mesh has vertex colours or a second texture coordinate set, or whose material transforms its
+// texture coordinates), each texture reads set 0 or 1 through its own 2D affine transform
+// (KHR_texture_transform); elsewhere every texture reads set 0 as it is, sparing the other
+// draws' fragments the transforms.
 #include "engine_constants.glsl"
 
 layout(binding = TEX_BASE_COLOR_MAP) uniform sampler2D base_color_map;    // sRGB, decoded by the sampler
@@ -26,7 +29,11 @@ uniform ivec4 uv_sets;          // per map: texture coordinate set 0 or 1
 
 // The texture coordinates map `map` reads, from the surface's two sets.
 vec2 map_uv(int map, vec2 uv0, vec2 uv1) {
+#ifdef VERTEX_EXTRAS
     return (uv_transforms[map] * vec3(uv_sets[map] == 1 ? uv1 : uv0, 1.0)).xy;
+#else
+    return uv0;
+#endif
 }
 
 struct MaterialSample {
