@@ -6,9 +6,9 @@ path-traced references (relative MAE, relative MSE, mean-luminance ratio).
 
 The Cornell box is compared with ../shared/reference (`bounces 1` with cornell_box_1bounce.npy,
 every other count with cornell_box_gi.npy, and direct light alone with cornell_box_direct.npy);
-the scenes of scenes/references with their NAME_gi.npy and NAME_direct.npy (direct light
-alone: from lights and emissive surfaces, at the renderer's default grid where surfaces emit,
-since the voxels shadow their light). 0 bounces means iterate to convergence."""
+the scenes of scenes/references (scene files, and glTF files without one) with their
+NAME_gi.npy and NAME_direct.npy (direct light alone: from lights and emissive surfaces, at the
+renderer's default grid where surfaces emit, since the voxels shadow their light). 0 bounces means iterate to convergence."""
 import argparse
 import json
 import time
@@ -26,18 +26,24 @@ OURS = ROOT / "scenes" / "references"
 
 
 def cases(names):
-    """(scene name, scene file, {"direct" | "1bounce" | "gi": reference file})."""
-    yield "cornell_box", ROOT / "scenes" / "cornell_box.json", {k: SHARED / f"cornell_box_{k}.npy" for k in ("direct", "1bounce", "gi")}
-    if names == "cornell_box":
-        return
-    for scene in sorted(p for p in OURS.glob("*.json") if not p.name.endswith(".meta.json")):
+    """(scene name, scene file, {"direct" | "1bounce" | "gi": reference file}) of the scenes
+    `names` ("cornell_box", "all", or scene names separated by commas)."""
+    wanted = None if names == "all" else set(names.split(","))
+    if wanted is None or "cornell_box" in wanted:
+        yield "cornell_box", ROOT / "scenes" / "cornell_box.json", {k: SHARED / f"cornell_box_{k}.npy" for k in ("direct", "1bounce", "gi")}
+    # Scene files, and glTF files that are scenes of their own (no scene file of their name).
+    files = [p for p in OURS.glob("*.json") if not p.name.endswith(".meta.json")]
+    files += [p for p in OURS.glob("*.gl[bt]*") if not p.with_suffix(".json").exists()]
+    for scene in sorted(files):
+        if wanted is not None and scene.stem not in wanted:
+            continue
         refs = {k: OURS / f"{scene.stem}_{k}.npy" for k in ("direct", "gi")}
         yield scene.stem, scene, {k: path for k, path in refs.items() if path.exists()}
 
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--scenes", choices=("cornell_box", "all"), default="cornell_box")
+    parser.add_argument("--scenes", default="cornell_box", help='"all", or scene names separated by commas')
     parser.add_argument("--grids", default="32,64,128,256")
     parser.add_argument("--bounces", default="1,0")
     parser.add_argument("--json", help="also write the rows as JSON")
@@ -48,6 +54,8 @@ def main():
     for name, scene_file, refs in cases(args.scenes):
         scene = engine.load_scene(scene_file)
         references = {k: np.load(path).astype(np.float64) for k, path in refs.items()}
+        # The image size of the references (a glTF camera's own default size may differ).
+        scene.camera.height, scene.camera.width = next(iter(references.values())).shape[:2]
         with engine.Renderer(scene.camera.width, scene.camera.height) as renderer:
             if "direct" in references:
                 # Emitters' shadows are cones through the voxels: their direct light depends on the grid.
