@@ -13,7 +13,10 @@ from .errors import ShaderError
 from .input_files import os_problem, read_regular_file
 from .limits import MAX_INCLUDE_DEPTH, MAX_SHADER_BYTES
 
-GLSL_ROOT = Path(__file__).resolve().parent.parent / "glsl"
+# An installed wheel carries the shaders as engine/glsl/; the source tree (and so an editable
+# install, which reads it live) has them as the top-level glsl/.
+_PACKAGE = Path(__file__).resolve().parent
+GLSL_ROOT = _PACKAGE / "glsl" if (_PACKAGE / "glsl").is_dir() else _PACKAGE.parent / "glsl"
 CONSTANTS_INCLUDE = "engine_constants.glsl"
 _INCLUDE = re.compile(r'^\s*#\s*include\s+"([^"]+)"\s*$')
 _VERSION = re.compile(r"^\s*#\s*version\b")
