@@ -7,7 +7,9 @@ the frames):
 - light:  a light moves along a circle every frame (its shadow map, light injection, one
           bounce re-gathering one interleave class, the face views);
 - object: an object moves back and forth every frame (its voxels, every shadow map, the rest
-          as for a light).
+          as for a light);
+- animated: for scenes with animations, they play at ANIMATION_FPS frames a second of their
+          time (whatever they move: objects, lights, the camera).
 Optionally the error of each grid's converged image against a reference radiance image, so
 cost and accuracy can be read side by side.
 """
@@ -21,7 +23,8 @@ import numpy as np
 from .emitters import scene_emits
 from .settings import MODE_TABLE
 
-FRAME_KINDS = ("static", "light", "object")
+FRAME_KINDS = ("static", "light", "object", "animated")
+ANIMATION_FPS = 30.0  # animation time per frame of the animated kind: 1/30 s
 PASS_ORDER = ("shadow", "gbuffer", "lighting", "emitters", "environment", "voxelize", "emission_mipmap", "emitter_light",
               "sky_light", "inject", "classes", "gather", "faces", "mipmap", "cone_trace", "voxel_view", "gbuffer_view")
 SETTLE_FRAMES = 400  # progressive frames allowed for the radiance to settle before timing
@@ -52,6 +55,8 @@ class FramePath:
 
     def __init__(self, scene, kind):
         self.scene, self.kind = scene, kind
+        self.home = scene.camera
+        self.animations = list(scene.animations()) if kind == "animated" else []
         lo, hi = scene.bounds()
         self.size = float(np.max(hi - lo)) or 1.0
         camera = scene.camera
@@ -64,9 +69,14 @@ class FramePath:
 
     @property
     def subject(self):
+        if self.animations:
+            return "animations " + ", ".join(f'"{name}"' for name in self.animations)
         return self.light.name if self.light else self.object.name if self.object else "camera"
 
     def apply(self, frame):
+        if self.animations:
+            self.scene.pose_at(frame / ANIMATION_FPS)
+            return
         angle = 2.0 * math.pi * frame / 16.0
         position, look_at = self.camera
         orbit = 0.02 * self.size * np.array([math.cos(angle), math.sin(angle), 0.0])
@@ -78,6 +88,10 @@ class FramePath:
             self.object.translation = self.translation + 0.05 * self.size * np.array([math.sin(angle), 0.0, 0.0])
 
     def restore(self):
+        if self.animations:
+            self.scene.camera = self.home
+            self.scene.pose_at(0.0)
+            return
         self.scene.camera.position, self.scene.camera.look_at = self.camera
         if self.light is not None:
             self.light.light.position = self.light_position
@@ -122,6 +136,7 @@ def benchmark(scene, renderer, settings, grids, frames, warmup, kinds=FRAME_KIND
     """Records {"scene", "grid", "frame", "width", "height", "total_ms", "passes", ...} for every
     grid and frame kind."""
     rows = []
+    kinds = [kind for kind in kinds if kind != "animated" or scene.animations()]
     uses_voxels = MODE_TABLE[settings.mode].uses_voxels(scene_emits(scene))
     for grid in grids if uses_voxels else [settings.grid]:
         s = settings.replace(grid=grid)

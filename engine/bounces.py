@@ -24,6 +24,7 @@ the same classes (the emitters' light at the voxels).
 """
 import numpy as np
 
+from .progress import progress
 from .settings import MAX_BOUNCES
 
 CONVERGENCE_TOLERANCE = 2e-3  # an increment of the totals under this fraction of them: converged
@@ -247,14 +248,18 @@ class BounceSchedule:
 
     def _converge(self, grid, cone_uniforms, timed):
         series = Series(self.faces.totals(grid))
-        for iteration in range(1, MAX_BOUNCES + 1):
-            self.latest = 1 - self.latest  # the other volume holds the previous gather
-            self._gather_all(grid, cone_uniforms, timed)
-            self.compose(grid, self.gathered(grid), timed)
-            self.iterations = iteration
-            outcome = series.add(self.faces.totals(grid))
-            if outcome is Series.CONVERGED:
-                return
-            if outcome is not None:
-                self._close_series(grid, outcome, timed)
-                return
+        # How many bounces the series takes to close is not known ahead (a handful; at most
+        # MAX_BOUNCES): a count and a rate on a terminal, no bar; no line in a log.
+        with progress(None, "bounces", "bounce", summary=False) as bouncing:
+            for iteration in range(1, MAX_BOUNCES + 1):
+                self.latest = 1 - self.latest  # the other volume holds the previous gather
+                self._gather_all(grid, cone_uniforms, timed)
+                self.compose(grid, self.gathered(grid), timed)
+                self.iterations = iteration
+                bouncing.update()
+                outcome = series.add(self.faces.totals(grid))
+                if outcome is Series.CONVERGED:
+                    return
+                if outcome is not None:
+                    self._close_series(grid, outcome, timed)
+                    return

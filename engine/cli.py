@@ -53,10 +53,27 @@ def _whole_number(minimum, maximum=None):
 
 
 positive_int = _whole_number(1)
+
+
+def _positive_float(text):
+    value = _finite_float(text)
+    if value <= 0:
+        raise argparse.ArgumentTypeError(f"must be greater than 0, got {text!r}")
+    return value
+
+
+def _add_animation_argument(parser):
+    parser.add_argument("--animation", metavar="NAME",
+                        help="play only this animation of the scene's glTF files (default: all of them together)")
+
+
+def _add_quiet_argument(parser):
+    parser.add_argument("--quiet", action="store_true", help="no progress bar or progress summary line")
 _nonnegative_int = _whole_number(0)
 # Upper bounds of the frame counts: every loop a command line controls is bounded.
 MAX_VIEW_FRAMES = 10000
 MAX_BENCH_FRAMES = 1000
+MAX_FRAMES = 100000  # of a `vct render --frames` sequence
 
 
 def _add_settings_arguments(parser, default_mode="gi"):
@@ -113,9 +130,22 @@ def build_parser():
                                  description="Render a scene headless (EGL) to a tone-mapped PNG and optionally "
                                              "linear float32 radiance (H, W, 3), row 0 at the top, as .npy or OpenEXR.")
     render.add_argument("scene", help="scene file: JSON, or glTF/GLB as a whole scene")
-    render.add_argument("--out", required=True, help="output PNG path")
+    render.add_argument("--out", help="output PNG path; with --frames a pattern the frame's number fills (f_%%04d.png)")
     render.add_argument("--hdr", help="also write linear radiance before tone mapping: FILE.npy (numpy float32) "
-                                      "or FILE.exr (OpenEXR, float32 RGB)")
+                                      "or FILE.exr (OpenEXR, float32 RGB); with --frames a pattern as --out")
+    when = render.add_mutually_exclusive_group()
+    when.add_argument("--time", type=_finite_float, help="render the scene's animations at this time in seconds "
+                                                         "(default 0)")
+    when.add_argument("--frames", type=_whole_number(1, MAX_FRAMES),
+                      help=f"render a sequence of this many frames (at most {MAX_FRAMES}), frame i at "
+                           "--start + i / --fps")
+    render.add_argument("--fps", type=_positive_float, default=30.0, help="frames per second of a sequence (default 30)")
+    render.add_argument("--start", type=_finite_float, default=0.0, help="time of a sequence's first frame (default 0)")
+    render.add_argument("--video", help="also write the frames as an H.264 video, FILE.mp4")
+    render.add_argument("--orbit", action="store_true",
+                        help="turn the camera once about the vertical axis through its look-at point over the frames")
+    _add_animation_argument(render)
+    _add_quiet_argument(render)
     _add_settings_arguments(render)
 
     view = commands.add_parser("view", help="open the interactive viewer",
@@ -127,13 +157,15 @@ def build_parser():
                       help=f"render this many frames (at most {MAX_VIEW_FRAMES}), then exit")
     view.add_argument("--screenshot", help="with --frames: save the last frame (without panels) to this PNG")
     view.add_argument("--no-panels", action="store_true", help="start with the panels hidden")
+    _add_animation_argument(view)
     _add_settings_arguments(view)
 
-    bench = commands.add_parser("bench", help="time each pass of static, light and object frames",
+    bench = commands.add_parser("bench", help="time each pass of static, light, object and animated frames",
                                 description="Time each render pass (median over frames after warm-up, ctx.finish() + "
-                                            "wall clock) for each grid size, for three kinds of frame as the viewer "
-                                            "renders them once the bounces settled: static (the camera moves), light "
-                                            "(the scene's first light moves), object (its smallest object moves).")
+                                            "wall clock) for each grid size, for the kinds of frame the viewer "
+                                            "renders once the bounces settled: static (the camera moves), light "
+                                            "(the scene's first light moves), object (its smallest object moves) and, "
+                                            "for a scene with animations, animated (they play, 1/30 s a frame).")
     bench.add_argument("scene", help="scene file: JSON, or glTF/GLB as a whole scene")
     bench.add_argument("--frames", type=_whole_number(1, MAX_BENCH_FRAMES), default=10,
                        help=f"timed frames per kind and grid, at most {MAX_BENCH_FRAMES} (default 10)")
@@ -143,6 +175,7 @@ def build_parser():
                        help="comma-separated grid sizes, each at most once (default 16,32,64,128,256)")
     bench.add_argument("--json", help="also write the records as a JSON list to this file")
     bench.add_argument("--reference", help="a reference radiance .npy to report the error of each grid's converged image against")
+    _add_quiet_argument(bench)
     _add_settings_arguments(bench)
     return parser
 
@@ -187,6 +220,9 @@ def run(argv=None):
     errors). VctWarnings print as one line each, `vct: warning: ...`, on stderr."""
     args = build_parser().parse_args(argv)
     commands = {"render": render_command, "view": view_command, "bench": bench_command}
+    from .progress import set_quiet
+
+    set_quiet(getattr(args, "quiet", False))
     try:
         with _signals_unwind(), warnings.catch_warnings():
             warnings.simplefilter("always", VctWarning)
@@ -205,10 +241,12 @@ def run(argv=None):
 def _print_warning(message, category, filename, lineno, file=None, line=None):
     """warnings.showwarning for the command: a VctWarning as its one line; any other warning
     that a filter lets through in Python's own words."""
+    from .progress import print_above
+
     text = f"vct: warning: {message}\n" if issubclass(category, VctWarning) else \
         warnings.formatwarning(message, category, filename, lineno, line)
     with contextlib.suppress(OSError):
-        sys.stderr.write(text)
+        print_above(text)  # a progress bar on the terminal stays below the warning
         sys.stderr.flush()
 
 
@@ -331,33 +369,81 @@ def warn_if_black(scene, radiance, settings, source):
              "pointing away?)", source=source)
 
 
-def render_command(args):
-    from .output import HDR_WRITERS, hdr_writer, png_writer, write_files
+def check_animation(scene, args):
+    """Refuse an --animation the scene does not have, before anything is rendered."""
+    names = scene.animations()
+    if args.animation is not None and args.animation not in names:
+        listed = ", ".join(f'"{name}"' for name in names) or "none"
+        raise VctError(f'no animation named "{args.animation}" (the scene has: {listed})', source=args.scene,
+                       field="--animation")
 
-    check_writable(args.out, "--out")
-    if args.hdr:
-        check_writable(args.hdr, "--hdr")
-        if Path(args.hdr).resolve() == Path(args.out).resolve():
-            raise VctError("must differ from --out", source=args.hdr, field="--hdr")
-        if Path(args.hdr).suffix.lower() not in HDR_WRITERS:
-            raise VctError(f"must end in {' or '.join(HDR_WRITERS)}", source=args.hdr, field="--hdr")
+
+def check_outputs(args, frames):
+    """The output names of `vct render`, checked before anything is rendered: writable, of a
+    known kind, patterns where there are several frames, none the same as another."""
+    from .output import HDR_WRITERS
+    from .sequence import VIDEO_SUFFIXES, check_pattern, frame_path
+
+    if not args.out and not args.video:
+        raise VctError("give --out (PNG frames) or --video (an .mp4), or both", field="--out")
+    named = [(path, flag) for path, flag in ((args.out, "--out"), (args.hdr, "--hdr")) if path]
+    for path, flag in named:
+        check_pattern(path, flag, frames)
+        check_writable(frame_path(path, 0), flag)
+    if args.hdr and Path(frame_path(args.hdr, 0)).suffix.lower() not in HDR_WRITERS:
+        raise VctError(f"must end in {' or '.join(HDR_WRITERS)}", source=args.hdr, field="--hdr")
+    if args.video:
+        check_writable(args.video, "--video")
+        if Path(args.video).suffix.lower() not in VIDEO_SUFFIXES:
+            raise VctError(f"must end in {' or '.join(VIDEO_SUFFIXES)}", source=args.video, field="--video")
+        named.append((args.video, "--video"))
+    resolved = {}
+    for path, flag in named:
+        other = resolved.setdefault(Path(frame_path(path, 0)).resolve(), flag)
+        if other != flag:
+            raise VctError(f"must differ from {other}", source=path, field=flag)
+    return named
+
+
+def render_command(args):
+    from .output import hdr_writer, png_writer, write_files
+    from .progress import progress
+    from .sequence import describe_times, frame_path, frame_times, orbit, video_file
+
+    frames = args.frames or 1
+    named = check_outputs(args, frames)
     settings = settings_from_args(args)
     scene = load_lit_scene(args)
+    times = frame_times(frames, args.fps, args.start) if args.frames else [args.time or 0.0]
+    check_animation(scene, args)
     width = args.width or scene.camera.width
     height = args.height or scene.camera.height
+    home = scene.camera
     with open_renderer(width, height, settings, args) as renderer:
-        for path, flag in ((args.out, "--out"), (args.hdr, "--hdr")):
-            if path:
-                check_not_an_input(path, flag, renderer.inputs(scene))
-        radiance = renderer.render(scene)
-        pixels = renderer.tonemapped()
-    check_finite(radiance, args.scene)
-    warn_if_black(scene, radiance, settings, args.scene)
-    outputs = [(args.out, png_writer(pixels))]
-    if args.hdr:
-        outputs.insert(0, (args.hdr, hdr_writer(args.hdr, radiance)))
-    write_files(outputs)  # both or neither
-    report(f"wrote {args.out}" + (f" and {args.hdr}" if args.hdr else "") + f" ({width}x{height}, mode {settings.mode})")
+        for path, flag in named:
+            check_not_an_input(frame_path(path, 0), flag, renderer.inputs(scene))
+        video = video_file(args.video, (width, height), args.fps) if args.video else contextlib.nullcontext()
+        with video as video, progress(frames, "render", "frame", summary=frames > 1) as bar:
+            for index, t in enumerate(times):
+                scene.camera = home
+                scene.pose_at(t, args.animation)
+                if args.orbit:
+                    scene.camera = orbit(scene.camera, index / frames)
+                radiance = renderer.render(scene)
+                pixels = renderer.tonemapped()
+                check_finite(radiance, args.scene)
+                if index == 0:
+                    warn_if_black(scene, radiance, settings, args.scene)
+                outputs = [(frame_path(args.out, index), png_writer(pixels))] if args.out else []
+                if args.hdr:
+                    outputs.insert(0, (frame_path(args.hdr, index), hdr_writer(args.hdr, radiance)))
+                write_files(outputs)  # each frame's files both or neither
+                if args.video:
+                    video.append(pixels)
+                bar.update()
+    written = " and ".join(path if flag == "--video" else frame_path(path, 0) if frames == 1 else path for path, flag in named)
+    when = f", {describe_times(times)}" if scene.animations() or frames > 1 else ""
+    report(f"wrote {f'{frames} frames: ' if frames > 1 else ''}{written} ({width}x{height}, mode {settings.mode}{when})")
     return 0
 
 
@@ -368,9 +454,10 @@ def view_command(args):
         check_writable(args.screenshot, "--screenshot")
     settings = settings_from_args(args)
     scene = load_lit_scene(args)
+    check_animation(scene, args)
     size = (args.width or scene.camera.width, args.height or scene.camera.height)
     viewer = Viewer(scene, settings, size, glsl_root=shader_root(args), show_panels=not args.no_panels,
-                    vsync=args.frames is None)
+                    vsync=args.frames is None, animation=args.animation)
     with viewer:
         if args.screenshot:
             check_not_an_input(args.screenshot, "--screenshot", viewer.renderer.inputs(scene))

@@ -12,8 +12,12 @@
   lights become Lights of their nodes (at the node's origin, shining along its -z): colour x
   intensity, point and spot in candela, directional in lux, over LUMENS_PER_WATT = 683 into
   W/sr and W/m^2; range; a spot's innerConeAngle and outerConeAngle (radians) as its inner and
-  outer angles. Extensions the file uses without requiring them and vct does not read are left
-  out, as glTF allows, with one warning naming them.
+  outer angles. Animations: each channel that moves a node's translation, rotation or scale
+  (LINEAR, STEP, CUBICSPLINE) becomes a Sampler of the node's NodeTracks (engine.animation),
+  under the animation's name ("animation N" where it has none); skins and morph targets are
+  not played (the rest pose is drawn, with one warning). Extensions the file uses without
+  requiring them and vct does not read are left out, as glTF allows, with one warning naming
+  them.
 - OBJ + MTL: one node per material (usemtl) group, named after its material. MTL, per
   material: Kd (x map_Kd) -> albedo (Kd defaults to 1 with map_Kd, else 0.8); Ke (x map_Ke) ->
   emission (Ke defaults to 1 with map_Ke, else 0); Ns -> roughness r = (2 / (Ns + 2))^(1/4),
@@ -54,7 +58,9 @@ import numpy as np
 from .errors import SceneError, warn
 from .input_files import InputFiles, os_problem
 from .json_reader import JsonReader
-from .limits import MAX_DEPTH, MAX_FILE_BYTES, MAX_MAGNITUDE, MIN_FOV_DEG, check_material, check_vertices
+from .animation import INTERPOLATIONS, PATHS, NodeTracks, Sampler
+from .limits import MAX_DEPTH, MAX_FILE_BYTES, MAX_MAGNITUDE, MIN_FOV_DEG, MIN_SCALE, check_material, check_vertices
+from .progress import progress
 from .scene import ALPHA_MODES, IDENTITY_UV, TEXTURE_FIELDS, Light, Material, Mesh, Node, NodeCamera, Texture
 from .transforms import decompose, euler_deg_from_rotation, quaternion_rotation
 
@@ -220,6 +226,7 @@ COMPONENT_TYPES = {5120: np.int8, 5121: np.uint8, 5122: np.int16, 5123: np.uint1
 FLOAT = (5126,)
 INDEX_TYPES = (5121, 5123, 5125)
 NORMALIZED_UV_TYPES = (5121, 5123)
+NORMALIZED_ROTATION_TYPES = (5120, 5121, 5122, 5123)  # animation rotations may be signed too
 WIDTHS = {"SCALAR": 1, "VEC2": 2, "VEC3": 3, "VEC4": 4}
 GLTF_WRAP_MODES = {10497: "REPEAT", 33071: "CLAMP_TO_EDGE", 33648: "MIRRORED_REPEAT"}
 MODE_NAMES = {0: "POINTS", 1: "LINES", 2: "LINE_LOOP", 3: "LINE_STRIP"}
@@ -243,6 +250,7 @@ class _Gltf:
         self.default = default_material()
         self.textures = _Textures(inputs)
         self.placed = set()  # the nodes placed in the hierarchy so far
+        self.node_objects = {}  # node index -> the Node made of it
         required = self.json.get(self.doc, "extensionsRequired", "", [], list)
         missing = [str(e) for e in required if e not in GLTF_EXTENSIONS]
         if missing:
@@ -432,8 +440,11 @@ class _Gltf:
                         for c in self.json.get(self.element("nodes", i), "children", f"nodes[{i}]", [], list)}
             roots = [i for i in range(len(nodes)) if i not in children]
             where = "nodes"
-        result = [self.node(self.json.index_value(root, f"{where}[{k}]", "nodes", len(nodes)), 1)
-                  for k, root in enumerate(roots)]
+        # node() counts each node it places, its mesh made: the bar of a file that loads long.
+        with progress(len(nodes), str(self.json.path), "node", summary=False) as self.placing:
+            result = [self.node(self.json.index_value(root, f"{where}[{k}]", "nodes", len(nodes)), 1)
+                      for k, root in enumerate(roots)]
+        self.animate()
         self.buffers.clear()
         return result
 
@@ -446,7 +457,7 @@ class _Gltf:
             self.fail(field, f"nests more than {MAX_DEPTH} levels deep")
         self.placed.add(index)
         spec = self.element("nodes", index)
-        node = Node(name=self.json.get(spec, "name", field, field, str))
+        node = self.node_objects[index] = Node(name=self.json.get(spec, "name", field, field, str))
         if "matrix" in spec:
             matrix = self.json.vector(spec, "matrix", field, length=16).reshape(4, 4).T  # column-major
             trs = decompose(matrix)
@@ -474,11 +485,83 @@ class _Gltf:
             elif parts:
                 node.children += [Node(name=f"{node.name}: {material.name}", mesh=mesh, material=material)
                                   for mesh, material in parts]
+        self.placing.update()
         children = self.json.get(spec, "children", field, [], list)
         for k, child in enumerate(children):
             child = self.json.index_value(child, f"{field}.children[{k}]", "nodes", len(self.list("nodes")))
             node.children.append(self.node(child, depth + 1))
         return node
+
+    # -- animations
+
+    def animate(self):
+        """Give the placed nodes that the file's animations move their NodeTracks. Skins and
+        morph targets are not played: a file that has them is drawn in its rest pose, with one
+        warning."""
+        tracks = {}  # node index -> {animation name: {path: Sampler}}
+        morphs = False
+        for a in range(len(self.list("animations"))):
+            field = f"animations[{a}]"
+            spec = self.element("animations", a)
+            name = self.json.get(spec, "name", field, f"animation {a}", str)
+            samplers = self.json.get(spec, "samplers", field, kind=list)
+            for c, channel in enumerate(self.json.get(spec, "channels", field, kind=list)):
+                where = f"{field}.channels[{c}]"
+                if not isinstance(channel, dict):
+                    self.fail(where, "must be an object")
+                target = self.json.get(channel, "target", where, kind=dict)
+                path = self.json.get(target, "path", f"{where}.target", kind=str)
+                if path == "weights":
+                    morphs = True
+                    continue
+                if path not in PATHS:
+                    self.fail(f"{where}.target.path", f'must be "translation", "rotation", "scale" or "weights", got "{path}"')
+                if "node" not in target:  # glTF: a channel without a node is left to extensions
+                    continue
+                node = self.json.index(target, "node", f"{where}.target", "nodes", len(self.list("nodes")))
+                s = self.json.index(channel, "sampler", where, f"{field}.samplers", len(samplers))
+                sampler = self.sampler(samplers[s], f"{field}.samplers[{s}]", path)
+                if node in self.node_objects:  # a node of another scene of the file is not drawn
+                    tracks.setdefault(node, {}).setdefault(name, {})[path] = sampler
+        for index, by_name in tracks.items():
+            node = self.node_objects[index]
+            node.animation = NodeTracks((node.translation.copy(), node.rotation_deg.copy(), node.scale.copy()), by_name)
+        morphs = morphs or any("targets" in primitive for m in range(len(self.list("meshes")))
+                               for primitive in self.json.get(self.element("meshes", m), "primitives", "", [], list)
+                               if isinstance(primitive, dict))
+        if self.list("skins") or morphs:
+            kinds = " and ".join(k for k, present in (("skins", self.list("skins")), ("morph targets", morphs)) if present)
+            warn(f"has {kinds}, which vct does not play: drawn in the rest pose", source=self.json.path)
+
+    def sampler(self, spec, field, path):
+        """The Sampler of an animation sampler that moves a node's `path`: input times strictly
+        increasing, outputs one per time (three with CUBICSPLINE), each within the limits of a
+        node's translation, unit rotation or scale."""
+        if not isinstance(spec, dict):
+            self.fail(field, "must be an object")
+        interpolation = self.json.get(spec, "interpolation", field, "LINEAR", str)
+        if interpolation not in INTERPOLATIONS:
+            self.fail(f"{field}.interpolation", f'must be one of {", ".join(INTERPOLATIONS)}, got "{interpolation}"')
+        times = self.accessor(spec, "input", field, ("SCALAR",), FLOAT)[:, 0].astype(np.float64)
+        if np.any(times < 0) or np.any(np.diff(times) <= 0):
+            self.fail(f"{field}.input", "times must be non-negative and strictly increasing")
+        values = self.accessor(spec, "output", field, ("VEC4",) if path == "rotation" else ("VEC3",),
+                               FLOAT + (NORMALIZED_ROTATION_TYPES if path == "rotation" else ())).astype(np.float64)
+        per_time = 3 if interpolation == "CUBICSPLINE" else 1
+        if len(values) != per_time * len(times):
+            self.fail(f"{field}.output", f"has {len(values)} elements; {interpolation} over {len(times)} input times "
+                                         f"needs {per_time * len(times)}")
+        if path == "rotation":
+            keyframes = values.reshape(len(times), per_time, 4)[:, per_time // 2]
+            if not np.all((0.5 <= np.linalg.norm(keyframes, axis=1)) & (np.linalg.norm(keyframes, axis=1) <= 2.0)):
+                self.fail(f"{field}.output", "rotations must be unit quaternions x, y, z, w")
+        if path == "scale":
+            scales = np.abs(values.reshape(len(times), per_time, 3)[:, per_time // 2])
+            if np.any(scales < MIN_SCALE):
+                self.fail(f"{field}.output", f"scales must be at least {MIN_SCALE:g} in magnitude")
+        if per_time == 3:
+            values = values.reshape(len(times), 3, -1)
+        return Sampler(times, values, interpolation, rotation=path == "rotation")
 
     def camera(self, index):
         """The NodeCamera of cameras[index]: perspective (yfov in radians, aspectRatio) or

@@ -7,6 +7,8 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from . import transforms
+from .animation import NodeTracks
+from .errors import VctError
 
 
 WRAP_MODES = ("REPEAT", "CLAMP_TO_EDGE", "MIRRORED_REPEAT")
@@ -165,13 +167,16 @@ class Camera:
 
     position: np.ndarray
     look_at: np.ndarray
-    up: np.ndarray
-    vertical_fov_deg: float
-    width: int
-    height: int
+    up: np.ndarray = field(default_factory=lambda: np.array([0.0, 1.0, 0.0]))
+    vertical_fov_deg: float = 60.0  # degrees; these defaults are the scene format's
+    width: int = 256
+    height: int = 256
     projection: str = "perspective"  # or "orthographic"
     half_height: float = 1.0
     name: str = "camera"
+
+    def __post_init__(self):
+        self.position, self.look_at, self.up = (np.asarray(v, float) for v in (self.position, self.look_at, self.up))
 
     def view_matrix(self):
         return transforms.look_at(self.position, self.look_at, self.up)
@@ -217,6 +222,7 @@ class Node:
     light: Light = None
     camera: NodeCamera = None
     children: list = field(default_factory=list)
+    animation: NodeTracks = None  # what animates it (engine.animation), None: it keeps its pose
 
     def local_matrix(self):
         return transforms.compose(self.translation, self.rotation_deg, self.scale)
@@ -269,11 +275,44 @@ class Scene:
     name: str
     root: Node
     camera: Camera
-    materials: dict
+    materials: dict = field(default_factory=dict)  # a scene file's materials by name
     voxel_region: VoxelRegion = None  # None: derived from the geometry's bounds
     environment: Environment = None   # None: black beyond the scene
     source: str = None
     files: tuple = ()  # every file the scene was read from (resolved paths): outputs must not overwrite one
+    camera_node: Node = None  # the camera node `camera` was placed from (None: the scene file's camera)
+
+    def animations(self):
+        """{name: duration in seconds} of the animations the scene's nodes play (their last
+        keyframe), in the order the nodes come."""
+        durations = {}
+        for node, _ in self.root.walk():
+            if node.animation is not None:
+                for name, duration in node.animation.durations().items():
+                    durations[name] = max(durations.get(name, 0.0), duration)
+        return durations
+
+    def pose_at(self, t, animation=None):
+        """Pose the scene at `t` seconds, in place: every animated node takes its translation,
+        rotation and scale at t of `animation` (a name of `animations()`; None: all of them
+        together), looping over the longest of them; a camera placed from a camera node
+        follows the node. Returns the scene."""
+        durations = self.animations()
+        if animation is not None and animation not in durations:
+            names = ", ".join(f'"{name}"' for name in durations) or "none"
+            raise VctError(f'no animation named "{animation}" (the scene has: {names})', field="animation")
+        names = [animation] if animation is not None else list(durations)
+        longest = max((durations[name] for name in names), default=0.0)
+        local_t = float(t) % longest if longest > 0.0 else 0.0
+        for node, _ in self.root.walk():
+            if node.animation is not None:
+                node.translation, node.rotation_deg, node.scale = node.animation.pose(local_t, names)
+        if self.camera_node is not None:
+            world = next(m for n, m in self.root.walk() if n is self.camera_node)
+            placed = self.camera_node.camera.placed(world, self.camera.width, self.camera.height)
+            placed.name = self.camera.name
+            self.camera = placed
+        return self
 
     def drawables(self):
         """(node, world matrix) of every node with a mesh."""

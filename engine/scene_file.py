@@ -184,10 +184,12 @@ class _SceneFile:
 
     def file_camera(self, scene):
         """The first camera node of the scene (depth first) placed in the world, at its image
-        size; or, where it has none, one framing the scene's bounds, with a warning."""
+        size (the scene's camera_node: the camera follows it when the scene is posed); or, where
+        it has none, one framing the scene's bounds, with a warning."""
         cameras = scene.cameras()
         if cameras:
             node, world = cameras[0]
+            scene.camera_node = node
             return _placed(node, world)
         warn("no camera: rendering from one that frames the scene's bounds", source=self.path)
         return framing_camera(scene.bounds(), DEFAULT_WIDTH, round(DEFAULT_WIDTH / FALLBACK_ASPECT))
@@ -196,6 +198,7 @@ class _SceneFile:
         """The camera node called `name`, placed; SceneError listing the cameras where none is."""
         for node, world in scene.cameras():
             if node.name == name or node.camera.name == name:
+                scene.camera_node = node
                 return _placed(node, world)
         names = ", ".join(f'"{node.name}"' for node, _ in scene.cameras()) or "none"
         self.fail("camera", f'no camera node named "{name}" (the scene has: {names})')

@@ -31,9 +31,21 @@ class Gltf:
         array = np.asarray(array)
         data = array.astype("<f4" if component == 5126 else "<u2").tobytes()
         spec = {"bufferView": self.view(data, target), "componentType": component, "count": len(array), "type": kind}
-        if kind == "VEC3" and component == 5126:
-            spec["min"], spec["max"] = array.min(axis=0).tolist(), array.max(axis=0).tolist()
+        if kind in ("VEC3", "SCALAR") and component == 5126:  # required of positions and animation times
+            spec["min"], spec["max"] = np.atleast_1d(array.min(axis=0)).tolist(), np.atleast_1d(array.max(axis=0)).tolist()
         return self.add("accessors", spec)
+
+    def animation(self, name, channels):
+        """An animation of channels (node, path, times, values, interpolation): `values` one
+        row per time, three (in-tangent, value, out-tangent) with CUBICSPLINE."""
+        samplers, targets = [], []
+        for node, path, times, values, interpolation in channels:
+            kind = "VEC4" if path == "rotation" else "VEC3"
+            samplers.append({"input": self.accessor(np.asarray(times, float), "SCALAR", target=None),
+                             "output": self.accessor(np.asarray(values, float), kind, target=None),
+                             "interpolation": interpolation})
+            targets.append({"sampler": len(samplers) - 1, "target": {"node": node, "path": path}})
+        return self.add("animations", {"name": name, "samplers": samplers, "channels": targets})
 
     def texture(self, pixels, name, sampler=0):
         out = io.BytesIO()

@@ -1,5 +1,6 @@
-"""Writes scenes/references/gltf_room.glb and gltf_spheres.glb (build_spheres: glTF dielectrics and
-metals at three roughnesses, for scenes/references/gltf_spheres.json). gltf_room.glb is a room
+"""Writes scenes/references/gltf_room.glb, gltf_spheres.glb (build_spheres: glTF dielectrics and
+metals at three roughnesses, for scenes/references/gltf_spheres.json) and scenes/animated_room.glb
+(the room with the node animations of `animate`). gltf_room.glb is a room
 as Blender's exporter writes glTF, rendered as
 the scene itself (`vct render scenes/references/gltf_room.glb`) with its own camera and lights:
 
@@ -31,6 +32,7 @@ from gltf_writer import Gltf  # tools/ is on sys.path when a tool runs
 
 OUT = Path(__file__).resolve().parent.parent / "scenes" / "references" / "gltf_room.glb"
 SPHERES = OUT.with_name("gltf_spheres.glb")
+ANIMATED = OUT.parent.parent / "animated_room.glb"  # the room with two animations (animate)
 OAK, DARK_OAK = (196, 150, 98), (120, 82, 48)
 
 
@@ -101,7 +103,8 @@ def material(g, name, color, roughness, metallic=0.0, texture=None, tiles=None):
     return g.add("materials", {"name": name, "pbrMetallicRoughness": pbr})
 
 
-def build():
+def build(animated=False):
+    """The room; `animated`: with the animations of ANIMATED (see main)."""
     g = Gltf("tools/make_gltf_room.py")
     g.doc["extensionsUsed"] = ["KHR_lights_punctual", "KHR_texture_transform"]
     g.add("samplers", {"wrapS": 10497, "wrapT": 10497})
@@ -142,7 +145,33 @@ def build():
     roots.append(g.add("nodes", {"name": "Spot", "translation": spot.tolist(), "rotation": look_rotation(spot, [1.05, 0.3, -0.6]),
                                  "extensions": {"KHR_lights_punctual": {"light": 1}}}))
     g.doc["scenes"][0]["nodes"] = roots
+    if animated:
+        animate(g, dict(zip([g.doc["nodes"][n]["name"] for n in roots], roots)), eye, spot)
     return g.glb()
+
+
+def quaternion_y(degrees):
+    half = math.radians(degrees) / 2
+    return [0.0, math.sin(half), 0.0, math.cos(half)]
+
+
+def animate(g, nodes, eye, spot):
+    """ANIMATED's two animations. "Play" (4 s): the blue sphere rolls 1 m towards the camera
+    and back (LINEAR), the painted block turns a full turn about y (LINEAR, from its 25
+    degrees), the glossy white sphere shrinks to 0.7 at 2 s (STEP), the spot sweeps from the
+    gold sphere to the blue one and back (CUBICSPLINE, zero tangents). "Dolly" (6 s): the
+    camera moves 0.5 m to the right and back (CUBICSPLINE)."""
+    blue = [0.35, 0.3, -0.6]
+    g.animation("Play", [
+        (nodes["Blue"], "translation", [0, 2, 4], [blue, [0.35, 0.3, 0.4], blue], "LINEAR"),
+        (nodes["Painted Block"], "rotation", [0, 1, 2, 3, 4], [quaternion_y(25 + 90 * k) for k in range(5)], "LINEAR"),
+        (nodes["Glossy White"], "scale", [0, 2], [[1, 1, 1], [0.7, 0.7, 0.7]], "STEP"),
+        (nodes["Spot"], "rotation", [0, 2, 4],
+         [v for aim in ([1.05, 0.3, -0.6], [0.35, 0.3, -0.6], [1.05, 0.3, -0.6])
+          for v in ([0, 0, 0, 0], look_rotation(spot, aim), [0, 0, 0, 0])], "CUBICSPLINE")])
+    g.animation("Dolly", [
+        (nodes["Camera"], "translation", [0, 3, 6],
+         [v for p in (eye, eye + [0.5, 0, 0], eye) for v in ([0, 0, 0], list(p), [0, 0, 0])], "CUBICSPLINE")])
 
 
 def build_spheres():
@@ -163,7 +192,7 @@ def build_spheres():
 
 def main():
     OUT.parent.mkdir(parents=True, exist_ok=True)
-    for path, data in ((OUT, build()), (SPHERES, build_spheres())):
+    for path, data in ((OUT, build()), (SPHERES, build_spheres()), (ANIMATED, build(animated=True))):
         path.write_bytes(data)
         print(f"wrote {path} ({path.stat().st_size} bytes)")
 

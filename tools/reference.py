@@ -17,7 +17,8 @@ it). `--max-depth 2` gives direct light only (Mitsuba counts the camera ray and 
 hit), 3 direct + one bounce, -1 all bounces. `--variant llvm_ad_rgb` is several times faster
 than the default scalar_rgb but needs a libLLVM that Dr.Jit can drive: Debian 12's LLVM 15
 aborts ("Cannot select: fminimum"); libllvm19 works with
-DRJIT_LIBLLVM_PATH=/usr/lib/x86_64-linux-gnu/libLLVM.so.19.1.
+DRJIT_LIBLLVM_PATH=/usr/lib/x86_64-linux-gnu/libLLVM.so.19.1. The passes' progress goes to
+stderr (engine/progress.py): a bar on a terminal, else one line at the end; none with --quiet.
 
 What is converted, and how
 --------------------------
@@ -90,6 +91,7 @@ import engine  # noqa: E402
 from engine import transforms  # noqa: E402
 from engine.cli import OneLineErrorParser, positive_int  # noqa: E402
 from engine.emitters import srgb_to_linear  # noqa: E402
+from engine.progress import progress, set_quiet  # noqa: E402
 
 TOOL_VERSION = 3  # 1: Lambertian only; 2: specular layer, textures, alpha masks, meta/png/halves; 3: glTF's layers
 MIN_ROUGHNESS = 0.05  # glsl/lib/brdf.glsl clamps the roughness the same way
@@ -486,9 +488,9 @@ def rel_mae(image, reference):
     return float(np.abs(image.astype(np.float64) - reference).sum() / np.asarray(reference, np.float64).sum())
 
 
-def render(scene, spp, max_depth, seed=0, pass_spp=64, sampler="independent", progress=None):
+def render(scene, spp, max_depth, seed=0, pass_spp=64, sampler="independent", pass_done=None):
     """(mean image, half A, half B, integrator): two independent halves of spp/2 samples each,
-    in passes of pass_spp samples with distinct seeds."""
+    in passes of pass_spp samples with distinct seeds; `pass_done()` is called after each pass."""
     halves = []
     with tempfile.TemporaryDirectory() as mesh_dir:
         converted = scene_dict(scene, pass_spp, max_depth, mesh_dir, sampler)
@@ -500,8 +502,8 @@ def render(scene, spp, max_depth, seed=0, pass_spp=64, sampler="independent", pr
                 pass_seed = (seed * 2 + half) * 100_003 + k
                 image = np.array(mi.render(loaded, spp=pass_spp, seed=pass_seed), dtype=np.float64)[..., :3]
                 total = image if total is None else total + image
-                if progress:
-                    progress(half * passes + k + 1, 2 * passes)
+                if pass_done:
+                    pass_done()
             halves.append(total / passes)
     return (halves[0] + halves[1]) / 2.0, halves[0], halves[1], converted["integrator"]["type"]
 
@@ -552,7 +554,10 @@ def main(argv=None):
     parser.add_argument("--note", default=None, help="a line stored in the meta (what the scene tests)")
     parser.add_argument("--width", type=positive_int, help="image width (default: the scene camera's)")
     parser.add_argument("--height", type=positive_int, help="image height (default: the scene camera's)")
+    parser.add_argument("--quiet", action="store_true",
+                        help="no progress (else a bar on a terminal, one line on stderr at the end otherwise)")
     args = parser.parse_args(argv)
+    set_quiet(args.quiet)
     if args.max_depth == 0 or args.max_depth < -1:
         parser.error("argument --max-depth: must be -1 (all bounces) or at least 1")
     if args.spp % (2 * args.pass_spp):
@@ -579,13 +584,10 @@ def main(argv=None):
             scene_dict(scene, args.pass_spp, args.max_depth, mesh_dir, args.sampler)
         commit = git_commit()  # before rendering: the code that renders is the code of this commit
         start = time.time()
-
-        def progress(done, total):
-            print(f"\r{done}/{total} passes, {time.time() - start:.0f} s", end="", file=sys.stderr, flush=True)
-
-        image, a, b, integrator = render(scene, args.spp, args.max_depth, args.seed, args.pass_spp, args.sampler, progress)
+        with progress(args.spp // args.pass_spp, "reference", "pass") as rendering:
+            image, a, b, integrator = render(scene, args.spp, args.max_depth, args.seed, args.pass_spp, args.sampler,
+                                             rendering.update)
         seconds = time.time() - start
-        print(file=sys.stderr)
         image = image.astype(np.float32)
         halves_mae = rel_mae(a, b)
         emitters = emitter_pixels(scene)
