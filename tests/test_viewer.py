@@ -20,13 +20,17 @@ from PIL import Image
 import engine
 from engine.errors import VctError
 from engine.viewer import inspector
+from engine.viewer import layout
 from engine.viewer.camera import FlyCamera
 from engine.viewer.hot_reload import ShaderWatcher
-from engine.viewer.stats import FrameStats
+from engine.viewer.playback import Playback
+from engine.viewer.stats import FrameStats, reused, work_line
 
 ROOT = Path(__file__).resolve().parent.parent
 SCENE = ROOT / "scenes" / "cornell_box.json"
+ANIMATED = ROOT / "scenes" / "animated_room.glb"  # "Play" (4 s) moves objects, "Dolly" (6 s) the camera
 SMALL = (160, 120)
+PANELS = ("Overlay", "Scene Graph", "Inspector", "Renderer", "Animation")
 XVFB_START_SECONDS = 15
 
 
@@ -224,7 +228,10 @@ def test_f12_saves_the_frame_without_panels(on_display, scene, tmp_path, monkeyp
         viewer.frame()  # ImGui lays auto-sized windows out on their first frame, shows them on the next
         window = viewer.frame(capture_window=True)
         frame = viewer.frame_pixels()
-        assert np.abs(window.astype(int) - frame).mean() > 5  # the overlay is drawn over the frame
+        image = viewer.layout.image
+        np.testing.assert_array_equal(window[image.y:image.y + image.height, image.x:image.x + image.width], frame)
+        panels = window[:, :image.x]  # the left column: the overlay and the Scene Graph
+        assert panels.std() > 10
         imgui.get_io().add_key_event(imgui.Key.f12, True)
         viewer.frame()
         imgui.get_io().add_key_event(imgui.Key.f12, False)
@@ -257,16 +264,231 @@ def test_keys_drive_the_camera_vsync_panels_and_quit(on_display, scene):
         vsync = viewer.window.vsync
         press(viewer, imgui.Key.v)
         assert viewer.window.vsync is not vsync
-        assert viewer.show_panels is False  # a window this small starts with the overlay only
+        with_panels = viewer.window.framebuffer_size
+        press(viewer, imgui.Key.f1)  # hidden: the window shrinks to the image, which keeps its size
+        run_until(viewer, lambda: viewer.window.framebuffer_size == SMALL, timeout=5.0)
+        assert viewer.window.framebuffer_size == SMALL and viewer.renderer.size == SMALL
+        assert not viewer.layout.shows_panels
         press(viewer, imgui.Key.f1)
-        assert viewer.show_panels is True
+        run_until(viewer, lambda: viewer.window.framebuffer_size == with_panels, timeout=5.0)
+        assert viewer.layout.shows_panels and viewer.renderer.size == SMALL
         assert not viewer.window.should_close
         press(viewer, imgui.Key.escape)
         assert viewer.window.should_close
         assert viewer.run() == 0  # the loop ends at once
 
 
+def imgui_rect(name):
+    """Where ImGui drew the window `name` last frame, as a layout.Rect; None if it did not."""
+    from imgui_bundle import imgui
+
+    window = imgui.internal.find_window_by_name(name)
+    if window is None or not window.active:
+        return None
+    return layout.Rect(round(window.pos.x), round(window.pos.y), round(window.size.x), round(window.size.y))
+
+
+@pytest.mark.parametrize("path, size", [(SCENE, SMALL), (SCENE, (256, 256)), (ANIMATED, (200, 700))],
+                         ids=["small-image", "camera-size", "tall-animated"])
+def test_the_window_opens_with_its_panels_beside_the_image(on_display, path, size):
+    """The window is the image plus the panel columns: every panel lies inside the window,
+    none overlaps the image or another, and the overlay's text fits in it."""
+    from imgui_bundle import imgui
+
+    with open_viewer(engine.load_scene(path), size=size) as viewer:
+        viewer.frame()
+        viewer.frame()  # auto-sized windows take their size on the first frame, show on the second
+        window = layout.Rect(0, 0, *viewer.window.framebuffer_size)
+        image = viewer.layout.image
+        assert viewer.renderer.size == size == (image.width, image.height)
+        assert window.contains(image)
+        drawn = {name: imgui_rect(name) for name in PANELS}
+        expected = [name for name in PANELS if name != "Animation" or path == ANIMATED]
+        assert [name for name in PANELS if drawn[name]] == expected
+        for name in expected:
+            assert viewer.layout.panels[name].contains(drawn[name]), name
+            assert window.contains(drawn[name]) and not drawn[name].overlaps(image), name
+            assert not any(drawn[name].overlaps(drawn[other]) for other in expected if other != name), name
+        overlay = imgui.internal.find_window_by_name("Overlay")
+        assert overlay.scroll_max.x == overlay.scroll_max.y == 0  # nothing of its text is cut off
+
+
+def test_a_window_too_small_for_the_panels_shows_the_image_alone(on_display, scene):
+    with open_viewer(scene) as viewer:
+        viewer.frame()
+        viewer.window.set_size(400, 300)  # resized by the user: the image takes the whole window
+        run_until(viewer, lambda: viewer.renderer.size == (400, 300), timeout=5.0)
+        viewer.frame()
+        assert viewer.renderer.size == (400, 300) and viewer.layout.panels == {}
+        assert all(imgui_rect(name) is None for name in PANELS)
+        viewer.window.set_size(1000, 700)  # room for both columns: the image between them
+        run_until(viewer, lambda: viewer.renderer.size == (1000 - layout.LEFT_COLUMN - layout.RIGHT_COLUMN, 700),
+                  timeout=5.0)
+        viewer.frame()
+        assert viewer.layout.shows_panels and not imgui_rect("Inspector").overlaps(viewer.layout.image)
+
+
+def test_an_animated_scene_plays_pauses_and_scrubs(on_display):
+    scene = engine.load_scene(ANIMATED)
+    with open_viewer(scene) as viewer:
+        blue = scene.root.find("Blue")  # "Play" moves it along z
+        viewer.frame(dt=0.5)
+        start = blue.translation.copy()
+        before = viewer.frame_pixels().astype(int)
+        viewer.frame(dt=0.5)
+        viewer.frame(dt=0.5)
+        assert viewer.playback.time == pytest.approx(1.5)
+        assert not np.allclose(blue.translation, start)
+        assert np.abs(viewer.frame_pixels().astype(int) - before).mean() > 1
+
+        viewer.playback.playing = False  # the Pause button
+        viewer.frame(dt=0.5)  # shows the time it had come to, 1.5 s
+        paused = blue.translation.copy()
+        viewer.frame(dt=0.5)
+        viewer.frame(dt=0.5)
+        assert viewer.playback.time == pytest.approx(1.5)
+        np.testing.assert_array_equal(blue.translation, paused)
+
+        viewer.playback.seek(1.0)  # the time slider
+        viewer.frame(dt=0.5)
+        at_one_second = engine.load_scene(ANIMATED).pose_at(1.0).root.find("Blue")
+        np.testing.assert_allclose(blue.translation, at_one_second.translation)
+
+
+def test_the_fly_camera_takes_over_from_an_animated_camera_until_reset(on_display):
+    from imgui_bundle import imgui
+
+    scene = engine.load_scene(ANIMATED)
+    with open_viewer(scene) as viewer:
+        viewer.frame(dt=1.0)
+        viewer.frame(dt=1.0)
+        dolly = scene.camera.position.copy()  # the file's camera at t = 1 s
+        np.testing.assert_allclose(dolly, engine.load_scene(ANIMATED).pose_at(1.0).camera.position)
+        imgui.get_io().add_key_event(imgui.Key.w, True)
+        viewer.frame(dt=0.1)
+        imgui.get_io().add_key_event(imgui.Key.w, False)
+        viewer.frame(dt=0.1)
+        flown = scene.camera.position.copy()
+        assert not np.allclose(flown, dolly)
+        viewer.frame(dt=1.0)  # the animation plays on, the view stays the user's
+        np.testing.assert_allclose(scene.camera.position, flown)
+        imgui.get_io().add_key_event(imgui.Key.r, True)
+        viewer.frame(dt=1.0)
+        imgui.get_io().add_key_event(imgui.Key.r, False)
+        viewer.frame(dt=1.0)
+        at = viewer.playback.time - 1.0  # the frame rendered before this last advance
+        np.testing.assert_allclose(scene.camera.position, engine.load_scene(ANIMATED).pose_at(at).camera.position)
+
+
+def test_view_frames_plays_the_animations_as_render_poses_them(display, tmp_path):
+    """`vct view --frames N`: frame i shows t = i / 30 s, so its screenshot is `vct render
+    --time (N-1)/30` (the camera dollies and the objects move, so no other time matches)."""
+    env = dict(os.environ, DISPLAY=display)
+    view_png, render_png = tmp_path / "view.png", tmp_path / "render.png"
+    size = ["--mode", "direct", "--width", SMALL[0], "--height", SMALL[1]]
+    viewed = vct("view", ANIMATED, "--frames", 16, "--screenshot", view_png, *size, env=env)
+    assert viewed.returncode == 0, viewed.stderr
+    assert vct("render", ANIMATED, "--time", 0.5, "--out", render_png, *size).returncode == 0
+    a, b = read_png(view_png), read_png(render_png)
+    assert np.abs(a - b).mean() < 1.0 and a.std() > 10
+
+
+@pytest.mark.parametrize("mode, camera_frame, static_frame", [
+    ("direct", "reused shadow maps", "reused G-buffer, shadow maps, direct light"),
+    ("gi", "reused shadow maps, voxels", "reused G-buffer, shadow maps, direct light, voxels"),
+])
+def test_the_overlay_says_what_a_frame_reused(on_display, scene, mode, camera_frame, static_frame):
+    from imgui_bundle import imgui
+
+    from engine.viewer.panels import overlay_lines
+
+    def work(viewer):
+        lines = [line[0] for line in overlay_lines(viewer.frames, viewer.process, viewer.renderer, False) if line]
+        assert not any("Draw calls" in line or line.startswith("0 draw calls") for line in lines), lines
+        return lines
+
+    with open_viewer(scene, mode=mode) as viewer:
+        viewer.frame()
+        viewer.frame()
+        assert static_frame in work(viewer)  # nothing changed: the frame drew nothing
+        imgui.get_io().add_key_event(imgui.Key.w, True)
+        viewer.frame()  # the camera moved: the G-buffer and the direct light again
+        imgui.get_io().add_key_event(imgui.Key.w, False)
+        draws = viewer.renderer.geometry.draw_calls
+        assert draws > 0 and f"{draws} draw calls; {camera_frame}" in work(viewer)
+
+
 # ---- no display needed -------------------------------------------------------------------------
+
+def test_layout_puts_the_image_between_the_panel_columns():
+    window = layout.window_size_for((256, 256), True)
+    assert window == (layout.LEFT_COLUMN + 256 + layout.RIGHT_COLUMN, layout.PANELS_MIN_HEIGHT)
+    placed = layout.layout(window, (256, 256), True, animated=True)
+    assert placed.image == layout.Rect(layout.LEFT_COLUMN, (layout.PANELS_MIN_HEIGHT - 256) // 2, 256, 256)
+    rects = list(placed.panels.values())
+    assert len(rects) == 5 and all(placed.window.contains(r) and not r.overlaps(placed.image) for r in rects)
+    assert not any(a.overlaps(b) for i, a in enumerate(rects) for b in rects[i + 1:])
+    assert layout.window_size_for((256, 256), False) == (256, 256)
+    assert layout.layout((256, 256), (256, 256), True, animated=False).panels == {}  # no room: the image alone
+    assert layout.image_area((1000, 700), True) == layout.Rect(layout.LEFT_COLUMN, 0, 440, 700)
+
+
+def test_playback_advances_loops_pauses_and_chooses():
+    playback = Playback({"Play": 4.0, "Dolly": 6.0})
+    assert playback.playing and playback.duration == 6.0
+    playback.speed = 2.0
+    playback.advance(2.0)
+    assert playback.time == pytest.approx(4.0)
+    playback.advance(1.5)
+    assert playback.time == pytest.approx(1.0)  # 7 s loops over the longest, 6 s
+    playback.choose("Play")
+    assert playback.duration == 4.0 and playback.time == pytest.approx(1.0)
+    playback.playing = False
+    playback.advance(1.0)
+    assert playback.time == pytest.approx(1.0)
+    playback.seek(9.0)
+    assert playback.time == 4.0
+
+    posed = []
+    scene = type("Scene", (), {"pose_at": lambda self, t, animation: posed.append((t, animation))})()
+    assert playback.pose(scene) and not playback.pose(scene)  # posed again only after a change
+    playback.seek(2.0)
+    assert playback.pose(scene) and posed == [(4.0, "Play"), (2.0, "Play")]
+    assert not Playback({}).playing and not Playback({}).pose(scene)
+
+
+def test_reuse_names_what_a_frame_did_not_run():
+    camera_frame = ["gbuffer", "lighting", "cone_trace", "tonemap"]
+    assert reused(camera_frame) == ["shadow maps", "voxels"]
+    assert work_line(camera_frame, 7) == "7 draw calls; reused shadow maps, voxels"
+    assert work_line(["tonemap"], 0) == "reused G-buffer, shadow maps, direct light"  # direct mode, nothing changed
+    assert reused(["gbuffer_view"]) == ["G-buffer"]  # a G-buffer view needs no light
+    assert work_line(["shadow", "gbuffer", "lighting", "voxelize", "cone_trace"], 12) == "12 draw calls"
+
+
+def test_fly_camera_follows_an_animated_camera_until_moved(scene):
+    camera = FlyCamera(scene.camera)
+    animated = engine.load_scene(SCENE).camera  # where an animation puts the scene's camera
+
+    def dolly():
+        animated.position = animated.position + [0.2, 0.0, 0.0]
+        animated.look_at = animated.look_at + [0.2, 0.0, 0.0]
+        camera.follow(animated)
+
+    dolly()
+    camera.apply(scene.camera)
+    np.testing.assert_allclose(scene.camera.position, animated.position)
+    camera.update(0.1, move=(0, 0, 1))
+    camera.apply(scene.camera)
+    flown = scene.camera.position.copy()
+    dolly()  # the animation moves on, the view stays the user's
+    camera.apply(scene.camera)
+    np.testing.assert_allclose(scene.camera.position, flown)
+    camera.reset()  # R: back to the animated view
+    camera.apply(scene.camera)
+    np.testing.assert_allclose(scene.camera.position, animated.position)
+
+
 
 def test_fly_camera_moves_turns_and_resets(scene):
     camera = FlyCamera(scene.camera)

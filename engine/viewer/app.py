@@ -1,8 +1,12 @@
 """`vct view`: the interactive viewer, a thin client of engine.Renderer in a glfw window.
 
-    with Viewer(scene, settings, (640, 480)) as viewer:
+    with Viewer(scene, settings, (640, 480)) as viewer:   # the image's size
         viewer.run()                  # until Esc or the window closes
         # or, for tests: viewer.frame(); viewer.frame_pixels(); viewer.shaders.poll(force=True)
+
+The window opens at the image's size plus the panel columns beside it (engine.viewer.layout);
+the image keeps its size until the user resizes the window, then takes the room the columns
+leave. An animated scene plays (engine.viewer.playback), posed before each frame renders.
 
 Keys: WASD/QE move, drag to look, scroll for speed (Shift: faster), R reset camera,
 V vsync, F1 panels, F12/PrtScrn screenshot of the frame (Shift+F12: the whole window,
@@ -22,7 +26,8 @@ from . import panels
 from .camera import FlyCamera
 from .gui import Gui
 from .hot_reload import ShaderWatcher
-from .panels import PANELS_MIN_WINDOW
+from .layout import image_area, layout, window_size_for
+from .playback import Playback
 from .present import Presenter
 from .screenshots import screenshot_path
 from .stats import FrameStats, ProcessStats
@@ -33,25 +38,31 @@ MOVE_KEYS = {  # key -> (right, up, forward)
     imgui.Key.d: (1, 0, 0), imgui.Key.a: (-1, 0, 0),
     imgui.Key.e: (0, 1, 0), imgui.Key.q: (0, -1, 0),
 }
+FIXED_FRAME_SECONDS = 1 / 30  # what each frame of run(frames) advances the animations by
 
 
 class Viewer:
     def __init__(self, scene, settings, size, glsl_root=GLSL_ROOT, show_panels=True, vsync=True,
-                 visible=True):
+                 visible=True, animation=None):
         import moderngl
 
         self.scene = scene
         self.settings = settings.validate()
-        self.show_panels = show_panels and size[0] >= PANELS_MIN_WINDOW[0] and size[1] >= PANELS_MIN_WINDOW[1]
+        self.show_panels = show_panels  # wanted; shown where the window has room (layout.panels_fit)
+        self.playback = Playback(scene.animations())
+        if animation is not None:  # a name of scene.animations() (the CLI checks it)
+            self.playback.choose(animation)
         self.selected = next((node.name for node, _ in scene.lights()), None)
         self.settings_message = None
         self._pending_screenshot = None  # "frame" or "window" after F12 / PrtScrn (Shift: window)
+        self._window_size = window_size_for(size, show_panels)  # as of the last frame
+        self._asked_window_size = None  # the size F1 asked the window for, until it changes
+        self.layout = layout(self._window_size, size, show_panels, bool(self.playback.durations))
         self.window = self.gui = self.renderer = self.presenter = None
         try:
-            self.window = Window(size[0], size[1], self._title(), visible=visible, vsync=vsync)
+            self.window = Window(*self._window_size, self._title(), visible=visible, vsync=vsync)
             self.ctx = moderngl.create_context(require=450)
-            self.renderer = Renderer(*self.window.framebuffer_size, settings=self.settings, ctx=self.ctx,
-                                     glsl_root=glsl_root)
+            self.renderer = Renderer(*size, settings=self.settings, ctx=self.ctx, glsl_root=glsl_root)
             self.renderer.progressive = True  # bounces=0 converges over frames
             self.renderer.measure = True   # per-pass ms for the overlay
             self.presenter = Presenter(self.ctx)
@@ -67,26 +78,30 @@ class Viewer:
         self._last_frame = time.perf_counter()
 
     def _title(self):
-        return f"vct view - {self.scene.root.name} ({self.settings.mode})"
+        hidden = "" if self.layout.shows_panels else ", F1: panels"
+        return f"vct view - {self.scene.root.name} ({self.settings.mode}{hidden})"
 
     # -- one frame ---------------------------------------------------------------------------
 
-    def frame(self, capture_window=False):
-        """Input, hot reload, render, present, panels, swap. With `capture_window`, returns the
-        whole window (panels included) as uint8 (H, W, 3), read before the swap."""
+    def frame(self, capture_window=False, dt=None):
+        """Input, hot reload, render, present, panels, swap. `dt` is the seconds the frame
+        stands for (None: the wall-clock time since the last frame): the camera moves by it and,
+        after the frame, the animations advance by it times their speed. With `capture_window`,
+        returns the whole window (panels included) as uint8 (H, W, 3), read before the swap."""
         self.window.poll_events()
         now = time.perf_counter()
-        dt, self._last_frame = now - self._last_frame, now
+        wall, self._last_frame = now - self._last_frame, now
+        dt = wall if dt is None else dt
         self.gui.new_frame()
         self._handle_input(dt)
         self.shaders.poll()
-        size = self.window.framebuffer_size
+        size = tuple(self.window.framebuffer_size)
         pixels = None
         if size[0] > 0 and size[1] > 0:  # not minimized
-            if tuple(size) != self.renderer.size:
-                self.renderer.resize(*size)
+            self._follow_window(size)
+            self._lay_out(size)
             self._render()
-            self.presenter.draw(self.renderer.display_target().texture, size)
+            self.presenter.draw(self.renderer.display_target().texture, self.layout.image, size)
             self._draw_panels(size)
             self.gui.render()
             if capture_window or self._pending_screenshot == "window":
@@ -99,9 +114,36 @@ class Viewer:
         self.window.swap_buffers()
         self.frames.tick()
         self.process.update()
+        self.playback.advance(dt)
         return pixels
 
+    def _follow_window(self, size):
+        """When the window's size changed other than as F1 asked (the user or the window manager
+        resized it), the image takes the room the panels leave."""
+        if size == self._window_size:
+            return
+        self._window_size = size
+        asked, self._asked_window_size = self._asked_window_size, None
+        if size != asked:
+            area = image_area(size, self.show_panels)
+            self.renderer.resize(area.width, area.height)
+
+    def _lay_out(self, size):
+        shown = self.layout.shows_panels
+        self.layout = layout(size, self.renderer.size, self.show_panels, bool(self.playback.durations))
+        if self.layout.shows_panels != shown:
+            self.window.set_title(self._title())
+
+    def _toggle_panels(self):
+        """F1: show the panels if hidden, else hide them; the window grows or shrinks by their
+        columns, so the image keeps its size."""
+        self.show_panels = not self.layout.shows_panels
+        self._asked_window_size = window_size_for(self.renderer.size, self.show_panels)
+        self.window.set_size(*self._asked_window_size)
+
     def _render(self):
+        if self.playback.pose(self.scene) and self.scene.camera_node is not None:
+            self.camera.follow(self.scene.camera)  # pose_at placed the camera on its (animated) node
         self.camera.apply(self.scene.camera)
         try:
             self.renderer.render_frame(self.scene, self.settings)
@@ -111,15 +153,19 @@ class Viewer:
             self.renderer.render_frame(self.scene, self.settings)
 
     def _draw_panels(self, size):
-        panels.draw_overlay(self.frames, self.process, self.renderer, self.window.vsync, self.show_panels)
         panels.draw_shader_errors(self.shaders.errors, size)
-        if not self.show_panels:
+        rects = self.layout.panels
+        if not rects:
             return
-        self.selected = panels.draw_scene_graph(self.scene, self.selected, size)
-        panels.draw_inspector(self.scene, self.selected, size)
-        changed = panels.draw_renderer_panel(self.settings, size, self.settings_message)
+        panels.draw_overlay(panels.overlay_lines(self.frames, self.process, self.renderer, self.window.vsync),
+                            rects["Overlay"])
+        self.selected = panels.draw_scene_graph(self.scene, self.selected, rects["Scene Graph"])
+        panels.draw_inspector(self.scene, self.selected, rects["Inspector"])
+        changed = panels.draw_renderer_panel(self.settings, rects["Renderer"], self.settings_message)
         if changed is not None:
             self.apply_settings(changed)
+        if "Animation" in rects:
+            panels.draw_animation_panel(self.playback, rects["Animation"])
 
     def apply_settings(self, settings):
         """Use new settings from the next frame on; a refused value is reported in the panel."""
@@ -144,7 +190,7 @@ class Viewer:
             if imgui.is_key_pressed(imgui.Key.v, False):
                 self.window.set_vsync(not self.window.vsync)
             if imgui.is_key_pressed(imgui.Key.f1, False):
-                self.show_panels = not self.show_panels
+                self._toggle_panels()
         if imgui.is_key_pressed(imgui.Key.f12, False) or imgui.is_key_pressed(imgui.Key.print_screen, False):
             self._pending_screenshot = "window" if io.key_shift else "frame"
         move = np.zeros(3)
@@ -186,10 +232,13 @@ class Viewer:
     # -- loop --------------------------------------------------------------------------------
 
     def run(self, frames=None):
-        """Run until Esc / the window closes, or for `frames` frames."""
+        """Run until Esc / the window closes, or for `frames` frames: then each frame advances
+        the animations by FIXED_FRAME_SECONDS (frame i shows t = i / 30 s), as `vct render`
+        poses them."""
         count = 0
+        dt = None if frames is None else FIXED_FRAME_SECONDS
         while not self.window.should_close and (frames is None or count < frames):
-            self.frame()
+            self.frame(dt=dt)
             count += 1
         return count
 

@@ -2,7 +2,9 @@
 
 The viewer feeds it one frame of input (`move` in view axes, `turn` in pixels, `scroll` in
 wheel steps) and writes it back with `apply(scene.camera)`. Turning keeps the scene camera's
-`up` as the world up, so yaw never rolls the horizon.
+`up` as the world up, so yaw never rolls the horizon. Where the scene's camera moves (an
+animated glTF camera), `follow` makes its view the home view: it shows until the user moves
+the camera, and R goes back to it.
 """
 import math
 
@@ -34,13 +36,24 @@ class FlyCamera:
         self.reset()
 
     def reset(self):
-        """Back to the scene file's view and the default speed."""
+        """Back to the scene's view and the default speed."""
+        self._go_home()
+        self.speed = self.base_speed
+        self.moved = False  # True once the view differs from the scene's
+
+    def _go_home(self):
         position, look_at = self._home
         self.position = position.copy()
         self.forward = _unit(look_at - position)
         self.focus_distance = float(np.linalg.norm(look_at - position))
-        self.speed = self.base_speed
-        self.moved = False  # True once the view differs from the scene file's
+
+    def follow(self, camera):
+        """The scene's camera moved (its animation): its view is the home view from now on,
+        and the fly camera's own until the user moves it."""
+        self._home = (np.array(camera.position, float), np.array(camera.look_at, float))
+        if not self.moved:
+            self.up = _unit(np.array(camera.up, float))
+            self._go_home()
 
     @property
     def right(self):
@@ -76,3 +89,4 @@ class FlyCamera:
             return
         camera.position = self.position.copy()
         camera.look_at = self.position + self.forward * self.focus_distance
+        camera.up = self.up.copy()  # an animated camera's roll does not turn the user's view

@@ -1,74 +1,80 @@
-"""The ImGui windows: overlay, Scene Graph, Inspector, Renderer, shader errors.
+"""The ImGui windows: overlay, Scene Graph, Inspector, Renderer, Animation, shader errors.
 
 Widgets only: every scene edit goes through engine.viewer.inspector, every settings change
-returns a new RenderSettings that the viewer validates before using it.
+returns a new RenderSettings that the viewer validates before using it. Each panel fills its
+rectangle of the layout (engine.viewer.layout), fixed there; what does not fit scrolls.
 """
 from imgui_bundle import imgui
 
 from ..constants import GRID_SIZES, MAX_INTERLEAVE
 from ..settings import MODES, TONEMAPS
 from . import inspector
+from .layout import MARGIN
+from .playback import SPEED_RANGE
+from .stats import work_line
 
-MARGIN = 8
-PANEL_WIDTH = 280
-TREE_WIDTH = 170
-PANELS_MIN_WINDOW = (600, 440)  # smaller windows start with the panels hidden (F1 shows them)
+LABEL_WIDTH = 112  # what a panel's widgets leave for their labels
 ERROR_RED = imgui.ImVec4(1.0, 0.45, 0.4, 1.0)
 DIM = imgui.ImVec4(0.7, 0.7, 0.7, 1.0)
+DOCKED = imgui.WindowFlags_.no_move | imgui.WindowFlags_.no_resize | imgui.WindowFlags_.no_collapse
 
 
-def _place(x, y, pivot_x=0.0, pivot_y=0.0, width=None, max_height=None, cond=imgui.Cond_.first_use_ever):
-    """Initial position (pivot: which corner sits at x, y); a fixed width, the height to fit
-    the contents up to `max_height` (then it scrolls)."""
-    imgui.set_next_window_pos(imgui.ImVec2(x, y), cond, imgui.ImVec2(pivot_x, pivot_y))
-    if width is not None:
-        imgui.set_next_window_size_constraints(imgui.ImVec2(width, 0),
-                                               imgui.ImVec2(width, max_height or imgui.FLT_MAX))
-
-
-def _half_height(window_size):
-    """The right-hand column holds two panels: each gets at most half the window."""
-    return max((window_size[1] - 3 * MARGIN) / 2, 120)
+def _dock(rect):
+    """The next window fills `rect`."""
+    imgui.set_next_window_pos(imgui.ImVec2(rect.x, rect.y), imgui.Cond_.always)
+    imgui.set_next_window_size(imgui.ImVec2(rect.width, rect.height), imgui.Cond_.always)
 
 
 # ---- overlay --------------------------------------------------------------------------------
 
-def draw_overlay(frames, process, renderer, vsync, panels_shown=True):
-    """FPS, ms per frame, CPU %, RAM, draw calls, voxel memory, and the ms of each pass the
-    last frame ran (a frame runs only the passes whose inputs changed), in the top-left corner."""
-    _place(MARGIN, MARGIN, cond=imgui.Cond_.always)
-    imgui.set_next_window_bg_alpha(0.6)
+def overlay_lines(frames, process, renderer, vsync):
+    """The overlay's text as (line, dimmed) pairs, None for the rule above the passes: FPS,
+    ms per frame, CPU %, RAM, voxel and texture memory, the image, the ms of each pass the
+    last frame ran (a frame runs only the passes whose inputs changed), its draw calls and
+    what it reused, and the bounces' state."""
+    s = renderer.frame_settings
+    cpu = "--" if process.cpu_percent is None else f"{process.cpu_percent:.0f}"
+    lines = [(f"FPS {frames.fps:6.1f}  SPF {frames.ms_per_frame:7.1f} ms", False),
+             (f"CPU {cpu:>5} %  RAM {process.ram_mb:7.0f} MB", False),
+             (f"voxels {renderer.grid.memory_bytes() / 2 ** 20:.0f} MB  "
+              f"textures {renderer.geometry.textures.memory_bytes() / 2 ** 20:.0f} MB", False),
+             (f"{renderer.size[0]}x{renderer.size[1]} {s.mode} grid {s.grid}{' vsync' if vsync else ''}", True)]
+    if renderer.timings:
+        lines.append(None)
+        lines += [(f"{name:<16}{ms:8.1f} ms", False) for name, ms in renderer.timings.items()]
+        lines.append((f"{'all passes':<16}{sum(renderer.timings.values()):8.1f} ms", True))
+    lines.append((work_line(renderer.passes_ran, renderer.geometry.draw_calls), True))
+    if s.shown.uses_radiance and s.bounces == 0:
+        state = "settled" if renderer.bounces.settled else "converging"
+        lines.append((f"bounces {state} ({renderer.bounce_iterations} so far)", True))
+    return lines
+
+
+def draw_overlay(lines, rect):
+    """`lines` (overlay_lines) at the top of `rect`, as tall as they need up to its height."""
+    imgui.set_next_window_pos(imgui.ImVec2(rect.x, rect.y), imgui.Cond_.always)
+    imgui.set_next_window_size_constraints(imgui.ImVec2(rect.width, 0), imgui.ImVec2(rect.width, rect.height))
     flags = (imgui.WindowFlags_.no_decoration | imgui.WindowFlags_.always_auto_resize
-             | imgui.WindowFlags_.no_saved_settings | imgui.WindowFlags_.no_focus_on_appearing
-             | imgui.WindowFlags_.no_nav | imgui.WindowFlags_.no_inputs)
+             | imgui.WindowFlags_.no_focus_on_appearing | imgui.WindowFlags_.no_nav | imgui.WindowFlags_.no_inputs)
     if imgui.begin("Overlay", None, flags)[0]:
-        s = renderer.frame_settings
-        cpu = "--" if process.cpu_percent is None else f"{process.cpu_percent:.0f}"
-        imgui.text(f"FPS {frames.fps:6.1f}  SPF {frames.ms_per_frame:7.1f} ms")
-        imgui.text(f"CPU {cpu:>5} %  RAM {process.ram_mb:7.0f} MB")
-        imgui.text(f"Draw calls {renderer.geometry.draw_calls}  voxels {renderer.grid.memory_bytes() / 2 ** 20:.0f} MB  "
-                   f"textures {renderer.geometry.textures.memory_bytes() / 2 ** 20:.0f} MB")
-        imgui.text_colored(DIM, f"{renderer.size[0]}x{renderer.size[1]} {s.mode} grid {s.grid}"
-                                f"{' vsync' if vsync else ''}")
-        if renderer.timings:
-            imgui.separator()
-            for name, ms in renderer.timings.items():
-                imgui.text(f"{name:<12}{ms:8.1f} ms")
-            imgui.text_colored(DIM, f"{'all passes':<12}{sum(renderer.timings.values()):8.1f} ms")
-        if s.shown.uses_radiance and s.bounces == 0:
-            state = "settled" if renderer.bounces.settled else "converging"
-            imgui.text_colored(DIM, f"bounces {state} ({renderer.bounce_iterations} so far)")
-        if not panels_shown:
-            imgui.text_colored(DIM, "F1: panels")
+        imgui.push_text_wrap_pos(0.0)  # wrap at the window's edge
+        for line in lines:
+            if line is None:
+                imgui.separator()
+            elif line[1]:
+                imgui.text_colored(DIM, line[0])
+            else:
+                imgui.text(line[0])
+        imgui.pop_text_wrap_pos()
     imgui.end()
 
 
 # ---- scene graph ----------------------------------------------------------------------------
 
-def draw_scene_graph(scene, selected, window_size):
+def draw_scene_graph(scene, selected, rect):
     """The node tree; returns the name of the selected node."""
-    _place(MARGIN, window_size[1] - MARGIN, 0.0, 1.0, width=TREE_WIDTH)
-    if imgui.begin("Scene Graph", None, imgui.WindowFlags_.always_auto_resize)[0]:
+    _dock(rect)
+    if imgui.begin("Scene Graph", None, DOCKED)[0]:
         selected = _tree(scene.root, selected, depth=0)
     imgui.end()
     return selected
@@ -94,14 +100,14 @@ def _tree(node, selected, depth):
 
 # ---- inspector ------------------------------------------------------------------------------
 
-def draw_inspector(scene, selected, window_size):
-    _place(window_size[0] - MARGIN, MARGIN, 1.0, 0.0, width=PANEL_WIDTH, max_height=_half_height(window_size))
-    if imgui.begin("Inspector", None, imgui.WindowFlags_.always_auto_resize)[0]:
+def draw_inspector(scene, selected, rect):
+    _dock(rect)
+    if imgui.begin("Inspector", None, DOCKED)[0]:
         node = scene.root.find(selected) if selected else None
         if node is None:
             imgui.text_colored(DIM, "Select a node in the Scene Graph.")
         else:
-            imgui.push_item_width(PANEL_WIDTH - 112)
+            imgui.push_item_width(rect.width - LABEL_WIDTH)
             imgui.text(node.name)
             _transform(scene, node)
             if node.material is not None:
@@ -181,13 +187,12 @@ def _light(scene, node):
 
 # ---- renderer -------------------------------------------------------------------------------
 
-def draw_renderer_panel(settings, window_size, message=None):
+def draw_renderer_panel(settings, rect, message=None):
     """Render settings; returns the changed RenderSettings (not yet validated) or None."""
-    _place(window_size[0] - MARGIN, window_size[1] - MARGIN, 1.0, 1.0, width=PANEL_WIDTH,
-           max_height=_half_height(window_size))
+    _dock(rect)
     changes = {}
-    if imgui.begin("Renderer", None, imgui.WindowFlags_.always_auto_resize)[0]:
-        imgui.push_item_width(PANEL_WIDTH - 112)
+    if imgui.begin("Renderer", None, DOCKED)[0]:
+        imgui.push_item_width(rect.width - LABEL_WIDTH)
         _combo("Mode", settings.mode, MODES, changes, "mode")
         if settings.shown.stage == "voxel_view":
             changed, mip = imgui.slider_int("Mip level", settings.voxel_mip, 0, settings.grid.bit_length() - 1)
@@ -220,7 +225,7 @@ def draw_renderer_panel(settings, window_size, message=None):
                     changes[key] = value
         imgui.pop_item_width()
         if message:
-            imgui.push_text_wrap_pos(PANEL_WIDTH)
+            imgui.push_text_wrap_pos(0.0)
             imgui.text_colored(ERROR_RED, message)
             imgui.pop_text_wrap_pos()
     imgui.end()
@@ -244,6 +249,38 @@ def _slider(label, value, low, high, changes, key, flags=0):
         changes[key] = value
 
 
+# ---- animation ------------------------------------------------------------------------------
+
+def draw_animation_panel(playback, rect):
+    """Which animation plays, play/pause, speed and a time slider that scrubs; edits `playback`."""
+    _dock(rect)
+    if imgui.begin("Animation", None, DOCKED)[0]:
+        imgui.push_item_width(rect.width - LABEL_WIDTH)
+        if imgui.begin_combo("Plays", _animation_label(playback, playback.animation)):
+            for name in (None, *playback.durations):
+                clicked, _ = imgui.selectable(_animation_label(playback, name), name == playback.animation)
+                if clicked and name != playback.animation:
+                    playback.choose(name)
+            imgui.end_combo()
+        changed, time = imgui.slider_float("Time", playback.time, 0.0, playback.duration, "%.2f s")
+        if changed:
+            playback.seek(time)
+        changed, speed = imgui.slider_float("Speed", playback.speed, *SPEED_RANGE, "%.2fx",
+                                            imgui.SliderFlags_.logarithmic)
+        if changed:
+            playback.speed = speed
+        if imgui.button("Pause" if playback.playing else "Play", imgui.ImVec2(rect.width - LABEL_WIDTH, 0)):
+            playback.playing = not playback.playing
+        imgui.pop_item_width()
+    imgui.end()
+
+
+def _animation_label(playback, name):
+    if name is None:
+        return f"all ({max(playback.durations.values()):.1f} s)"
+    return f"{name} ({playback.durations[name]:.1f} s)"
+
+
 # ---- shader errors --------------------------------------------------------------------------
 
 def draw_shader_errors(errors, window_size):
@@ -251,7 +288,9 @@ def draw_shader_errors(errors, window_size):
     if not errors:
         return
     width = min(window_size[0] - 2 * MARGIN, 720)
-    _place(window_size[0] / 2, window_size[1] - MARGIN, 0.5, 1.0, width=width, cond=imgui.Cond_.always)
+    imgui.set_next_window_pos(imgui.ImVec2(window_size[0] / 2, window_size[1] - MARGIN), imgui.Cond_.always,
+                              imgui.ImVec2(0.5, 1.0))
+    imgui.set_next_window_size_constraints(imgui.ImVec2(width, 0), imgui.ImVec2(width, imgui.FLT_MAX))
     imgui.set_next_window_bg_alpha(0.85)
     flags = imgui.WindowFlags_.no_collapse | imgui.WindowFlags_.always_auto_resize | imgui.WindowFlags_.no_saved_settings
     if imgui.begin("Shader error (last good program still running)", None, flags)[0]:

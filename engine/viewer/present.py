@@ -1,6 +1,7 @@
-"""Put the renderer's tone-mapped frame on the window: a texel-exact copy to the default
-framebuffer (a fullscreen triangle, so the window's current size is always the one used),
-and a read-back of the whole window, panels included, for window screenshots."""
+"""Put the renderer's tone-mapped frame on the window: the window cleared to the panels'
+background, then a texel-exact copy of the frame into its rectangle of the layout (a
+triangle over that viewport), and a read-back of the whole window, panels included, for
+window screenshots."""
 import numpy as np
 
 _VERTEX = """
@@ -14,13 +15,15 @@ void main() {
 _FRAGMENT = """
 #version 450
 uniform sampler2D frame;
+uniform ivec2 origin;  // the viewport's lower-left corner in the window
 out vec4 color;
 void main() {
-    color = vec4(texelFetch(frame, ivec2(gl_FragCoord.xy), 0).rgb, 1.0);
+    color = vec4(texelFetch(frame, ivec2(gl_FragCoord.xy) - origin, 0).rgb, 1.0);
 }
 """
 
 FRAME_UNIT = 0
+BACKGROUND = (0.1, 0.1, 0.1)
 
 
 class Presenter:
@@ -30,10 +33,15 @@ class Presenter:
         self.program["frame"].value = FRAME_UNIT
         self.vertex_array = ctx.vertex_array(self.program, [])
 
-    def draw(self, texture, size):
-        """Copy `texture` (the frame, same size as the window) onto the window."""
+    def draw(self, texture, rect, window_size):
+        """Clear the window and copy `texture` (the frame) into `rect` (a layout.Rect of the
+        frame's size, y downwards)."""
         self.ctx.screen.use()
-        self.ctx.viewport = (0, 0, *size)
+        self.ctx.viewport = (0, 0, *window_size)
+        self.ctx.clear(*BACKGROUND)
+        origin = (rect.x, window_size[1] - rect.y - rect.height)  # GL counts rows from the bottom
+        self.ctx.viewport = (*origin, rect.width, rect.height)
+        self.program["origin"].value = origin
         self.ctx.disable(self.ctx.DEPTH_TEST | self.ctx.BLEND)
         texture.use(FRAME_UNIT)
         self.vertex_array.render(self.ctx.TRIANGLES, vertices=3)

@@ -1,10 +1,35 @@
-"""Measured figures for the overlay: frame rate and frame time, process CPU and memory."""
+"""Figures for the overlay: frame rate and frame time, process CPU and memory, and what a
+frame drew and what it reused."""
 import time
 from collections import deque
 
 import psutil
 
 PROCESS_SAMPLE_SECONDS = 0.5
+# What a frame can take from an earlier one: (name, the pass that makes it).
+REUSABLE = (("G-buffer", "gbuffer"), ("shadow maps", "shadow"), ("direct light", "lighting"), ("voxels", "voxelize"))
+
+
+def reused(passes_ran):
+    """What the frame that ran `passes_ran` (Renderer.passes_ran) took from earlier frames:
+    the names of REUSABLE whose pass it skipped, of those its image needs (a G-buffer view
+    needs no shadows or light; only a cone trace or voxel view needs voxels)."""
+    ran = set(passes_ran)
+    needed = {"G-buffer"}
+    if "gbuffer_view" not in ran:
+        needed |= {"shadow maps", "direct light"}
+    if ran & {"cone_trace", "voxel_view"}:
+        needed.add("voxels")
+    return [name for name, made_by in REUSABLE if name in needed and made_by not in ran]
+
+
+def work_line(passes_ran, draw_calls):
+    """The overlay's line on a frame's work, e.g. "7 draw calls; reused shadow maps, voxels"."""
+    parts = [f"{draw_calls} draw calls"] if draw_calls else []
+    kept = reused(passes_ran)
+    if kept:
+        parts.append("reused " + ", ".join(kept))
+    return "; ".join(parts) or "no draw calls; nothing reused"
 
 
 class FrameStats:
