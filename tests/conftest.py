@@ -5,6 +5,7 @@ A test whose reference is missing (../shared/reference) skips with the reason in
 clone, and fails where VCT_REQUIRE_REFERENCES=1, as .ci/run sets: CI never passes silently
 without the accuracy tests."""
 import os
+import signal
 from pathlib import Path
 
 import numpy as np
@@ -17,6 +18,13 @@ SCENES = ROOT / "scenes"
 TEST_SCENES = Path(__file__).resolve().parent / "scenes"
 REFERENCE = ROOT.parent / "shared" / "reference"
 REQUIRE_REFERENCES = "VCT_REQUIRE_REFERENCES"
+
+
+def interruptible():
+    """preexec_fn of a child process a test interrupts: SIGINT takes its default action there
+    (Python's KeyboardInterrupt) even where the test run itself ignores it, as a job started in
+    the background does, and its children inherit that."""
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
 
 
 def rel_mae(image, reference):

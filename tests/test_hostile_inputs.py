@@ -33,6 +33,7 @@ from engine import SceneError, ShaderError, VctError, VctWarning, load_scene
 from engine.cli import main
 from engine.limits import MAX_DEPTH, MAX_FILE_BYTES, MAX_IMAGE_PIXELS, MAX_INCLUDE_DEPTH
 from engine.shaders import preprocess
+from conftest import interruptible
 from test_cli import CORNELL, assert_one_line_error, vct  # tests/ is on sys.path under pytest
 from test_mesh_files import PAINTING, TEXTURE, Gltf, png, textured_quad, write_model_scene, write_obj
 
@@ -371,7 +372,7 @@ def test_a_signal_while_outputs_are_written_removes_their_temporary_files_and_ex
     (out / "x.png").write_bytes(b"the previous render")
     result = subprocess.run([sys.executable, "-c", SIGNALLED_RENDER.replace("{signal}", name), "render", CORNELL,
                              "--out", out / "x.png", "--hdr", out / "x.npy", *SMALL],
-                            cwd=ROOT, capture_output=True, text=True, timeout=120)
+                            cwd=ROOT, capture_output=True, text=True, timeout=120, preexec_fn=interruptible)
     assert result.returncode == 128 + getattr(signal, name), result.stderr
     assert result.stderr == ""
     assert sorted(p.name for p in out.iterdir()) == ["x.png"] and (out / "x.png").read_bytes() == b"the previous render"

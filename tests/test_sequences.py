@@ -28,7 +28,7 @@ from engine.sequence import orbit
 from test_animation import animated_gltf  # tests/ is on sys.path under pytest
 from test_cli import assert_one_line_error, vct
 
-from conftest import ROOT, SCENES, rel_mae
+from conftest import ROOT, SCENES, interruptible, rel_mae
 
 ROOM = SCENES / "animated_room.glb"
 SMALL = ("--width", "96", "--height", "96", "--grid", "32")
@@ -137,7 +137,8 @@ def test_progressive_frames_after_an_object_moved_converge_without_class_pattern
 def test_an_interrupted_sequence_leaves_complete_frames_and_no_partial_file(tmp_path):
     process = subprocess.Popen([sys.executable, "-m", "engine.cli", "render", str(ROOM), *SMALL, "--frames", "200",
                                 "--out", str(tmp_path / "f_%03d.png"), "--video", str(tmp_path / "v.mp4")],
-                               cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+                               cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                               preexec_fn=interruptible)
     deadline = time.monotonic() + 120
     while not (tmp_path / "f_002.png").exists() and time.monotonic() < deadline and process.poll() is None:
         time.sleep(0.1)
