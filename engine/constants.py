@@ -87,9 +87,18 @@ STORAGE_BINDING = {
     "VOXEL_LIST": 30,         # the voxels injection, composition and the emitters' light run over (a VoxelSegment)
 }
 
-# Struct layouts shared with GLSL (std430, vec4-sized fields): name -> ((GLSL type, field), ...).
-# glsl_header() declares them, struct_dtype() gives the matching numpy record.
+# Struct layouts shared with GLSL (vec4 and mat4 fields, so std140 and std430 lay them out
+# alike): name -> ((GLSL type, field), ...). glsl_header() declares them, struct_dtype() gives
+# the matching numpy record (a mat4 as its 16 floats, column by column).
 GLSL_STRUCTS = {
+    # A punctual light (glsl/lib/lights.glsl): world position (xyz) and LIGHT_TYPE (w); the
+    # direction it shines (xyz) and its range (w, 0: no cut-off); W/sr or W/m^2 (rgb) and its
+    # first shadow view (w, -1: none); a spot's cos(inner angle), cos(outer angle) (xy).
+    "Light": (("vec4", "position_type"), ("vec4", "direction_range"), ("vec4", "intensity_shadow"),
+              ("vec4", "spot_cosines")),
+    # One view of the shadow atlas: its view-projection; its tile's origin (xy) and size (zw) in
+    # atlas uv; the world size of a texel per unit of clip w (x) and a texel's size in tile uv (y).
+    "ShadowView": (("mat4", "view_projection"), ("vec4", "atlas_rect"), ("vec4", "texel")),
     # An emissive triangle in world space, front side by the right-hand rule: corners (xyz, w
     # unused) and its radiance (rgb, W/(m^2 sr); a unused).
     "EmitterTriangle": (("vec4", "a"), ("vec4", "b"), ("vec4", "c"), ("vec4", "radiance")),
@@ -215,9 +224,39 @@ SKY_FILTER_RADIUS = 3
 SKY_CONE_LEVEL_OFFSET = 1.75
 
 
+# Enumerations the host sets as uniforms and the shaders switch on, by name: GROUP_NAME in GLSL
+# (TONEMAP_ACES), SHADER_ENUMS["TONEMAP"]["aces"] on the host.
+SHADER_ENUMS = {
+    "TONEMAP": {"none": 0, "reinhard": 1, "aces": 2},        # tonemap.frag: the tone curve
+    "OUTPUT": {"radiance": 0, "ao": 1},                       # cone_trace.frag: what the image holds
+    "VIEW": {"albedo": 0, "normal": 1, "depth": 2},           # gbuffer_view.frag: the G-buffer view
+    "SHOW": {"radiance": 0, "normal": 1, "albedo": 2},        # voxel_view.frag: the voxel volume shown
+    "VOXELIZE": {"mark": 0, "front": 1, "add": 2},            # voxelize.frag: the stage of a voxelization
+    "MAP": {"base_color": 0, "metal_rough": 1, "emissive": 2, "normal": 3},  # lib/material.glsl: a texture's
+}                                                              # index in its per-map arrays (scene_gpu order)
+
+# Voxel coordinates packed into one uint for the voxel lists: x | y << 10 | z << 20 (N <= 1024).
+VOXEL_PACK_BITS = 10
+# The voxelizer's fragment count per voxel (lib/voxel_sums.glsl) carries a flag in its top bit:
+# the voxel was touched by the voxelization under way.
+TOUCHED_FLAG = 0x80000000
+COUNT_MASK = 0x7FFFFFFF
+# A voxel's gather-anchor record (lib/gather_anchors.glsl): ANCHOR_SELF where it traces its own
+# gather, ANCHOR_STALE where a voxelization touched it; else a bit per anchor neighbour (0..25).
+ANCHOR_SELF = 1 << 26
+ANCHOR_STALE = 1 << 27
+MIN_ANCHOR_WEIGHT = 0.2  # below this total weight of its anchors a voxel traces its own gather
+# How much a voxel stands for a surface of unit normal n: max(0, n . n_v / |n_v|)^FACING_EXPONENT
+# times the coherence |n_v| of its mean normal (lib/voxel.glsl: facing_weight).
+FACING_EXPONENT = 8.0
+# What a pixel of the cone-trace list still needs (lib/cone_pixels.glsl): bit flags.
+PIXEL_DIFFUSE_CONES = 1
+PIXEL_SPECULAR_CONE = 2
+
+
 def struct_dtype(name):
     """The numpy record of a GLSL_STRUCTS layout."""
-    kinds = {"vec4": ("<f4", 4), "uvec4": ("<u4", 4)}
+    kinds = {"vec4": ("<f4", 4), "uvec4": ("<u4", 4), "mat4": ("<f4", 16)}
     return np.dtype([(field, kinds[kind][0], (kinds[kind][1],)) for kind, field in GLSL_STRUCTS[name]])
 
 
@@ -228,6 +267,7 @@ def glsl_header():
         lines += [f"#define {prefix}{name} {value}" for name, value in group.items()]
     lines += [f"#define SUM_{name} {index}" for index, name in enumerate(VOXEL_SUM_CHANNELS)]
     lines += [f"#define LIGHT_{name.upper()} {value}" for name, value in LIGHT_TYPE.items()]
+    lines += [f"#define {group}_{name.upper()} {value}" for group, names in SHADER_ENUMS.items() for name, value in names.items()]
     lines += [
         f"#define VOXEL_SUM_CHANNELS {len(VOXEL_SUM_CHANNELS)}",
         f"#define MAX_LIGHTS {MAX_LIGHTS}",
@@ -245,6 +285,15 @@ def glsl_header():
         f"#define VOXEL_EMISSION_SCALE {VOXEL_EMISSION_SCALE:.1f}",
         f"#define VOXEL_MAX_EMISSION {VOXEL_MAX_EMISSION:.1f}",
         "#define PI 3.14159265358979",
+        f"#define VOXEL_PACK_BITS {VOXEL_PACK_BITS}",
+        f"#define TOUCHED_FLAG {TOUCHED_FLAG:#x}u",
+        f"#define COUNT_MASK {COUNT_MASK:#x}u",
+        f"#define ANCHOR_SELF {ANCHOR_SELF:#x}u",
+        f"#define ANCHOR_STALE {ANCHOR_STALE:#x}u",
+        f"#define MIN_ANCHOR_WEIGHT {MIN_ANCHOR_WEIGHT}",
+        f"#define FACING_EXPONENT {FACING_EXPONENT:.1f}",
+        f"#define PIXEL_DIFFUSE_CONES {PIXEL_DIFFUSE_CONES}u",
+        f"#define PIXEL_SPECULAR_CONE {PIXEL_SPECULAR_CONE}u",
     ]
     for name, members in GLSL_STRUCTS.items():
         lines.append(f"struct {name} {{ " + " ".join(f"{kind} {field};" for kind, field in members) + " };")

@@ -23,7 +23,8 @@ from .scene import IDENTITY_UV
 # coordinates or tangents get zeros there, without vertex colours white.
 VERTEX_ATTRIBUTES = (("in_position", 3), ("in_normal", 3), ("in_texcoord", 2), ("in_tangent", 4), ("in_color", 3),
                      ("in_texcoord1", 2))
-# Material texture -> (texture unit, the value it stands for when the material has none).
+# Material texture -> (texture unit, the value it stands for when the material has none), in the
+# order of the shaders' per-map arrays (SHADER_ENUMS["MAP"]: uv_transforms, uv_sets).
 MATERIAL_TEXTURES = {
     "base_color_texture": ("BASE_COLOR_MAP", (255, 255, 255, 255)),
     "metallic_roughness_texture": ("METAL_ROUGH_MAP", (255, 255, 255, 255)),

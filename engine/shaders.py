@@ -131,9 +131,39 @@ def preprocess(name, defines=None, root=GLSL_ROOT, read_paths=None):
     return Source("\n".join(lines) + "\n", files)
 
 
+_BINDING = re.compile(r"layout\s*\([^)]*\bbinding\s*=\s*(IMG|TEX|SSBO|UBO)_(\w+)")
+_LINE_DIRECTIVE = re.compile(r"^#line (\d+) (\d+)$")
+BINDING_UNITS = {"IMG": constants.IMAGE_UNIT, "TEX": constants.TEXTURE_UNIT, "SSBO": constants.STORAGE_BINDING,
+                 "UBO": constants.UNIFORM_BLOCK}
+
+
+def check_bindings(sources):
+    """Refuse a program whose stages declare two resources of one kind (image units IMG_*,
+    samplers TEX_*, storage blocks SSBO_*, uniform blocks UBO_*) at one binding number: the
+    host binds by name, and two names on one unit would read each other's data."""
+    declared = {}  # (kind, number) -> (name, where)
+    for source in sources.values():
+        index, number = 0, 1
+        for line in source.text.splitlines():
+            directive = _LINE_DIRECTIVE.match(line)
+            if directive:
+                number, index = int(directive.group(1)), int(directive.group(2))
+                continue
+            for kind, name in _BINDING.findall(line):
+                if name in BINDING_UNITS[kind]:
+                    where = source._format(index, number, "").rstrip(": ")
+                    other, other_where = declared.setdefault((kind, BINDING_UNITS[kind][name]), (name, where))
+                    if other != name:
+                        raise ShaderError(f"{where}: error: {kind}_{name} is bound at {BINDING_UNITS[kind][name]}, as "
+                                          f"{kind}_{other} is ({other_where}): one program cannot bind both")
+            number += 1
+
+
 def compile_sources(ctx, sources):
     """Compile and link preprocessed stages ({'vertex_shader': Source, ...}, or just
-    'compute_shader'). Errors raise ShaderError naming the real file and line."""
+    'compute_shader'), after check_bindings. Errors raise ShaderError naming the real file and
+    line."""
+    check_bindings(sources)
     try:
         if "compute_shader" in sources:
             return ctx.compute_shader(sources["compute_shader"].text)

@@ -39,8 +39,6 @@
 #define SKY_LIGHT false
 #endif
 
-#define OUTPUT_RADIANCE 0
-#define OUTPUT_AO 1
 layout(binding = TEX_DIRECT_LIGHT) uniform sampler2D direct_light;
 layout(binding = TEX_VOXEL_GATHERED) uniform sampler3D voxel_gathered;
 uniform int output_kind;

@@ -3,10 +3,7 @@
 #include "lib/gbuffer.glsl"
 #include "lib/camera.glsl"
 
-#define VIEW_ALBEDO 0
-#define VIEW_NORMAL 1
-#define VIEW_DEPTH 2
-uniform int view;
+uniform int view;  // VIEW_* (engine/constants.py: SHADER_ENUMS)
 uniform float far_plane;
 layout(location = 0) out vec4 out_value;
 

@@ -2,9 +2,6 @@
 // HDR radiance -> display: exposure, tone curve (none, Reinhard, ACES), sRGB encoding.
 #include "engine_constants.glsl"
 
-#define TONEMAP_NONE 0
-#define TONEMAP_REINHARD 1
-#define TONEMAP_ACES 2
 layout(binding = TEX_HDR_INPUT) uniform sampler2D hdr_input;
 uniform float exposure;
 uniform int tonemap;

@@ -6,7 +6,7 @@
 #include "lib/gather_anchors.glsl"
 
 layout(local_size_x = LIST_GROUP) in;
-layout(std430, binding = SSBO_COVERED) readonly buffer CoveredVoxels { uint covered_count; uint covered[]; };
+#include "lib/covered_voxels.glsl"
 layout(std430, binding = SSBO_STALE_VOXELS) readonly buffer StaleVoxels { uint stale_count; uint stale[]; };
 uniform bool every_voxel;  // false: the stale voxels
 

@@ -4,7 +4,7 @@
 #include "lib/voxel.glsl"
 
 layout(local_size_x = LIST_GROUP) in;
-layout(std430, binding = SSBO_COVERED) readonly buffer CoveredVoxels { uint covered_count; uint covered[]; };
+#include "lib/covered_voxels.glsl"
 layout(std430, binding = SSBO_CELLS) buffer Cells { uint cell_count[CELL_LIST_LEVELS]; uint cells[]; };
 layout(std430, binding = SSBO_CELL_STAMPS) buffer CellStamps { uint stamps[]; };
 uniform int level;

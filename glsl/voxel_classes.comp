@@ -14,7 +14,7 @@
 #include "lib/gather_anchors.glsl"
 
 layout(local_size_x = LIST_GROUP) in;
-layout(std430, binding = SSBO_COVERED) readonly buffer CoveredVoxels { uint covered_count; uint covered[]; };
+#include "lib/covered_voxels.glsl"
 layout(std430, binding = SSBO_CLASS_BUCKETS) buffer ClassBuckets { uint buckets[]; };  // counts, then next free entries
 layout(std430, binding = SSBO_CLASS_LIST) writeonly buffer ClassList { uint class_list[]; };
 layout(std430, binding = SSBO_CELL_CLASSES) buffer CellClasses { uint cell_classes[]; };  // per level-1 cell: a bit per class

@@ -15,9 +15,7 @@ layout(local_size_x = LIST_GROUP) in;
 layout(binding = TEX_VOXEL_BASE) uniform sampler3D voxel_base;
 layout(binding = TEX_VOXEL_GATHERED) uniform sampler3D voxel_gathered;
 layout(binding = IMG_FACES_OUT, rgba16f) uniform writeonly image3D faces_out;
-layout(std430, binding = SSBO_VOXEL_LIST) readonly buffer VoxelList { uint voxel_list[]; };
-uniform uint first;  // the segment of the list to compose
-uniform uint count;
+#include "lib/voxel_list.glsl"
 uniform bool include_gathered;  // false before the first bounce
 
 void main() {

@@ -14,9 +14,7 @@
 
 layout(local_size_x = LIST_GROUP) in;
 layout(binding = IMG_EMITTER_LIGHT_OUT, rgba16f) uniform writeonly image3D emitter_light_out;
-layout(std430, binding = SSBO_VOXEL_LIST) readonly buffer VoxelList { uint voxel_list[]; };
-uniform uint first;  // the segment of the list to light
-uniform uint count;
+#include "lib/voxel_list.glsl"
 
 // Fraction of a patch p sees, from one cone towards the patch's centre as wide as its sphere.
 // The cone stops before its lookups reach the patch's plane, behind which its own voxels and

@@ -8,7 +8,7 @@
 layout(local_size_x = LIST_GROUP) in;
 layout(binding = TEX_VOXEL_GATHERED) uniform sampler3D latest;
 layout(binding = IMG_GATHERED_OUT, rgba16f) uniform image3D older;
-layout(std430, binding = SSBO_COVERED) readonly buffer CoveredVoxels { uint covered_count; uint covered[]; };
+#include "lib/covered_voxels.glsl"
 uniform vec3 gain;
 
 void main() {

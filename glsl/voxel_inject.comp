@@ -13,9 +13,7 @@
 
 layout(local_size_x = LIST_GROUP) in;
 layout(binding = IMG_BASE_OUT, rgba16f) uniform writeonly image3D base_out;
-layout(std430, binding = SSBO_VOXEL_LIST) readonly buffer VoxelList { uint voxel_list[]; };
-uniform uint first;  // the segment of the list to inject
-uniform uint count;
+#include "lib/voxel_list.glsl"
 
 void main() {
     if (gl_GlobalInvocationID.x >= count) return;

@@ -8,7 +8,7 @@ layout(local_size_x = LIST_GROUP) in;
 layout(binding = TEX_VOXEL_ALBEDO) uniform sampler3D voxel_albedo;
 layout(binding = IMG_FACES_OUT, rgba16f) uniform writeonly image3D faces_out;
 layout(binding = IMG_BASE_OUT, rgba16f) uniform writeonly image3D base_out;
-layout(std430, binding = SSBO_COVERED) readonly buffer CoveredVoxels { uint covered_count; uint covered[]; };
+#include "lib/covered_voxels.glsl"
 layout(std430, binding = SSBO_COVERED_NEXT) buffer NextCovered { uint next_count; uint next_covered[]; };
 
 void main() {

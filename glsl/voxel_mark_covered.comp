@@ -5,7 +5,7 @@
 #include "lib/voxel_sums.glsl"
 
 layout(local_size_x = LIST_GROUP) in;
-layout(std430, binding = SSBO_COVERED) readonly buffer CoveredVoxels { uint covered_count; uint covered[]; };
+#include "lib/covered_voxels.glsl"
 layout(std430, binding = SSBO_TOUCHED) buffer TouchedVoxels { uint touched_count; uint touched[]; };
 
 void main() {

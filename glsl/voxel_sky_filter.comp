@@ -11,7 +11,7 @@
 layout(local_size_x = LIST_GROUP) in;
 layout(binding = TEX_VOXEL_SKY_TRACED) uniform sampler3D sky_traced;  // a = 1 where traced or interpolated
 layout(binding = IMG_SKY_LIGHT_OUT, rgba16f) uniform writeonly image3D sky_light_out;
-layout(std430, binding = SSBO_COVERED) readonly buffer CoveredVoxels { uint covered_count; uint covered[]; };
+#include "lib/covered_voxels.glsl"
 
 void main() {
     if (gl_GlobalInvocationID.x >= covered_count) return;

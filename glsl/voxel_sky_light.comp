@@ -16,9 +16,7 @@
 
 layout(local_size_x = LIST_GROUP) in;
 layout(binding = IMG_SKY_LIGHT_OUT, rgba16f) uniform writeonly image3D sky_light_out;
-layout(std430, binding = SSBO_VOXEL_LIST) readonly buffer VoxelList { uint voxel_list[]; };
-uniform uint first;  // the segment of the list to light
-uniform uint count;
+#include "lib/voxel_list.glsl"
 
 // The voxel's own offsets of its cones in [0, 1)^2: a hash of its coordinates.
 vec2 cone_jitter(ivec3 v) {

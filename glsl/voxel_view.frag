@@ -6,9 +6,6 @@
 #include "lib/voxel.glsl"
 #include "lib/camera.glsl"
 
-#define SHOW_RADIANCE 0
-#define SHOW_NORMAL 1
-#define SHOW_ALBEDO 2
 layout(binding = TEX_VOXEL_INSPECT) uniform sampler3D volume;
 uniform int show;
 uniform float mip;

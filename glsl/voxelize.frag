@@ -21,9 +21,6 @@
 #include "lib/material.glsl"
 #include "lib/brdf.glsl"
 
-#define VOXELIZE_MARK 0
-#define VOXELIZE_FRONT 1
-#define VOXELIZE_ADD 2
 #define LAYER_TOLERANCE 0.125  // voxels
 
 in vec3 gs_position;

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 import engine
-from engine.constants import diffuse_cones
+from engine.constants import FACING_EXPONENT, MIN_ANCHOR_WEIGHT, diffuse_cones
 from conftest import SCENES, TEST_SCENES, luminance_ratio, rel_mae
 
 
@@ -218,11 +218,11 @@ def test_voxels_between_gather_anchors_take_the_facing_weighted_mean_of_theirs(r
         shift = lambda a: pad(a)[dz:dz + n, dy:dy + n, dx:dx + n]
         tent = np.prod([1.0 - 0.5 * abs(d - 1) for d in (dz, dy, dx)])
         n_u, c_u = shift(normal), shift(coherence)
-        facing = np.maximum(np.sum(unit * n_u, axis=-1) / np.maximum(c_u, 1e-30), 0.0) ** 8 * c_u
+        facing = np.maximum(np.sum(unit * n_u, axis=-1) / np.maximum(c_u, 1e-30), 0.0) ** FACING_EXPONENT * c_u
         weight = np.where(shift(lattice) & (np.sum(unit * n_u, axis=-1) > 0), tent * facing, 0.0)
         total += weight
         weighted += weight[..., None] * shift(gathered[..., :3])
-    filled = reflects & ~lattice & (total >= 0.2)
+    filled = reflects & ~lattice & (total >= MIN_ANCHOR_WEIGHT)
     assert filled.sum() > 0.6 * reflects.sum()
     expected = weighted[filled] / total[filled][..., None]
     assert np.allclose(gathered[filled][:, :3], expected, rtol=0.01, atol=1e-3)

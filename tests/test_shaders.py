@@ -36,6 +36,36 @@ def test_constants_header_matches_the_python_values():
     assert f"#define DIFFUSE_CONE_COUNT {len(weights)}" in header
 
 
+def test_shared_enums_and_struct_layouts_come_from_the_python_tables():
+    header = constants.glsl_header()
+    for group, names in constants.SHADER_ENUMS.items():
+        for name, value in names.items():
+            assert f"#define {group}_{name.upper()} {value}" in header
+    for name, members in constants.GLSL_STRUCTS.items():
+        assert constants.struct_dtype(name).itemsize == 16 * sum(4 if kind == "mat4" else 1 for kind, _ in members)
+    # No shader defines them again: each lives in engine/constants.py alone.
+    for path in GLSL_ROOT.rglob("*.*"):
+        text = path.read_text()
+        assert not re.search(r"#define (TONEMAP|OUTPUT|VIEW|SHOW|VOXELIZE|MAP)_[A-Z_]+ \d", text), path
+        assert not re.search(r"^struct (Light|ShadowView|EmitterTriangle|EmitterPatch)\b", text, re.M), path
+    covered = [p for p in GLSL_ROOT.rglob("*.*") if "buffer CoveredVoxels" in p.read_text()]
+    assert [p.name for p in covered] == ["covered_voxels.glsl"]
+
+
+def test_a_program_that_binds_two_resources_to_one_unit_is_refused_naming_both(glsl_copy):
+    shader = glsl_copy / "voxel_keep.comp"
+    lines = shader.read_text().splitlines()
+    at = next(i for i, line in enumerate(lines) if "IMG_BASE_OUT" in line)
+    lines.insert(at + 1, "layout(binding = IMG_TOUCHED_FACES_OUT, rgba16f) uniform writeonly image3D also_out;")
+    shader.write_text("\n".join(lines) + "\n")
+    assert constants.IMAGE_UNIT["TOUCHED_FACES_OUT"] == constants.IMAGE_UNIT["BASE_OUT"]
+    with pytest.raises(engine.ShaderError) as error:
+        engine.Renderer(16, 16, glsl_root=glsl_copy)
+    message = str(error.value)
+    assert message.startswith(f"glsl/voxel_keep.comp:{at + 2}: error: IMG_TOUCHED_FACES_OUT"), message
+    assert f"IMG_BASE_OUT is (glsl/voxel_keep.comp:{at + 1})" in message
+
+
 def test_compile_error_names_the_included_file_and_line(glsl_copy):
     lib = glsl_copy / "lib" / "brdf.glsl"
     lines = lib.read_text().splitlines()

@@ -7,6 +7,7 @@ import engine
 from conftest import SCENES, rel_mae
 from engine.bench import settle
 from engine.bounces import ClassRounds
+from engine.constants import VOXEL_PACK_BITS
 
 SCREEN_PASSES = ["gbuffer", "lighting", "cone_trace"]
 BOUNCE_PASSES = {"gather", "faces", "mipmap"}
@@ -23,7 +24,8 @@ def settle_viewer(renderer, scene):
 def list_voxels(voxel_list):
     """The x, y and z coordinates of a VoxelList's entries (they follow its count)."""
     entries = np.frombuffer(voxel_list.buffer.read(4 * (1 + voxel_list.count)), dtype="u4")[1:]
-    return entries & 1023, (entries >> 10) & 1023, entries >> 20
+    mask = (1 << VOXEL_PACK_BITS) - 1
+    return entries & mask, (entries >> VOXEL_PACK_BITS) & mask, entries >> (2 * VOXEL_PACK_BITS)
 
 
 def edits():

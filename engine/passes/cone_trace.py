@@ -8,10 +8,9 @@ anchors and unshared cones first, then the pixels between anchors, then those of
 anchor stood for."""
 import numpy as np
 
-from ..constants import GL_IMAGE_FORMAT, IMAGE_UNIT, STORAGE_BINDING, TEXTURE_UNIT
+from ..constants import GL_IMAGE_FORMAT, IMAGE_UNIT, SHADER_ENUMS, STORAGE_BINDING, TEXTURE_UNIT
 from .target import ScreenTarget
 
-OUTPUT_KIND = {"radiance": 0, "ao": 1}
 
 
 class ConeTracePass:
@@ -53,7 +52,7 @@ class ConeTracePass:
         grid.use_faces()
         gathered.use(TEXTURE_UNIT["VOXEL_GATHERED"])
         direct.texture.use(TEXTURE_UNIT["DIRECT_LIGHT"])
-        program.set(**grid.uniforms(), **cone_uniforms, output_kind=OUTPUT_KIND["ao" if terms.ao else "radiance"], include_direct=terms.direct,
+        program.set(**grid.uniforms(), **cone_uniforms, output_kind=SHADER_ENUMS["OUTPUT"]["ao" if terms.ao else "radiance"], include_direct=terms.direct,
                          include_diffuse=terms.diffuse, include_specular=terms.specular, ao_distance=float(ao_distance),
                          pixel_angle=float(camera.pixel_angle), **camera.uniforms())
         for pixel_list in (self.cone_pixels, self.shared_pixels, self.unshared_pixels):

@@ -1,7 +1,6 @@
 """G-buffer inspection views: albedo, normals (encoded 0.5 n + 0.5), depth / far plane."""
+from ..constants import SHADER_ENUMS
 from .target import ScreenTarget
-
-VIEWS = {"albedo": 0, "normal": 1, "depth": 2}
 
 
 class GBufferViewPass:
@@ -14,7 +13,7 @@ class GBufferViewPass:
 
     def render(self, gbuffer, view, camera):
         gbuffer.use()
-        self.program.set(**camera.uniforms(), view=VIEWS[view], far_plane=float(camera.far))
+        self.program.set(**camera.uniforms(), view=SHADER_ENUMS["VIEW"][view], far_plane=float(camera.far))
         self.target.draw(self.program)
         return self.target
 

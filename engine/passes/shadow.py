@@ -7,7 +7,7 @@ import math
 import numpy as np
 
 from .. import transforms
-from ..constants import LIGHT_TYPE, MAX_LIGHTS, MAX_SHADOW_VIEWS, TEXTURE_UNIT, UNIFORM_BLOCK
+from ..constants import LIGHT_TYPE, MAX_LIGHTS, MAX_SHADOW_VIEWS, TEXTURE_UNIT, UNIFORM_BLOCK, struct_dtype
 from ..errors import VctError
 
 CUBE_FACES = (  # (direction, up) in the order of cube_face() in glsl/lib/lights.glsl
@@ -28,8 +28,8 @@ class ShadowMaps:
         self.tile_size = tile_size
         self.atlas = self.framebuffer = None
         self.columns = 1
-        self.light_buffer = ctx.buffer(reserve=64 * MAX_LIGHTS)  # std140 layouts of glsl/lib/lights.glsl
-        self.view_buffer = ctx.buffer(reserve=96 * MAX_SHADOW_VIEWS)
+        self.light_buffer = ctx.buffer(reserve=struct_dtype("Light").itemsize * MAX_LIGHTS)
+        self.view_buffer = ctx.buffer(reserve=struct_dtype("ShadowView").itemsize * MAX_SHADOW_VIEWS)
         self.light_count = 0
 
     def ensure_atlas(self, tiles):
@@ -123,15 +123,12 @@ class ShadowPass:
                 views += light_views
                 owners += [index] * len(light_views)
             range_ = light.range if light.type != "directional" else 0.0
-            light_rows.append(np.concatenate([
-                light.position, [LIGHT_TYPE[light.type]],
-                light.direction, [range_],
-                light.intensity, [first],
-                [math.cos(math.radians(light.inner_angle_deg)), math.cos(math.radians(light.outer_angle_deg)), 0.0, 0.0],
-            ]))
+            light_rows.append(([*light.position, LIGHT_TYPE[light.type]], [*light.direction, range_],
+                               [*light.intensity, first],
+                               [math.cos(math.radians(light.inner_angle_deg)), math.cos(math.radians(light.outer_angle_deg)), 0.0, 0.0]))
         maps.light_count = len(lights)
         if light_rows:
-            maps.light_buffer.write(np.array(light_rows, "f4").tobytes())
+            maps.light_buffer.write(np.array(light_rows, struct_dtype("Light")).tobytes())
         if maps.ensure_atlas(len(views)):
             redraw = None
         cut_out = [draw for draw in draws if draw.material.alpha_tested]
@@ -150,13 +147,10 @@ class ShadowPass:
                     program.set(view_projection=transforms.gl_bytes(view_projection))
                     self.geometry.draw(program, subset, materials=program is self.cut_out_program,
                                        view_projection=view_projection)
-            rows.append(np.concatenate([
-                np.asarray(view_projection, "f4").T.ravel(),
-                [x / atlas_w, y / atlas_h, tile / atlas_w, tile / atlas_h],
-                [texel_world, 1.0 / tile, 0.0, 0.0],
-            ]))
+            rows.append((np.asarray(view_projection).T.ravel(), [x / atlas_w, y / atlas_h, tile / atlas_w, tile / atlas_h],
+                         [texel_world, 1.0 / tile, 0.0, 0.0]))
         if rows:
-            maps.view_buffer.write(np.array(rows, "f4").tobytes())
+            maps.view_buffer.write(np.array(rows, struct_dtype("ShadowView")).tobytes())
         return maps
 
     def release(self):

@@ -1,8 +1,6 @@
 """Tone mapping: exposure, a tone curve and sRGB encoding into an 8-bit target."""
-from ..constants import TEXTURE_UNIT
+from ..constants import SHADER_ENUMS, TEXTURE_UNIT
 from .target import ScreenTarget
-
-TONEMAPPERS = {"none": 0, "reinhard": 1, "aces": 2}
 
 
 class TonemapPass:
@@ -15,7 +13,7 @@ class TonemapPass:
 
     def render(self, hdr_texture, exposure, tonemap, encode_srgb=True):
         hdr_texture.use(TEXTURE_UNIT["HDR_INPUT"])
-        self.program.set(exposure=float(exposure), tonemap=TONEMAPPERS[tonemap], encode_srgb=bool(encode_srgb))
+        self.program.set(exposure=float(exposure), tonemap=SHADER_ENUMS["TONEMAP"][tonemap], encode_srgb=bool(encode_srgb))
         self.target.draw(self.program)
         return self.target
 

@@ -1,9 +1,11 @@
 """Voxel views: the grid ray-marched from the camera at one mip level, as blocks: the base
 radiance (emission + injected direct light), the mean normals or the albedo."""
-from ..constants import TEXTURE_UNIT
+from ..constants import SHADER_ENUMS, TEXTURE_UNIT
 from .target import ScreenTarget
 
-SHOW = {"voxels": 0, "voxel-normals": 1, "voxel-albedo": 2}
+# What each voxel view shows (voxel_view.frag's SHOW_*).
+SHOW = {"voxels": SHADER_ENUMS["SHOW"]["radiance"], "voxel-normals": SHADER_ENUMS["SHOW"]["normal"],
+        "voxel-albedo": SHADER_ENUMS["SHOW"]["albedo"]}
 
 
 def shown_volume(grid, view):

@@ -11,11 +11,10 @@ Afterwards the covered-voxel list and the covered cells of every mip level are b
 date."""
 import numpy as np
 
-from ..constants import CELL_LIST_LEVELS, IMAGE_UNIT, STORAGE_BINDING, TEXTURE_UNIT
+from ..constants import CELL_LIST_LEVELS, IMAGE_UNIT, SHADER_ENUMS, STORAGE_BINDING, TEXTURE_UNIT
 from ..scene_gpu import vertex_extras
 from ..voxel_grid import bind_image
 
-STAGES = {"MARK": 0, "FRONT": 1, "ADD": 2}  # glsl/voxelize.frag VOXELIZE_*
 
 
 class VoxelizePass:
@@ -44,13 +43,13 @@ class VoxelizePass:
             self.mark_covered.set(**uniforms)
             grid.dispatch(self.mark_covered, grid.covered.count)
             reaching, box = update.added, grid.bounds()
-            self._rasterize(grid, reaching, "FRONT", touched_only=False, box=box)
+            self._rasterize(grid, reaching, "front", touched_only=False, box=box)
         else:
-            self._rasterize(grid, update.removed + update.added, "MARK", touched_only=False, box=grid.bounds())
+            self._rasterize(grid, update.removed + update.added, "mark", touched_only=False, box=grid.bounds())
             box = update.touched_bounds(margin=grid.voxel_size)
             reaching = [d for d in draws if np.all(d.bounds[0] <= box[1]) and np.all(d.bounds[1] >= box[0])]
-            self._rasterize(grid, reaching, "FRONT", touched_only=True, box=box)
-        self._rasterize(grid, reaching, "ADD", touched_only=True, box=box)
+            self._rasterize(grid, reaching, "front", touched_only=True, box=box)
+        self._rasterize(grid, reaching, "add", touched_only=True, box=box)
         self._resolve_and_relist(grid)
 
     def _rasterize(self, grid, draws, stage, touched_only, box):
@@ -61,7 +60,7 @@ class VoxelizePass:
         for extras, program in self.programs.items():
             subset = [draw for draw in draws if vertex_extras(draw) == extras]
             if subset:
-                program.set(**grid.uniforms(), stage=STAGES[stage], touched_only=touched_only)
+                program.set(**grid.uniforms(), stage=SHADER_ENUMS["VOXELIZE"][stage], touched_only=touched_only)
                 self.geometry.draw(program, subset, materials=True, box=box)
         self.ctx.memory_barrier(self.ctx.SHADER_STORAGE_BARRIER_BIT | self.ctx.SHADER_IMAGE_ACCESS_BARRIER_BIT)
 

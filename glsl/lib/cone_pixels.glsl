@@ -6,9 +6,6 @@
 // of a group all trace, or all interpolate.
 #include "engine_constants.glsl"
 
-#define PIXEL_DIFFUSE_CONES 1u
-#define PIXEL_SPECULAR_CONE 2u
-
 layout(std430, binding = SSBO_CONE_PIXELS) buffer ConePixels { uvec3 pixel_groups; uint pixel_count; uvec2 pixels[]; };
 layout(std430, binding = SSBO_SHARED_PIXELS) buffer SharedPixels { uvec3 shared_groups; uint shared_count; uvec2 shared_pixels[]; };
 // Per anchor: sum_j w_j Lv(p, w_j) of the diffuse cones it traced, a = 1 (a = 0: it traced none).

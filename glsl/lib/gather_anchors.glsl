@@ -13,8 +13,6 @@
 #include "lib/voxel_surface.glsl"
 
 layout(std430, binding = SSBO_GATHER_ANCHORS) buffer GatherAnchors { uint gather_anchors[]; };
-#define ANCHOR_SELF (1u << 26)
-#define ANCHOR_STALE (1u << 27)
 
 // Voxels whose surface reflects no light gather nothing (v, with its mean normal n).
 bool reflects_light(ivec3 v, vec3 n) {
@@ -60,6 +58,3 @@ float anchor_weight(ivec3 v, vec3 n, ivec3 u, vec3 n_u) {
     float tent = (1.0 - 0.5 * d.x) * (1.0 - 0.5 * d.y) * (1.0 - 0.5 * d.z);
     return tent * facing_weight(n, n_u);
 }
-
-// Below this total anchor weight a voxel traces its own gather.
-#define MIN_ANCHOR_WEIGHT 0.2

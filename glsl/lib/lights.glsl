@@ -1,19 +1,7 @@
 // Punctual lights and their shadow maps, shared by the lighting pass and voxel injection.
 #include "engine_constants.glsl"
 
-struct Light {
-    vec4 position_type;    // xyz: world position, w: LIGHT_POINT | LIGHT_SPOT | LIGHT_DIRECTIONAL
-    vec4 direction_range;  // xyz: direction the light travels, w: range (0 = no cut-off)
-    vec4 intensity_shadow; // rgb: W/sr (point, spot) or W/m^2 (directional), w: first shadow view or -1
-    vec4 spot_cosines;     // x: cos(inner angle), y: cos(outer angle)
-};
-
-struct ShadowView {
-    mat4 view_projection;
-    vec4 atlas_rect;       // xy: tile origin in atlas uv, zw: tile size in atlas uv
-    vec4 texel;            // x: world size of one texel per unit of clip w, y: texel size in tile uv
-};
-
+// The structs Light and ShadowView are engine/constants.py's GLSL_STRUCTS.
 layout(std140, binding = UBO_LIGHTS) uniform LightBuffer { Light lights[MAX_LIGHTS]; };
 layout(std140, binding = UBO_SHADOW_VIEWS) uniform ShadowBuffer { ShadowView shadow_views[MAX_SHADOW_VIEWS]; };
 layout(binding = TEX_SHADOW_ATLAS) uniform sampler2DShadow shadow_atlas;

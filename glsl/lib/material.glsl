@@ -20,12 +20,8 @@ uniform float dielectric_f0;
 uniform vec3 emission;
 uniform float normal_scale;
 uniform float alpha_cutoff;  // cut out where alpha < alpha_cutoff; negative: opaque
-uniform mat3 uv_transforms[4];  // per map (MAP_*): (u, v, 1) -> its coordinates
+uniform mat3 uv_transforms[4];  // per map (MAP_*, engine/constants.py): (u, v, 1) -> its coordinates
 uniform ivec4 uv_sets;          // per map: texture coordinate set 0 or 1
-#define MAP_BASE_COLOR 0
-#define MAP_METAL_ROUGH 1
-#define MAP_EMISSIVE 2
-#define MAP_NORMAL 3
 
 // The texture coordinates map `map` reads, from the surface's two sets.
 vec2 map_uv(int map, vec2 uv0, vec2 uv1) {

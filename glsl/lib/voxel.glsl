@@ -50,9 +50,8 @@ int facing_face(vec3 n) {
 }
 
 // How much a voxel's values (its gather, the emitters' light at it) stand for those at a
-// surface with unit normal n: max(0, n . n_v / |n_v|)^8 times the coherence |n_v| of its mean
-// normal n_v (nonzero), so voxels of mixed surfaces count less.
-#define FACING_EXPONENT 8.0
+// surface with unit normal n: max(0, n . n_v / |n_v|)^FACING_EXPONENT times the coherence |n_v|
+// of its mean normal n_v (nonzero), so voxels of mixed surfaces count less.
 float facing_weight(vec3 n, vec3 n_v) {
     float coherence = length(n_v);
     return pow(max(dot(n, n_v) / coherence, 0.0), FACING_EXPONENT) * coherence;
@@ -71,11 +70,12 @@ float face_coverage(vec3 mean_normal, int face) {
     return coherence * projected + (1.0 - coherence);
 }
 
-// Voxel coordinates packed into one uint for the voxel lists (N <= 1024).
+// Voxel coordinates packed into one uint for the voxel lists (N <= 2^VOXEL_PACK_BITS).
 uint pack_voxel(ivec3 v) {
-    return uint(v.x) | (uint(v.y) << 10) | (uint(v.z) << 20);
+    return uint(v.x) | (uint(v.y) << VOXEL_PACK_BITS) | (uint(v.z) << (2 * VOXEL_PACK_BITS));
 }
 
 ivec3 unpack_voxel(uint bits) {
-    return ivec3(bits & 1023u, (bits >> 10) & 1023u, bits >> 20);
+    uint mask = (1u << VOXEL_PACK_BITS) - 1u;
+    return ivec3(bits & mask, (bits >> VOXEL_PACK_BITS) & mask, bits >> (2 * VOXEL_PACK_BITS));
 }

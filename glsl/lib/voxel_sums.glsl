@@ -5,7 +5,4 @@
 // update touched.
 #include "engine_constants.glsl"
 
-#define TOUCHED_FLAG 0x80000000u
-#define COUNT_MASK 0x7fffffffu
-
 layout(std430, binding = SSBO_VOXEL_SUMS) buffer VoxelSum { uint value[]; } voxel_sums[VOXEL_SUM_CHANNELS];
