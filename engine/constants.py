@@ -211,8 +211,8 @@ SPECULAR_CONE_MIN_DIAMETER = 4.0
 # The sky's light at a voxel: SKY_CONE_COUNT cones over its hemisphere, uniform in solid angle
 # (z = 1 - (j + u) / count, the golden angle apart in azimuth and turned by u'), each of the
 # solid angle 2 pi / count, weighted by its cosine; u and u' are the voxel's own (a hash of its
-# coordinates, glsl/voxel_sky_light.comp), so neighbouring voxels sample the sky between each
-# other's cones, and SKY_FILTER_RADIUS averages them (glsl/voxel_sky_filter.comp).
+# coordinates, glsl/sky_light/trace_sky_cones.comp), so neighbouring voxels sample the sky between each
+# other's cones, and SKY_FILTER_RADIUS averages them (glsl/sky_light/filter_sky_light.comp).
 SKY_CONE_COUNT = 32
 SKY_CONE_HALF_ANGLE = math.acos(1.0 - 1.0 / SKY_CONE_COUNT)
 SKY_FILTER_RADIUS = 3
@@ -220,18 +220,18 @@ SKY_FILTER_RADIUS = 3
 # cone's diameter, 2^-1.75) and step by those: a surface beside the cone (a wall along a cone that
 # leaves through an opening) stays out of its lookups until the cone itself reaches it, where at
 # the footprint's own level the lookups take it in long before. (Measured against path-traced
-# skies through a ceiling opening and an open ceiling: README, "Sky cones read finer".)
+# skies through a ceiling opening and an open ceiling: docs/DESIGN.md, "Sky cones read finer".)
 SKY_CONE_LEVEL_OFFSET = 1.75
 
 
 # Enumerations the host sets as uniforms and the shaders switch on, by name: GROUP_NAME in GLSL
 # (TONEMAP_ACES), SHADER_ENUMS["TONEMAP"]["aces"] on the host.
 SHADER_ENUMS = {
-    "TONEMAP": {"none": 0, "reinhard": 1, "aces": 2},        # tonemap.frag: the tone curve
-    "OUTPUT": {"radiance": 0, "ao": 1},                       # cone_trace.frag: what the image holds
-    "VIEW": {"albedo": 0, "normal": 1, "depth": 2},           # gbuffer_view.frag: the G-buffer view
-    "SHOW": {"radiance": 0, "normal": 1, "albedo": 2},        # voxel_view.frag: the voxel volume shown
-    "VOXELIZE": {"mark": 0, "front": 1, "add": 2},            # voxelize.frag: the stage of a voxelization
+    "TONEMAP": {"none": 0, "reinhard": 1, "aces": 2},        # tonemap/tone_map.frag: the tone curve
+    "OUTPUT": {"radiance": 0, "ao": 1},                       # cone_trace/shade_pixels.frag: what the image holds
+    "VIEW": {"albedo": 0, "normal": 1, "depth": 2},           # gbuffer_view/show_gbuffer.frag: the G-buffer view
+    "SHOW": {"radiance": 0, "normal": 1, "albedo": 2},        # voxel_view/march_voxels.frag: the voxel volume shown
+    "VOXELIZE": {"mark": 0, "front": 1, "add": 2},            # voxelize/rasterize.frag: the stage of a voxelization
     "MAP": {"base_color": 0, "metal_rough": 1, "emissive": 2, "normal": 3},  # lib/material.glsl: a texture's
 }                                                              # index in its per-map arrays (scene_gpu order)
 

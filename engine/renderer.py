@@ -151,7 +151,7 @@ class Renderer:
         self.cone_trace = self._add(ConeTracePass(self.ctx, self.programs, self.size))
         self.voxel_view = self._add(VoxelViewPass(self.ctx, self.programs, self.size))
         self.tonemap = self._add(TonemapPass(self.ctx, self.programs, self.size))
-        self.readback = self.programs.compute("voxel_readback.comp")
+        self.readback = self.programs.compute("voxel_grid/read_level.comp")
 
     @staticmethod
     @contextmanager

@@ -208,7 +208,7 @@ class ProgramHandle:
 
     def __init__(self, library, stages, defines):
         self.library = library
-        self.stages = stages  # {'vertex_shader': 'gbuffer.vert', ...} or {'compute_shader': ...}
+        self.stages = stages  # {'vertex_shader': 'gbuffer/draw_surfaces.vert', ...} or {'compute_shader': ...}
         self.defines = dict(defines or {})
         self.program = None
         self.error = None

@@ -432,7 +432,7 @@ def test_radiance_with_nan_or_infinity_is_never_written(tmp_path, out_dir):
     written, and the files that were there stay as they were."""
     glsl = tmp_path / "glsl"
     shutil.copytree(ROOT / "glsl", glsl)
-    lighting = glsl / "lighting.frag"
+    lighting = glsl / "lighting/shade_lights.frag"
     lighting.write_text(lighting.read_text().replace("out_radiance = vec4(radiance, 1.0);",
                                                      "out_radiance = vec4(radiance * 1e30 * 1e30, 1.0);"))
     png, npy = out_dir / "x.png", out_dir / "x.npy"

@@ -18,10 +18,10 @@ def glsl_copy(tmp_path):
 
 
 def test_includes_are_expanded_once_with_line_directives():
-    source = preprocess("lighting.frag")
+    source = preprocess("lighting/shade_lights.frag")
     assert "#include" not in source.text
     assert source.text.startswith("#version 450")
-    assert source.files[0] == "glsl/lighting.frag"
+    assert source.files[0] == "glsl/lighting/shade_lights.frag"
     assert "glsl/lib/lights.glsl" in source.files and "engine/constants.py" in source.files
     # engine_constants.glsl is pulled in by several libraries but expanded once.
     assert source.text.count("#define MAX_LIGHTS") == 1
@@ -53,7 +53,7 @@ def test_shared_enums_and_struct_layouts_come_from_the_python_tables():
 
 
 def test_a_program_that_binds_two_resources_to_one_unit_is_refused_naming_both(glsl_copy):
-    shader = glsl_copy / "voxel_keep.comp"
+    shader = glsl_copy / "voxelize/rebuild_covered_list.comp"
     lines = shader.read_text().splitlines()
     at = next(i for i, line in enumerate(lines) if "IMG_BASE_OUT" in line)
     lines.insert(at + 1, "layout(binding = IMG_TOUCHED_FACES_OUT, rgba16f) uniform writeonly image3D also_out;")
@@ -62,8 +62,8 @@ def test_a_program_that_binds_two_resources_to_one_unit_is_refused_naming_both(g
     with pytest.raises(engine.ShaderError) as error:
         engine.Renderer(16, 16, glsl_root=glsl_copy)
     message = str(error.value)
-    assert message.startswith(f"glsl/voxel_keep.comp:{at + 2}: error: IMG_TOUCHED_FACES_OUT"), message
-    assert f"IMG_BASE_OUT is (glsl/voxel_keep.comp:{at + 1})" in message
+    assert message.startswith(f"glsl/voxelize/rebuild_covered_list.comp:{at + 2}: error: IMG_TOUCHED_FACES_OUT"), message
+    assert f"IMG_BASE_OUT is (glsl/voxelize/rebuild_covered_list.comp:{at + 1})" in message
 
 
 def test_compile_error_names_the_included_file_and_line(glsl_copy):
@@ -83,14 +83,14 @@ def test_hot_reload_keeps_the_last_good_program_and_recovers(glsl_copy):
     scene = engine.load_scene(GLSL_ROOT.parent / "scenes" / "cornell_box.json")
     with engine.Renderer(32, 32, glsl_root=glsl_copy) as r:
         before = r.render(scene, mode="direct")
-        tonemap = glsl_copy / "lighting.frag"
+        tonemap = glsl_copy / "lighting/shade_lights.frag"
         good = tonemap.read_text()
         broken = good.replace("out_radiance = vec4(radiance, 1.0);", "out_radiance = vec4(radiance, 1.0) oops;")
         tonemap.write_text(broken)
         rebuilt, errors = r.reload_shaders()
         assert rebuilt == 0 and len(errors) == 1
         line = broken.splitlines().index(next(l for l in broken.splitlines() if "oops" in l)) + 1
-        assert str(errors[0]).startswith(f"glsl/lighting.frag:{line}:")
+        assert str(errors[0]).startswith(f"glsl/lighting/shade_lights.frag:{line}:")
         assert (r.render(scene, mode="direct") == before).all(), "the last good program keeps rendering"
         tonemap.write_text(good.replace("out_radiance = vec4(radiance, 1.0);", "out_radiance = vec4(2.0 * radiance, 1.0);"))
         rebuilt, errors = r.reload_shaders()
@@ -106,7 +106,7 @@ def test_a_reloaded_voxel_shader_shows_on_the_next_frame_without_a_scene_change(
     with engine.Renderer(32, 32, glsl_root=glsl_copy) as r:
         r.track_changes = True
         before = r.render(scene, mode="indirect", grid=16, bounces=1)
-        inject = glsl_copy / "voxel_inject.comp"
+        inject = glsl_copy / "inject/inject_direct_light.comp"
         text = inject.read_text()
         assert text.count("s.albedo / PI * irradiance") == 1
         inject.write_text(text.replace("s.albedo / PI * irradiance", "2.0 * s.albedo / PI * irradiance"))
@@ -144,8 +144,8 @@ def test_hot_reload_reports_a_deleted_library_at_each_include_and_recovers(glsl_
         rebuilt, errors = r.reload_shaders()
         assert rebuilt == 0 and len(errors) == len(users) >= 2
         assert len(_include_errors(r.programs.errors(), "lib/brdf.glsl")) == len(users)
-        line = 1 + (glsl_copy / "lighting.frag").read_text().splitlines().index('#include "lib/brdf.glsl"')
-        assert f'glsl/lighting.frag:{line}: error: #include "lib/brdf.glsl": no such file' in map(str, errors)
+        line = 1 + (glsl_copy / "lighting/shade_lights.frag").read_text().splitlines().index('#include "lib/brdf.glsl"')
+        assert f'glsl/lighting/shade_lights.frag:{line}: error: #include "lib/brdf.glsl": no such file' in map(str, errors)
         assert (r.render(scene, mode="direct") == before).all(), "the last good programs keep rendering"
         assert r.reload_shaders() == (0, []), "an unchanged missing file is not rebuilt again"
         brdf.write_text(text)
@@ -155,13 +155,13 @@ def test_hot_reload_reports_a_deleted_library_at_each_include_and_recovers(glsl_
 
 def test_hot_reload_reports_an_include_of_a_file_that_does_not_exist_until_it_is_created(glsl_copy):
     with engine.Renderer(16, 16, glsl_root=glsl_copy) as r:
-        lighting = glsl_copy / "lighting.frag"
+        lighting = glsl_copy / "lighting/shade_lights.frag"
         lines = lighting.read_text().splitlines()
         lines.insert(2, '#include "lib/nowhere.glsl"')
         lighting.write_text("\n".join(lines) + "\n")
         rebuilt, errors = r.reload_shaders()
         assert rebuilt == 0
-        assert [str(e) for e in errors] == ['glsl/lighting.frag:3: error: #include "lib/nowhere.glsl": no such file']
+        assert [str(e) for e in errors] == ['glsl/lighting/shade_lights.frag:3: error: #include "lib/nowhere.glsl": no such file']
         assert [str(e) for e in r.programs.errors()] == [str(errors[0])]
         (glsl_copy / "lib" / "nowhere.glsl").write_text("// now it exists\n")
         rebuilt, errors = r.reload_shaders()
@@ -170,12 +170,12 @@ def test_hot_reload_reports_an_include_of_a_file_that_does_not_exist_until_it_is
 
 def test_hot_reload_reports_a_deleted_stage_file_and_recovers(glsl_copy):
     with engine.Renderer(16, 16, glsl_root=glsl_copy) as r:
-        tonemap = glsl_copy / "tonemap.frag"
+        tonemap = glsl_copy / "tonemap/tone_map.frag"
         text = tonemap.read_text()
         tonemap.unlink()
         rebuilt, errors = r.reload_shaders()
-        assert rebuilt == 0 and [str(e) for e in errors] == ["glsl/tonemap.frag: error: no such file"]
-        assert [str(e) for e in r.programs.errors()] == ["glsl/tonemap.frag: error: no such file"]
+        assert rebuilt == 0 and [str(e) for e in errors] == ["glsl/tonemap/tone_map.frag: error: no such file"]
+        assert [str(e) for e in r.programs.errors()] == ["glsl/tonemap/tone_map.frag: error: no such file"]
         tonemap.write_text(text)
         rebuilt, errors = r.reload_shaders()
         assert rebuilt == 1 and errors == [] and r.programs.errors() == []

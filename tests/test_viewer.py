@@ -592,13 +592,13 @@ def test_shader_watcher_shows_a_deleted_shader_file_like_a_compile_error_and_cle
     shutil.copytree(ROOT / "glsl", glsl)
     brdf = glsl / "lib" / "brdf.glsl"
     text = brdf.read_text()
-    line = 1 + (glsl / "lighting.frag").read_text().splitlines().index('#include "lib/brdf.glsl"')
+    line = 1 + (glsl / "lighting/shade_lights.frag").read_text().splitlines().index('#include "lib/brdf.glsl"')
     out = io.StringIO()
     with engine.Renderer(16, 16, glsl_root=glsl) as renderer:
         watcher = ShaderWatcher(renderer, stream=out)
         brdf.unlink()
         errors = watcher.poll(force=True)
-        assert f'glsl/lighting.frag:{line}: error: #include "lib/brdf.glsl": no such file' in errors
+        assert f'glsl/lighting/shade_lights.frag:{line}: error: #include "lib/brdf.glsl": no such file' in errors
         assert all(e.endswith('error: #include "lib/brdf.glsl": no such file') for e in errors), errors
         assert out.getvalue().count("no such file") == len(errors)
         brdf.write_text(text)

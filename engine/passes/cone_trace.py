@@ -19,10 +19,10 @@ class ConeTracePass:
         # The image's programs, by whether surfaces emit (EMITTERS) and whether the scene has an
         # environment (SKY).
         self.programs = {(lit, sky): programs.program({name: 1 for name, on in (("EMITTERS", lit), ("SKY", sky)) if on} or None,
-                                                      vertex_shader="fullscreen.vert", fragment_shader="cone_trace.frag")
+                                                      vertex_shader="lib/fullscreen.vert", fragment_shader="cone_trace/shade_pixels.frag")
                          for lit in (False, True) for sky in (False, True)}
-        self.pixels_program = programs.compute("cone_pixels.comp")
-        self.shared_program = programs.compute("cone_shared.comp")
+        self.pixels_program = programs.compute("cone_trace/trace_listed_pixels.comp")
+        self.shared_program = programs.compute("cone_trace/share_anchor_cones.comp")
         self.target = ScreenTarget(ctx, size)
         self.cone_pixels = self.shared_pixels = self.unshared_pixels = self.specular_in = self.diffuse_in = None
         self.resize(size)

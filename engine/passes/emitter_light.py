@@ -9,7 +9,7 @@ from ..voxel_grid import bind_image
 
 class EmitterLightPass:
     def __init__(self, ctx, programs):
-        self.program = programs.compute("voxel_emitter_light.comp")
+        self.program = programs.compute("emitter_light/light_voxels.comp")
 
     def run(self, grid, emitters, cone_uniforms, segment):
         """`emitters`: scene_gpu.EmitterBuffers; `segment`: a VoxelSegment of the class list.

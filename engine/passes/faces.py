@@ -9,9 +9,9 @@ from ..constants import CELL_LIST_LEVELS, STORAGE_BINDING, TEXTURE_UNIT, VOXEL_F
 class FaceViewsPass:
     def __init__(self, ctx, programs):
         self.ctx = ctx
-        self.compose_program = programs.compute("voxel_compose.comp")
-        self.mipmap_program = programs.compute("voxel_mipmap.comp")
-        self.totals_program = programs.compute("voxel_totals.comp")
+        self.compose_program = programs.compute("faces/compose_face_views.comp")
+        self.mipmap_program = programs.compute("faces/mipmap_face_views.comp")
+        self.totals_program = programs.compute("faces/sum_face_views.comp")
         self.totals_buffer = ctx.buffer(reserve=16 * VOXEL_FACES)
 
     def compose(self, grid, gathered, segment):

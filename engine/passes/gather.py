@@ -15,13 +15,13 @@ from ..voxel_grid import bind_image
 class GatherPass:
     def __init__(self, ctx, programs):
         self.ctx = ctx
-        self.program = programs.compute("voxel_gather.comp")
-        self.anchors_stale = programs.compute("voxel_anchors_stale.comp")
-        self.anchors = programs.compute("voxel_anchors.comp")
-        self.classes = programs.compute("voxel_classes.comp")
-        self.class_cells = programs.compute("voxel_class_cells.comp")
-        self.fill_program = programs.compute("voxel_fill.comp")
-        self.extrapolate_program = programs.compute("voxel_extrapolate.comp")
+        self.program = programs.compute("gather/trace_anchor_cones.comp")
+        self.anchors_stale = programs.compute("gather/mark_stale_anchors.comp")
+        self.anchors = programs.compute("gather/find_anchors.comp")
+        self.classes = programs.compute("gather/sort_classes.comp")
+        self.class_cells = programs.compute("gather/sort_class_cells.comp")
+        self.fill_program = programs.compute("gather/interpolate_from_anchors.comp")
+        self.extrapolate_program = programs.compute("gather/close_bounce_series.comp")
 
     def sort_classes(self, grid, interleave):
         """Sort the covered voxels into `interleave` classes, each its anchors then the others,

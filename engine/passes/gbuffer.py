@@ -38,7 +38,7 @@ class GBufferPass:
         # vertex colours, a second texture coordinate set or texture transforms (else none).
         self.programs = {(mapped, extras): programs.program(
             {name: 1 for name, wanted in (("NORMAL_MAP", mapped), ("VERTEX_EXTRAS", extras)) if wanted},
-            vertex_shader="gbuffer.vert", fragment_shader="gbuffer.frag")
+            vertex_shader="gbuffer/draw_surfaces.vert", fragment_shader="gbuffer/draw_surfaces.frag")
             for mapped in (False, True) for extras in (False, True)}
         self.target = GBuffer(ctx, size)
 

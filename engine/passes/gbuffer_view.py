@@ -5,7 +5,7 @@ from .target import ScreenTarget
 
 class GBufferViewPass:
     def __init__(self, ctx, programs, size):
-        self.program = programs.program(vertex_shader="fullscreen.vert", fragment_shader="gbuffer_view.frag")
+        self.program = programs.program(vertex_shader="lib/fullscreen.vert", fragment_shader="gbuffer_view/show_gbuffer.frag")
         self.target = ScreenTarget(ctx, size)
 
     def resize(self, size):

@@ -8,7 +8,7 @@ from ..voxel_grid import bind_image
 
 class InjectPass:
     def __init__(self, ctx, programs):
-        self.program = programs.compute("voxel_inject.comp")
+        self.program = programs.compute("inject/inject_direct_light.comp")
 
     def run(self, grid, shadow_maps, segment):
         """Writes grid.base for the voxels of `segment` (a VoxelSegment)."""

@@ -5,7 +5,7 @@ from .target import ScreenTarget
 
 class LightingPass:
     def __init__(self, ctx, programs, size):
-        self.program = programs.program(vertex_shader="fullscreen.vert", fragment_shader="lighting.frag")
+        self.program = programs.program(vertex_shader="lib/fullscreen.vert", fragment_shader="lighting/shade_lights.frag")
         self.target = ScreenTarget(ctx, size)
 
     def resize(self, size):

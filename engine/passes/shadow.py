@@ -76,11 +76,11 @@ class ShadowPass:
         self.ctx = ctx
         self.geometry = geometry
         # Opaque materials are drawn depth only (no fragment shader: llvmpipe tests depth
-        # before shading); alpha-tested ones through shadow.frag, which cuts them out.
-        self.depth_program = programs.program(vertex_shader="shadow.vert")
-        # Cut-outs read their texture through its transform and set (VERTEX_EXTRAS): shadow.vert
+        # before shading); alpha-tested ones through shadow/cut_out.frag, which cuts them out.
+        self.depth_program = programs.program(vertex_shader="shadow/draw_depth.vert")
+        # Cut-outs read their texture through its transform and set (VERTEX_EXTRAS): shadow/draw_depth.vert
         # passes both sets on for every draw.
-        self.cut_out_program = programs.program({"VERTEX_EXTRAS": 1}, vertex_shader="shadow.vert", fragment_shader="shadow.frag")
+        self.cut_out_program = programs.program({"VERTEX_EXTRAS": 1}, vertex_shader="shadow/draw_depth.vert", fragment_shader="shadow/cut_out.frag")
         self.maps = ShadowMaps(ctx, tile_size)
 
     def _views(self, light, bounds):

@@ -12,8 +12,8 @@ from ..voxel_grid import bind_image
 
 class SkyLightPass:
     def __init__(self, ctx, programs):
-        self.program = programs.compute("voxel_sky_light.comp")
-        self.filter_program = programs.compute("voxel_sky_filter.comp")
+        self.program = programs.compute("sky_light/trace_sky_cones.comp")
+        self.filter_program = programs.compute("sky_light/filter_sky_light.comp")
 
     def run(self, grid, environment, cone_uniforms, segment):
         """`environment`: scene_gpu.EnvironmentMap; `segment`: a VoxelSegment of the class list

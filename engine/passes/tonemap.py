@@ -5,7 +5,7 @@ from .target import ScreenTarget
 
 class TonemapPass:
     def __init__(self, ctx, programs, size):
-        self.program = programs.program(vertex_shader="fullscreen.vert", fragment_shader="tonemap.frag")
+        self.program = programs.program(vertex_shader="lib/fullscreen.vert", fragment_shader="tonemap/tone_map.frag")
         self.target = ScreenTarget(ctx, size, dtype="f1")
 
     def resize(self, size):

@@ -3,7 +3,7 @@ radiance (emission + injected direct light), the mean normals or the albedo."""
 from ..constants import SHADER_ENUMS, TEXTURE_UNIT
 from .target import ScreenTarget
 
-# What each voxel view shows (voxel_view.frag's SHOW_*).
+# What each voxel view shows (voxel_view/march_voxels.frag's SHOW_*).
 SHOW = {"voxels": SHADER_ENUMS["SHOW"]["radiance"], "voxel-normals": SHADER_ENUMS["SHOW"]["normal"],
         "voxel-albedo": SHADER_ENUMS["SHOW"]["albedo"]}
 
@@ -15,7 +15,7 @@ def shown_volume(grid, view):
 
 class VoxelViewPass:
     def __init__(self, ctx, programs, size):
-        self.program = programs.program(vertex_shader="fullscreen.vert", fragment_shader="voxel_view.frag")
+        self.program = programs.program(vertex_shader="lib/fullscreen.vert", fragment_shader="voxel_view/march_voxels.frag")
         self.target = ScreenTarget(ctx, size)
 
     def resize(self, size):

@@ -1,7 +1,7 @@
 """Voxelization pass: the scene's surfaces into the N^3 grid (geometry-shader dominant-axis
 projection, conservative dilation, fixed-point sums with atomics), resolved into the grid's
 surface volumes: albedo, mean normal, emission and surface offset per voxel. Where surfaces
-facing the same way share a voxel, the front-most one is kept (glsl/voxelize.frag). Light is
+facing the same way share a voxel, the front-most one is kept (glsl/voxelize/rasterize.frag). Light is
 not part of it (passes/inject.py), so a light change never revoxelizes.
 
 An update touches only the voxels of the draws that changed: it flags the voxels those draws
@@ -23,14 +23,14 @@ class VoxelizePass:
         self.geometry = geometry
         # Per whether the draw has vertex colours, a second texture coordinate set or texture
         # transforms (scene_gpu.vertex_extras).
-        self.programs = {extras: programs.program({"VERTEX_EXTRAS": 1} if extras else None, vertex_shader="voxelize.vert",
-                                                  geometry_shader="voxelize.geom", fragment_shader="voxelize.frag")
+        self.programs = {extras: programs.program({"VERTEX_EXTRAS": 1} if extras else None, vertex_shader="voxelize/rasterize.vert",
+                                                  geometry_shader="voxelize/rasterize.geom", fragment_shader="voxelize/rasterize.frag")
                          for extras in (False, True)}
-        self.mark_covered = programs.compute("voxel_mark_covered.comp")
-        self.resolve = programs.compute("voxel_resolve.comp")
-        self.keep = programs.compute("voxel_keep.comp")
-        self.cells = programs.compute("voxel_cells.comp")
-        self.clear_cells = programs.compute("voxel_clear_cells.comp")
+        self.mark_covered = programs.compute("voxelize/mark_covered.comp")
+        self.resolve = programs.compute("voxelize/resolve_sums.comp")
+        self.keep = programs.compute("voxelize/rebuild_covered_list.comp")
+        self.cells = programs.compute("voxelize/list_cells.comp")
+        self.clear_cells = programs.compute("voxelize/clear_cells.comp")
 
     def update(self, grid, update, draws):
         """Apply a changes.VoxelUpdate to the grid; `draws` are all of the frame's draws."""

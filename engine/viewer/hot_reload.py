@@ -3,7 +3,7 @@
 A program whose file (or an included glsl/lib file) changed is rebuilt, and the next frame
 recomputes everything with it (Renderer.reload_shaders); on a compile error,
 or a file that is missing or unreadable, the last good program keeps running and the error,
-with the real file and line (`glsl/lib/brdf.glsl:12: error: ...`, `glsl/lighting.frag:5:
+with the real file and line (`glsl/lib/brdf.glsl:12: error: ...`, `glsl/lighting/shade_lights.frag:5:
 error: #include "lib/brdf.glsl": no such file`), is kept here for the window and printed to
 stderr once per change. Fixing the file clears it. Works the same without a window (tests).
 """

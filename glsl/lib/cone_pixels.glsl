@@ -1,8 +1,8 @@
-// The pixels that need cones, listed by cone_trace.frag in two lists, each with the group count
+// The pixels that need cones, listed by cone_trace/shade_pixels.frag in two lists, each with the group count
 // of its indirect dispatch and its length, and each entry with the cones it needs: the cone
-// pixels (cone_pixels.comp traces their cones: the anchors, even x and y, and the pixels whose
+// pixels (cone_trace/trace_listed_pixels.comp traces their cones: the anchors, even x and y, and the pixels whose
 // specular cone is too narrow to share), then the shared pixels between the anchors
-// (cone_shared.comp takes the light of their cones from the anchors). Apart, so that the lanes
+// (cone_trace/share_anchor_cones.comp takes the light of their cones from the anchors). Apart, so that the lanes
 // of a group all trace, or all interpolate.
 #include "engine_constants.glsl"
 

@@ -1,6 +1,6 @@
 // Direct light from emissive surfaces (engine/emitters.py): exact per triangle by Lambert's
 // polygon formula. Shadowed per patch by a visibility cone through the face views at the
-// voxels (voxel_emitter_light.comp), whose visible fraction the pixels interpolate.
+// voxels (emitter_light/light_voxels.comp), whose visible fraction the pixels interpolate.
 #include "engine_constants.glsl"
 
 layout(std430, binding = SSBO_EMITTER_TRIANGLES) readonly buffer EmitterTriangles { EmitterTriangle emitter_triangles[]; };

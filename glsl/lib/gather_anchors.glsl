@@ -2,13 +2,13 @@
 // A surface's gather varies slowly along it, so the voxels at even coordinates along the two
 // axes across their facing (1 in 4 of a plane's) trace the cones, and the others interpolate
 // the anchors around them: bilinearly along the surface, and weighted by how alike the
-// surfaces face, as the image interpolates the voxels (cone_trace.frag). A voxel with too few
+// surfaces face, as the image interpolates the voxels (cone_trace/shade_pixels.frag). A voxel with too few
 // anchors of a like facing around it (a thin part, an edge) is an anchor too.
 //
-// voxel_anchors.comp records per voxel (GATHER_ANCHORS, at voxel_index(v)) the bit
+// gather/find_anchors.comp records per voxel (GATHER_ANCHORS, at voxel_index(v)) the bit
 // ANCHOR_SELF when it traces the gather itself, or else the bit k of each neighbour k
 // (`neighbour`) that is an anchor it takes its gather from. A record depends on the voxel and
-// its neighbours only: after a voxelization, voxel_anchors_stale.comp marks the records around
+// its neighbours only: after a voxelization, gather/mark_stale_anchors.comp marks the records around
 // the voxels it touched ANCHOR_STALE, and only those are found again.
 #include "lib/voxel_surface.glsl"
 
@@ -36,7 +36,7 @@ bool on_anchor_lattice(ivec3 v, vec3 n) {
 // level-1 cell (2x2x2 voxels) in the 2x2 block of cells along its surface, then the cell's
 // layer. A class spreads over the surfaces evenly (its anchors are a quarter of a plane's, 4
 // voxels apart), and a cell holds one class unless surfaces of several facings meet in it, so
-// that the face views' level 1 changes in the cells of the class composed (voxel_class_cells.comp).
+// that the face views' level 1 changes in the cells of the class composed (gather/sort_class_cells.comp).
 int voxel_class(ivec3 v, vec3 n, int interleave) {
     ivec3 cell = v >> 1;
     int axis = dominant_axis(n);

@@ -1,4 +1,4 @@
-// Reading the G-buffer written by gbuffer.frag.
+// Reading the G-buffer written by gbuffer/draw_surfaces.frag.
 #include "engine_constants.glsl"
 
 layout(binding = TEX_GBUF_POSITION) uniform sampler2D gbuffer_position;

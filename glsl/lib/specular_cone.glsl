@@ -1,7 +1,7 @@
 // The specular cone of a pixel: Lv(p, w_s, a_s) along w_s = 2 (w_o . n) n - w_o, with the
 // aperture of the normalized Blinn-Phong lobe of exponent 2/r^4 - 2 (lib/brdf.glsl). Traced
 // at the anchor pixels (even x and y) and where it is too narrow to share; the pixels between
-// anchors take it from the anchors like them (cone_shared.comp).
+// anchors take it from the anchors like them (cone_trace/share_anchor_cones.comp).
 #include "lib/gbuffer.glsl"
 #include "lib/cone.glsl"
 #include "lib/brdf.glsl"

@@ -1,4 +1,4 @@
-// The resolved surface of each voxel (written by voxel_resolve.comp): reflectance, mean
+// The resolved surface of each voxel (written by voxelize/resolve_sums.comp): reflectance, mean
 // normal, emission, and the point on the surface nearest the voxel centre.
 #include "lib/voxel.glsl"
 
@@ -6,10 +6,10 @@ layout(binding = TEX_VOXEL_ALBEDO) uniform sampler3D voxel_albedo;     // rgb, a
 layout(binding = TEX_VOXEL_NORMAL) uniform sampler3D voxel_normal;     // xyz mean normal, w = 1 where covered
 layout(binding = TEX_VOXEL_EMISSION) uniform sampler3D voxel_emission; // rgb, a = surface offset in voxels
 // The emitters' shadowed irradiance at each voxel's surface (rgb) and the fraction of their
-// unshadowed light that arrives (a), where voxel_emitters (voxel_emitter_light.comp).
+// unshadowed light that arrives (a), where voxel_emitters (emitter_light/light_voxels.comp).
 layout(binding = TEX_VOXEL_EMITTER_LIGHT) uniform sampler3D voxel_emitter_light;
 // The environment's irradiance at each voxel's surface through the voxels (rgb), where
-// voxel_sky (voxel_sky_light.comp).
+// voxel_sky (sky_light/trace_sky_cones.comp).
 layout(binding = TEX_VOXEL_SKY_LIGHT) uniform sampler3D voxel_sky_light;
 
 struct VoxelSurface {

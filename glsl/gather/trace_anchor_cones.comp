@@ -1,8 +1,8 @@
 #version 450 core
 // The diffuse gather of each anchor of a list segment (lib/gather_anchors.glsl), with the
 // lecture's 6 cones from its surface point along its mean normal: G = sum_j w_j L(p, w_j). It
-// feeds the next bounce (voxel_compose.comp) and the image (cone_trace.frag interpolates it per
-// pixel); the other voxels take theirs from the anchors (voxel_fill.comp). a = 1: a voxel that
+// feeds the next bounce (faces/compose_face_views.comp) and the image (cone_trace/shade_pixels.frag interpolates it per
+// pixel); the other voxels take theirs from the anchors (gather/interpolate_from_anchors.comp). a = 1: a voxel that
 // reflects light (the others hold 0).
 #include "lib/voxel_surface.glsl"
 #include "lib/cone.glsl"

@@ -2,7 +2,7 @@
 // Which covered voxels trace the diffuse gather, and which anchors the others take it from
 // (lib/gather_anchors.glsl): per voxel ANCHOR_SELF, or the bits of its anchor neighbours
 // (none where it reflects no light). Runs when the voxels change: over the voxels whose
-// records were marked stale (voxel_anchors_stale.comp), or over every covered voxel.
+// records were marked stale (gather/mark_stale_anchors.comp), or over every covered voxel.
 #include "lib/gather_anchors.glsl"
 
 layout(local_size_x = LIST_GROUP) in;

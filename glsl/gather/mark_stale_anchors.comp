@@ -1,7 +1,7 @@
 #version 450 core
 // Marks ANCHOR_STALE the gather-anchor records (lib/gather_anchors.glsl) of the voxels a
 // voxelization touched and of their 26 neighbours, the records it may have changed, and lists
-// each of those voxels once for voxel_anchors.comp (which leaves no record stale).
+// each of those voxels once for gather/find_anchors.comp (which leaves no record stale).
 #include "lib/gather_anchors.glsl"
 
 layout(local_size_x = LIST_GROUP) in;

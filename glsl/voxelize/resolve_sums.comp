@@ -3,7 +3,7 @@
 // the fragment count into the surface volumes (albedo, normal, emission with the surface offset
 // in a; a = 1 marks a covered voxel) and the emission volume specular cones read (emission,
 // a = 1 where covered), zero the sums and front-layer keys for the next update, zero the voxel's
-// six faces at level 0 of the face views (voxel_compose.comp writes only the faces its new
+// six faces at level 0 of the face views (faces/compose_face_views.comp writes only the faces its new
 // surface covers), and list the voxels that were empty before and are covered now, for the new
 // covered list.
 #include "lib/voxel.glsl"

@@ -1,13 +1,13 @@
 #version 450 core
-// The cones of the pixels cone_trace.frag listed, added to the image:
+// The cones of the pixels cone_trace/shade_pixels.frag listed, added to the image:
 //   diffuse:  c_d sum_j w_j Lv(p, w_j, a_j) (c_d: lib/brdf.glsl diffuse_layer_albedo), where
 //             no voxel around p faces its way, at
 //             the anchor pixels, whose gather is kept for the pixels between them
-//             (cone_shared.comp)
+//             (cone_trace/share_anchor_cones.comp)
 //   specular: F(w_o . n) Lv(p, w_s, a_s) at the anchor pixels (lib/specular_cone.glsl), whose
 //             Lv is kept likewise, and at every pixel whose cone is too narrow to share
-// Run twice: over the list cone_trace.frag made, then over the pixels between anchors that
-// no anchor stood for (cone_shared.comp lists them).
+// Run twice: over the list cone_trace/shade_pixels.frag made, then over the pixels between anchors that
+// no anchor stood for (cone_trace/share_anchor_cones.comp lists them).
 // Dispatched indirectly with the group count the listing counted.
 #include "lib/gbuffer.glsl"
 #include "lib/cone.glsl"

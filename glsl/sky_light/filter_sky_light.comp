@@ -1,6 +1,6 @@
 #version 450 core
 // The sky's light the image and the light injection read: at each covered voxel the mean of
-// what the cones brought (voxel_sky_light.comp at the anchors, voxel_fill.comp between them)
+// what the cones brought (sky_light/trace_sky_cones.comp at the anchors, gather/interpolate_from_anchors.comp between them)
 // over the voxels within SKY_FILTER_RADIUS whose surfaces face alike,
 //   E(v) = sum_u W(v, u) E_traced(u) / sum_u W(v, u),
 //   W = prod_k (1 - |u_k - v_k| / (R + 1)) facing_weight(n_v, n_u),

@@ -1,6 +1,6 @@
 #version 450 core
 // The gather of the voxels that are not anchors (lib/gather_anchors.glsl), from the anchors
-// voxel_anchors.comp found around them:
+// gather/find_anchors.comp found around them:
 //   G(v) = sum_u W(v, u) G(u) / sum_u W(v, u),
 // 0 where the voxel reflects no light (no anchors recorded). Reads and writes one volume: the
 // anchors it reads are not among the voxels it writes.

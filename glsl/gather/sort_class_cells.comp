@@ -1,9 +1,9 @@
 #version 450 core
 // Sorts the covered cells of mip level 1 by the interleave class of the voxels in them
-// (voxel_classes.comp marked them): a bucket per class for the cells of one class, then one
+// (gather/sort_classes.comp marked them): a bucket per class for the cells of one class, then one
 // for the cells where voxels of several classes meet (surfaces of several facings). When the
 // progressive bounce composes one class, level 1 of the face views is built again over that
-// class's bucket and the mixed one only. A counting sort, as voxel_classes.comp.
+// class's bucket and the mixed one only. A counting sort, as gather/sort_classes.comp.
 #include "lib/voxel.glsl"
 
 layout(local_size_x = LIST_GROUP) in;

@@ -3,19 +3,19 @@
 // plus cone-traced indirect light.
 //   direct:   the lighting pass's image + c_d / pi V E_emitters(p, n): the emitters' light
 //             exact at p (lib/emitters.glsl), times the fraction V of it that arrives,
-//             interpolated from the voxels around p (voxel_emitter_light.comp) + c_d / pi
+//             interpolated from the voxels around p (emitter_light/light_voxels.comp) + c_d / pi
 //             E_sky: the environment's light through the voxels, interpolated likewise
-//             (voxel_sky_light.comp); where no surface is, the environment itself
+//             (sky_light/trace_sky_cones.comp); where no surface is, the environment itself
 //   diffuse:  Lo = c_d sum_j w_j Lv(p, w_j, a_j), the lecture's 6 cones, with c_d the diffuse
 //             layer's albedo seen from the camera, (1 - m) k_d (1 - F(w_o . n)). They are
-//             traced once per voxel whenever the voxel radiance changes (voxel_gather.comp);
+//             traced once per voxel whenever the voxel radiance changes (gather/trace_anchor_cones.comp);
 //             a pixel interpolates the gathers of the voxels around p whose surfaces face its
 //             way; where none does (a thin surface seen from behind) the cones are traced at
 //             the anchors (even x and y) and shared with the pixels between where they match
 //   specular: Lo = F(w_o . n) Lv(p, w_s, a_s), w_s = 2 (w_o . n) n - w_o, traced at every
 //             other pixel in x and y and shared with the pixels between where they match
 //   AO:       1 - sum_j w_j alpha_j within ao_distance, traced per pixel
-// The cones run in cone_pixels.comp (the anchors' and the unshared ones) and cone_shared.comp
+// The cones run in cone_trace/trace_listed_pixels.comp (the anchors' and the unshared ones) and cone_trace/share_anchor_cones.comp
 // (the pixels between anchors) over the pixels listed here, so pixels that need none never
 // wait on them.
 #include "lib/gbuffer.glsl"

@@ -1,8 +1,8 @@
 #version 450 core
 // The environment's light at the voxels of a list segment (the gather's anchors; the others
-// interpolate them, voxel_fill.comp, and voxel_sky_filter.comp averages the result), where the
+// interpolate them, gather/interpolate_from_anchors.comp, and sky_light/filter_sky_light.comp averages the result), where the
 // scene has one: at the voxel's surface point along its normalized mean normal (as the
-// emitters' light, voxel_emitter_light.comp), through SKY_CONE_COUNT cones over the hemisphere,
+// emitters' light, emitter_light/light_voxels.comp), through SKY_CONE_COUNT cones over the hemisphere,
 // uniform in solid angle and offset by the voxel's own jitter (engine/constants.py), each
 // reading the voxels finer than its footprint (SKY_CONE_LEVEL_OFFSET),
 //   E = pi sum_j z_j (1 - a_j) L_sky(w_j, a) / sum_j z_j   (z_j = n . w_j; a_j: the cone's

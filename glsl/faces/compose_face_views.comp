@@ -5,8 +5,8 @@
 // voxel's surface reflects, its base radiance less its emission plus the light it gathered,
 // L = L_base - L_e + rho sum_j w_j L_in(p, w_j) (rho: its reflectance), into the six one-sided
 // face views premultiplied by how much of the voxel's surface faces each way (coverage in a),
-// level 0; voxel_mipmap.comp builds the coarser levels. Only the faces the surface covers are
-// written: the others are zero since the voxel was resolved (voxel_resolve.comp), which saves
+// level 0; faces/mipmap_face_views.comp builds the coarser levels. Only the faces the surface covers are
+// written: the others are zero since the voxel was resolved (voxelize/resolve_sums.comp), which saves
 // a third of the pass (most voxels of a wall face one way). Emitted light reaches the surfaces as
 // direct light (lib/emitters.glsl) and the specular cones from the emission volume.
 #include "lib/voxel_surface.glsl"

@@ -9,7 +9,7 @@
 // which end after as many steps. A counting sort: a pass counting the entries of each bucket
 // (class, part, block, facing), then, once the host has turned the counts into each bucket's first entry, a
 // pass scattering the voxels into their buckets, which also marks the classes each level-1
-// cell holds (CELL_CLASSES, zeroed by the host before). voxel_anchors.comp has found the
+// cell holds (CELL_CLASSES, zeroed by the host before). gather/find_anchors.comp has found the
 // anchors.
 #include "lib/gather_anchors.glsl"
 

@@ -1,9 +1,9 @@
 #version 450 core
 // One mip level of the face views, over a segment of its covered cells (all of them, or at
-// level 1 those of one interleave class: voxel_class_cells.comp): each cell is the mean of its
+// level 1 those of one interleave class: gather/sort_class_cells.comp): each cell is the mean of its
 // 8 children one level finer (a box filter, as glGenerateMipmap), so a level-m cell holds the
 // mean premultiplied radiance and coverage of the 2^m voxels along each side. Cells no surface
-// covers are zero and stay zero (voxel_clear_cells.comp).
+// covers are zero and stay zero (voxelize/clear_cells.comp).
 #include "lib/voxel.glsl"
 
 layout(local_size_x = LIST_GROUP) in;

@@ -1,12 +1,12 @@
 #version 450 core
 // The cones' light of the pixels between anchors (the shared list), from the anchors around
-// the pixel (even x and y, two pixels apart; cone_pixels.comp traced them), weighted
+// the pixel (even x and y, two pixels apart; cone_trace/trace_listed_pixels.comp traced them), weighted
 // bilinearly and by how well each stands for the pixel (same plane, facing the same way; for
 // the specular cone the same roughness too):
 //   diffuse:  c_d, the pixel's own diffuse layer albedo, times the anchors' sum_j w_j Lv(p, w_j),
 //             where no voxel faces the pixel's way (a thin surface seen from behind)
 //   specular: F(w_o . n), the pixel's own, times the anchors' Lv(p, w_s, a_s)
-// A term no anchor stands for is listed for cone_pixels.comp (the pixel traces its own cones
+// A term no anchor stands for is listed for cone_trace/trace_listed_pixels.comp (the pixel traces its own cones
 // there, in groups of such pixels, not beside lanes that only read anchors). The diffuse cones
 // span a hemisphere and a specular cone many pixels' worth of directions, so what they gather
 // varies little from pixel to pixel on one surface.

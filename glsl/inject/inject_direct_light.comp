@@ -2,9 +2,9 @@
 // Light injection, over the covered voxels: the base radiance each voxel's surface sends out
 // before any bounce, evaluated at its surface point with its mean normal:
 //   L_base = L_e + rho / pi * (sum_lights E_l + E_emitters + E_sky), rho the voxel's
-// reflectance (voxelize.frag), where dot(mean normal, l) in E_l is the mean of the fragments'
-// cosines, E_emitters the emitters' shadowed light (voxel_emitter_light.comp) and E_sky the
-// environment's (voxel_sky_light.comp). Runs when a light or a
+// reflectance (voxelize/rasterize.frag), where dot(mean normal, l) in E_l is the mean of the fragments'
+// cosines, E_emitters the emitters' shadowed light (emitter_light/light_voxels.comp) and E_sky the
+// environment's (sky_light/trace_sky_cones.comp). Runs when a light or a
 // shadow map changes, without revoxelizing, over a segment of a voxel list: the class list
 // (every voxel, or in progressive frames one interleave class) or the voxels a voxelization
 // touched.
