@@ -241,3 +241,62 @@ def _describe(document, error):
 def schema_text():
     """The schema as published: JSON, one key a line."""
     return json.dumps(SCHEMA, indent=1) + "\n"
+
+
+def reference_text():
+    """The format's reference for readers, docs/SCENE_FORMAT.md, generated from the schema:
+    each object's fields with their type, range, default and meaning."""
+    lines = ["# The scene format", "", SCHEMA["description"], "",
+             "Generated from `engine/scene_schema.py` by `tools/write_scene_schema.py`, as is",
+             "`scenes/scene.schema.json` (the same format as a JSON Schema, for editors); a test keeps both",
+             "up to date. A field the format does not define is an error naming it and the nearest valid",
+             "one; the loader checks what a schema cannot say (materials named but not defined, degenerate",
+             "quads, world transforms: engine/scene_file.py).", ""]
+    lines += _reference_table("The scene file", SCHEMA["properties"], SCHEMA.get("required", ()))
+    for name in ("camera", "material", "environment", "voxel_region"):
+        definition = SCHEMA["$defs"][name]
+        lines += _reference_table(f"`{name}`: {definition['description']}", definition["properties"],
+                                  definition.get("required", ()))
+    lines += _reference_table("Every node (`objects`, `lights`, `children`)", NODE_FIELDS, ("type",))
+    for kind, (description, fields, required) in NODE_TYPES.items():
+        lines += _reference_table(f'`"type": "{kind}"`: {description}', fields, required)
+    return "\n".join(lines)
+
+
+def _reference_table(title, properties, required):
+    rows = [f"## {title}", "", "| field | type | range | default | meaning |", "|---|---|---|---|---|"]
+    for field, spec in properties.items():
+        if field == "$schema":
+            continue
+        name = f"`{field}`" + (" (required)" if field in required else "")
+        default = f"`{json.dumps(spec['default'])}`" if "default" in spec else ""
+        meaning = spec.get("description") or SCHEMA["$defs"][spec["$ref"].rsplit("/", 1)[1]]["description"]
+        rows.append(f"| {name} | {_reference_type(spec)} | {_reference_range(spec)} | {default} | {meaning} |")
+    return rows + [""]
+
+
+def _reference_type(spec):
+    if "$ref" in spec:
+        return f"object: `{spec['$ref'].rsplit('/', 1)[1]}`"
+    if "enum" in spec:
+        return " \\| ".join(f"`{value}`" for value in spec["enum"])
+    kind = spec.get("type")
+    if kind == "array":
+        items = spec["items"]
+        count = f"{spec['minItems']} × " if "minItems" in spec and spec["minItems"] == spec.get("maxItems") else "list of "
+        return count + (_reference_type(items) if "type" in items or "$ref" in items else "nodes")
+    if kind == "object" and "additionalProperties" in spec:
+        return f"name → {_reference_type(spec['additionalProperties'])}"
+    return kind
+
+
+def _reference_range(spec):
+    spec = spec.get("items", spec) if spec.get("type") == "array" else spec
+    low = f"> {spec['exclusiveMinimum']:g}" if "exclusiveMinimum" in spec else None
+    low = low or (f"{spec['minimum']:g}" if "minimum" in spec and spec["minimum"] > -MAX_MAGNITUDE else None)
+    high = f"{spec['maximum']:g}" if "maximum" in spec and spec["maximum"] < MAX_MAGNITUDE else None
+    if low and high:
+        return f"{low[2:]} < v ≤ {high}" if low.startswith(">") else f"{low}..{high}"
+    if low:
+        return low if low.startswith(">") else f"≥ {low}"
+    return f"≤ {high}" if high else ""

@@ -38,7 +38,7 @@ def test_textured_box_converged_gi_matches_its_reference():
     assert luminance_ratio(gi, expected) == pytest.approx(1.0, abs=0.05)
 
 
-# Measured at grid 128 (README, Accuracy): the bounds hold those figures with a margin and fail
+# Measured at grid 128 (docs/ACCURACY.md): the bounds hold those figures with a margin and fail
 # a renderer that averaged a lamp with the ceiling behind it (luminance 0.45), lost emitters, or
 # carried their light through the diffuse cones alone (the lamp panel 0.150, the glowing box
 # 0.178 / 1.174, the spheres 0.184).
@@ -96,7 +96,7 @@ def test_a_thin_panel_seen_from_behind_is_lit_by_its_own_cones_like_the_path_tra
     every other pixel in x and y and shared with the pixels between. The image is within 7 %
     of the path tracer (measured 0.050 at 128^3); the back side receives no direct light and
     reads 9 % bright (measured 1.087: cones that start beside a one-voxel sheet lit on its other
-    side read some of that light, README, Accuracy); a back side without its indirect light, or
+    side read some of that light, docs/ACCURACY.md); a back side without its indirect light, or
     lit as if it faced the light, fails."""
     scene = engine.load_scene(REFERENCES / "thin_panel.json")
     with engine.Renderer(256, 256) as r:
@@ -155,9 +155,9 @@ def test_direct_light_of_skies_and_gltf_scenes_matches_its_reference(name):
 def test_gltf_dielectrics_and_metals_at_three_roughnesses_match_their_reference():
     """Six glTF spheres (white dielectric and gold at roughness 0.1, 0.4, 0.8) in the Cornell
     box, seen from above: relMAE 0.113, luminance 0.926. The issue's 0.10 / 5 % are not met:
-    the image is mostly floor and lower walls, whose light is mostly indirect, and the diffuse
-    gather reads the floor's indirect light 7-14 % dark (the Cornell box's floor: 0.91; README,
-    Accuracy). A renderer that added the dielectrics' layers instead of splitting them would
+    the image is mostly floor and lower walls, whose light is mostly indirect, and their
+    indirect light is read 11-16 % dark around the gold spheres, whose caustics the voxels'
+    Lambertian lobes do not carry (docs/ACCURACY.md). A renderer that added the dielectrics' layers instead of splitting them would
     make the spheres' diffuse layers reflect 8 % more per bounce; the furnaces
     (tests/test_environment.py) check that split directly."""
     scene = engine.load_scene(REFERENCES / "gltf_spheres.json")

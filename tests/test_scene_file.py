@@ -20,7 +20,7 @@ import pytest
 
 from conftest import REFERENCE, REQUIRE_REFERENCES, reference_file  # tests/ is on sys.path under pytest
 from engine import SceneError, VctWarning, load_scene
-from engine.scene_schema import default, schema_text
+from engine.scene_schema import SCHEMA, default, reference_text, schema_text
 from engine.transforms import normal_matrix, transform_points
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -468,6 +468,15 @@ def test_a_scene_without_a_camera_is_seen_from_one_framing_its_bounds_with_one_w
 
 def test_the_published_schema_is_the_one_the_loader_checks():
     assert (ROOT / "scenes" / "scene.schema.json").read_text() == schema_text()
+
+
+def test_the_format_reference_is_generated_from_the_schema_and_names_every_field():
+    reference = (ROOT / "docs" / "SCENE_FORMAT.md").read_text()
+    assert reference == reference_text()
+    for definition in ("camera", "material", "environment", "voxel_region"):
+        for field in SCHEMA["$defs"][definition]["properties"]:
+            assert f"| `{field}`" in reference, (definition, field)
+    assert "| `roughness` | number | 0..1 | `1.0` |" in reference
 
 
 def test_the_schema_holds_the_defaults_the_loader_uses(tmp_path):

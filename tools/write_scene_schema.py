@@ -1,5 +1,6 @@
 """Writes scenes/scene.schema.json, the scene format's JSON Schema (engine/scene_schema.py),
-for editors that validate and complete scene files:
+for editors that validate and complete scene files, and docs/SCENE_FORMAT.md, its reference
+for readers, from the same schema:
 
     .venv/bin/python tools/write_scene_schema.py
 """
@@ -10,9 +11,9 @@ ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
 from engine.output import write_files  # noqa: E402
-from engine.scene_schema import schema_text  # noqa: E402
+from engine.scene_schema import reference_text, schema_text  # noqa: E402
 
 if __name__ == "__main__":
-    path = ROOT / "scenes" / "scene.schema.json"
-    write_files([(path, lambda f: f.write(schema_text().encode()))])
-    print(f"wrote {path.relative_to(ROOT)}")
+    outputs = [(ROOT / "scenes" / "scene.schema.json", schema_text()), (ROOT / "docs" / "SCENE_FORMAT.md", reference_text())]
+    write_files([(path, lambda f, text=text: f.write(text.encode())) for path, text in outputs])
+    print("wrote " + " and ".join(str(path.relative_to(ROOT)) for path, _ in outputs))
