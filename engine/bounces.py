@@ -97,7 +97,8 @@ class BounceSchedule:
         self.pending_base = set()  # progressive: the classes whose base radiance is still to inject,
         self.pending_for = 1       # of this interleave
         self.stale_faces = []      # progressive: VoxelSegments to compose before the next gather
-        self.injected_for = None   # the grid version the base radiance was last injected for
+        self.injected_epoch = None  # the covered list's epoch the base radiance was last injected for
+        self.classes = None         # the ClassIndex of the covered voxels, as last sorted (sort_classes)
         self.cycle_clean = False   # progressive: this cycle runs on the current base radiance throughout
 
     def gathered(self, grid):
@@ -110,14 +111,14 @@ class BounceSchedule:
 
     def inject(self, grid, shadow_maps, interleave, timed):
         """The base radiance of every voxel, now."""
-        self.sort_classes(grid, interleave, timed)
-        self._inject_now(grid, shadow_maps, grid.class_segment(), timed)
+        classes = self.sort_classes(grid, interleave, timed)
+        self._inject_now(grid, shadow_maps, classes.segment(), timed)
         self.pending_base = set()
 
     def inject_touched(self, grid, shadow_maps, interleave, timed):
         """Progressive, the voxels changed: the base radiance of the voxels the voxelization
         touched, now (of every voxel, if others changed since the last injection)."""
-        if self.injected_for != grid.version - 1:
+        if not grid.epoch.follows(self.injected_epoch):
             self.inject(grid, shadow_maps, interleave, timed)
         else:
             self._inject_now(grid, shadow_maps, grid.touched.segment(), timed)
@@ -131,7 +132,7 @@ class BounceSchedule:
     def _inject_now(self, grid, shadow_maps, segment, timed):
         with timed("inject"):
             self.injection.run(grid, shadow_maps, segment)
-        self.injected_for = grid.version
+        self.injected_epoch = grid.epoch
         self.stale_faces.append(segment)
         self.cycle_clean = False
 
@@ -163,20 +164,20 @@ class BounceSchedule:
         interleave = settings.bounce_interleave
         if self.pending_base and self.pending_for != interleave:  # classes of another interleave: all again
             self.pending_base, self.pending_for = set(range(interleave)), interleave
-        self.sort_classes(grid, interleave, timed)
+        classes = self.sort_classes(grid, interleave, timed)
         self.phase %= interleave
         chosen = self.phase
         if chosen in self.pending_base:
             with timed("inject"):
-                self.injection.run(grid, shadow_maps, grid.class_segment(chosen))
+                self.injection.run(grid, shadow_maps, classes.segment(chosen))
             self.pending_base.discard(chosen)
         stale = self.stale_faces
         if stale:
-            every_voxel = grid.class_segment()
-            extra = [] if every_voxel in stale else [grid.class_segment(chosen)]
+            every_voxel = classes.segment()
+            extra = [] if every_voxel in stale else [classes.segment(chosen)]
             self._compose_segments(grid, self.gathered(grid), stale + extra, timed)
         with timed("gather"):
-            self.gather.run(grid, cone_uniforms, self.gathered(grid), chosen)
+            self.gather.run(grid, cone_uniforms, self.gathered(grid), classes, chosen)
         if not stale:
             self.compose(grid, self.gathered(grid), timed, chosen)
         self.phase = (chosen + 1) % interleave
@@ -201,22 +202,24 @@ class BounceSchedule:
             self.gather.copy(grid, self.gathered(grid), grid.gathered[1 - self.latest])
 
     def sort_classes(self, grid, interleave, timed):
-        """The class list of the grid's voxels in `interleave` classes, unless already sorted so."""
-        if grid.classes_for != (grid.version, interleave):
+        """The ClassIndex of the grid's voxels in `interleave` classes, sorted again unless it
+        is sorted so for the covered list as it is."""
+        if self.classes is None or not self.classes.sorted_for(grid.epoch, interleave):
             with timed("classes"):
-                self.gather.sort_classes(grid, interleave)
+                self.classes = self.gather.sort_classes(grid, interleave)
+        return self.classes
 
     def compose(self, grid, gathered, timed, class_index=None):
         """The face views of the voxels of interleave class `class_index` (None: every voxel)
         from their base radiance and `gathered` (None: before the first bounce), then the mip
         levels over the cells they changed."""
         if class_index is None:
-            self._compose_segments(grid, gathered, [grid.class_segment()], timed)
+            self._compose_segments(grid, gathered, [self.classes.segment()], timed)
             return
         with timed("faces"):
-            self.faces.compose(grid, gathered, grid.class_segment(class_index))
+            self.faces.compose(grid, gathered, self.classes.segment(class_index))
         with timed("mipmap"):
-            self.faces.mipmap(grid, class_index)
+            self.faces.mipmap(grid, self.classes, class_index)
 
     def _compose_segments(self, grid, gathered, segments, timed):
         """The face views of the voxels of `segments`, then every mip level: none is stale after."""
@@ -235,9 +238,9 @@ class BounceSchedule:
         self.compose(grid, self.gathered(grid), timed)
 
     def _gather_all(self, grid, cone_uniforms, timed):
-        self.sort_classes(grid, 1, timed)
+        classes = self.sort_classes(grid, 1, timed)
         with timed("gather"):
-            self.gather.run(grid, cone_uniforms, self.gathered(grid), 0)
+            self.gather.run(grid, cone_uniforms, self.gathered(grid), classes, 0)
 
     def _fixed(self, grid, bounces, cone_uniforms, timed):
         for k in range(1, bounces + 1):

@@ -355,20 +355,21 @@ class Renderer:
         """The emitters' light at the voxels, when the voxels, the emitters or the cones that
         shadow it changed."""
         inputs = (self.stages["voxels"].version, self.stages["emitters"].version, s.cone_step, s.cone_offset)
-        self._voxel_light("emitter_light", inputs, self.emitter_light_rounds, s, lambda class_index: (
-            self.emitter_light.run(self.grid, emitters, s.cone_uniforms(), self.grid.class_segment(class_index))))
+        self._voxel_light("emitter_light", inputs, self.emitter_light_rounds, s, lambda classes, class_index: (
+            self.emitter_light.run(self.grid, emitters, s.cone_uniforms(), classes.segment(class_index))))
 
     def _sky_light(self, environment, frame, s):
         """The environment's light at the voxels, when the voxels, the environment or the cones
         that bring it changed."""
         inputs = (self.stages["voxels"].version, frame.environment_values, s.cone_step, s.cone_offset)
-        self._voxel_light("sky_light", inputs, self.sky_light_rounds, s, lambda class_index: (
-            self.sky_light.run(self.grid, environment, s.cone_uniforms(), self.grid.anchor_segment(class_index)),
-            self.gather.fill(self.grid, self.grid.sky_traced, self.grid.filled_segment(class_index)),
+        self._voxel_light("sky_light", inputs, self.sky_light_rounds, s, lambda classes, class_index: (
+            self.sky_light.run(self.grid, environment, s.cone_uniforms(), classes.anchor_segment(class_index)),
+            self.gather.fill(self.grid, self.grid.sky_traced, classes.filled_segment(class_index)),
             self.sky_light.filter(self.grid)))
 
     def _voxel_light(self, name, inputs, rounds, s, run):
-        """Run the stage `name` (`run` an interleave class) when `inputs` changed.
+        """Run the stage `name` (`run(classes, class_index)` an interleave class of a
+        ClassIndex) when `inputs` changed.
         Its cones read the face views' coverage, so the face views are composed first, with the
         gathers so far (the light they hold follows with the bounces). Progressive frames (the
         viewer, converging bounces) spread it over the interleave classes, one a frame, as the
@@ -381,9 +382,9 @@ class Renderer:
             self.bounces.compose(self.grid, self.bounces.gathered(self.grid), self.timed)
         chosen = rounds.next_class()
         if chosen is not None:
-            self.bounces.sort_classes(self.grid, rounds.interleave, self.timed)
+            classes = self.bounces.sort_classes(self.grid, rounds.interleave, self.timed)
             with self.timed(name):
-                run(chosen)
+                run(classes, chosen)
             stage.ran(inputs)
 
     def _radiance(self, s, shadow_maps):

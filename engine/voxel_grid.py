@@ -19,6 +19,10 @@ passed to the passes that read and write it.
   per voxel, whether it is an anchor and the anchors around it.
 
 Every volume starts zero and every empty voxel stays zero: passes touch only listed voxels.
+The covered list's state is an `Epoch`, a new one at each rebuild (`replace_covered`): what is
+computed from the list records the epoch it was computed for, and "exactly one rebuild since"
+is `grid.epoch.follows(recorded)`. Where the class list's segments lie is the `ClassIndex`
+that GatherPass.sort_classes returns, held by the bounce schedule.
 """
 import math
 from dataclasses import dataclass
@@ -67,6 +71,65 @@ class VoxelSegment:
     count: int
 
 
+class Epoch:
+    """A token for one state of the covered-voxel list: each rebuild of the list starts a new
+    epoch after the one before. What was computed from the list (the gather anchors, the class
+    index, the injected light) records the epoch it was computed for."""
+
+    def __init__(self, previous=None):
+        self.previous = previous
+
+    def next(self):
+        """The epoch after this one (which forgets its own predecessor: only the latest step
+        is ever asked about)."""
+        successor = Epoch(self)
+        self.previous = None
+        return successor
+
+    def follows(self, earlier):
+        """Whether this epoch comes right after `earlier` (exactly one rebuild since)."""
+        return earlier is not None and self.previous is earlier
+
+
+@dataclass(frozen=True)
+class ClassIndex:
+    """The covered voxels sorted into interleave classes for the progressive bounce
+    (GatherPass.sort_classes): in `voxel_list` each class is one run, its gather anchors then
+    its other voxels; in `cell_list` the covered level-1 cells one run per class, the cells of
+    several classes last. Each segment (first, count). Valid for `epoch` and `interleave`."""
+
+    epoch: Epoch
+    interleave: int
+    voxel_list: object
+    classes: tuple       # (first, count) per class
+    anchors: tuple       # per class: its anchors, which trace the gather
+    filled: tuple        # per class: its voxels that take their gather from the anchors
+    every: tuple         # every covered voxel
+    cell_list: object
+    class_cells: tuple   # per class: its level-1 cells
+    mixed_cells: tuple   # the level-1 cells that hold voxels of several classes
+
+    def sorted_for(self, epoch, interleave):
+        return self.epoch is epoch and self.interleave == interleave
+
+    def segment(self, class_index=None):
+        """The voxels of an interleave class (None: every covered voxel)."""
+        first, count = self.every if class_index is None else self.classes[class_index]
+        return VoxelSegment(self.voxel_list, first, count)
+
+    def anchor_segment(self, class_index):
+        """The gather's anchors of an interleave class."""
+        return VoxelSegment(self.voxel_list, *self.anchors[class_index])
+
+    def filled_segment(self, class_index):
+        """The voxels of an interleave class that interpolate the anchors."""
+        return VoxelSegment(self.voxel_list, *self.filled[class_index])
+
+    def cell_segments(self, class_index):
+        """The level-1 cells an interleave class's voxels lie in: its own, then the mixed."""
+        return [self.class_cells[class_index], self.mixed_cells]
+
+
 class VoxelList:
     """Packed voxel coordinates on the GPU (a count, then the entries); `count` is the host's
     copy, read back after the pass that appended."""
@@ -100,7 +163,7 @@ class VoxelGrid:
         self.n = 0
         self.region = None
         self._resources = []
-        self.version = 0  # bumped whenever the covered voxels change (lists rebuilt)
+        self.epoch = Epoch()  # of the covered list: a new one whenever it is rebuilt (replace_covered)
         self.emitting = False  # whether any surface emits (`emitted` has its mip chain, `emitter_light` holds their light)
         self.sky_lit = False   # whether the scene has an environment (`sky_light` holds its light)
 
@@ -147,14 +210,7 @@ class VoxelGrid:
         # The classes of the voxels in each level-1 cell, and those cells sorted by class.
         self.cell_classes = self._keep(ctx.buffer(reserve=4 * sizes[1]))
         self.class_cells = self._keep(ctx.buffer(reserve=4 * sizes[1]))
-        self.class_segments = []   # (first, count) per class
-        self.anchor_segments = []  # per class: its anchors, which trace the gather
-        self.filled_segments = []  # per class: its voxels that take their gather from the anchors
-        self.all_segment = (0, 0)  # every covered voxel
-        self.class_cell_segments = []     # (first, count) per class in class_cells: its level-1 cells
-        self.mixed_cell_segment = (0, 0)  # the level-1 cells that hold voxels of several classes
-        self.classes_for = None   # (grid version, interleave) the class list was sorted for
-        self.anchors_for = None   # the grid version gather_anchors was found for
+        self.epoch = Epoch()  # a new grid: nothing was computed from its lists yet
         self.framebuffer = self._keep(ctx.empty_framebuffer((n, n)))
 
     def _keep(self, resource):
@@ -213,18 +269,12 @@ class VoxelGrid:
         self.faces.use(TEXTURE_UNIT["VOXEL_FACES"])
         self.emitted.use(TEXTURE_UNIT["VOXEL_EMITTED"])
 
-    def class_segment(self, class_index=None):
-        """The voxels of an interleave class of the class list (None: every covered voxel)."""
-        first, count = self.all_segment if class_index is None else self.class_segments[class_index]
-        return VoxelSegment(self.class_list, first, count)
-
-    def anchor_segment(self, class_index):
-        """The gather's anchors of an interleave class, in the class list."""
-        return VoxelSegment(self.class_list, *self.anchor_segments[class_index])
-
-    def filled_segment(self, class_index):
-        """The voxels of an interleave class that interpolate the anchors, in the class list."""
-        return VoxelSegment(self.class_list, *self.filled_segments[class_index])
+    def replace_covered(self):
+        """Make `covered_next` (which a voxelization filled) the covered list, the old one the
+        next to fill, and start a new epoch."""
+        self.covered, self.covered_next = self.covered_next, self.covered
+        self.covered.read_count()
+        self.epoch = self.epoch.next()
 
     def bind_faces(self, level=0):
         bind_image(self.faces, IMAGE_UNIT["FACES_OUT"], level=level)

@@ -28,16 +28,16 @@ class FaceViewsPass:
                                  include_gathered=gathered is not None)
         grid.dispatch(self.compose_program, segment.count)
 
-    def mipmap(self, grid, class_index=None):
+    def mipmap(self, grid, classes=None, class_index=None):
         """Every coarser level of the face views, level after level, over its covered cells;
-        level 1 over the cells of interleave class `class_index` only, where only that class's
-        voxels were composed (and those of several classes)."""
+        level 1 over the cells of interleave class `class_index` of ClassIndex `classes` only,
+        where only that class's voxels were composed (and those of several classes)."""
         grid.use_faces()
         uniforms = grid.uniforms()
         for level in range(1, grid.mip_count):
             grid.bind_faces(level)
             if level == 1 and class_index is not None:
-                cells, segments = grid.class_cells, [grid.class_cell_segments[class_index], grid.mixed_cell_segment]
+                cells, segments = classes.cell_list, classes.cell_segments(class_index)
             else:
                 cells, segments = grid.cells, [(CELL_LIST_LEVELS + grid.level_first[level], grid.level_counts[level])]
             cells.bind_to_storage_buffer(STORAGE_BINDING["CELLS"])

@@ -9,7 +9,7 @@ extrapolation."""
 import numpy as np
 
 from ..constants import CLASS_BLOCK, CLASS_FACINGS, CLASS_PARTS, IMAGE_UNIT, STORAGE_BINDING, TEXTURE_UNIT
-from ..voxel_grid import bind_image
+from ..voxel_grid import ClassIndex, bind_image
 
 
 class GatherPass:
@@ -22,13 +22,13 @@ class GatherPass:
         self.class_cells = programs.compute("gather/sort_class_cells.comp")
         self.fill_program = programs.compute("gather/interpolate_from_anchors.comp")
         self.extrapolate_program = programs.compute("gather/close_bounce_series.comp")
+        self.anchors_epoch = None  # the epoch of the covered list grid.gather_anchors was found for
 
     def sort_classes(self, grid, interleave):
         """Sort the covered voxels into `interleave` classes, each its anchors then the others,
-        grouped by block and facing, finding the anchors first where the voxels changed. Sets
-        grid.class_segments[c] (class c), grid.anchor_segments[c] (its anchors),
-        grid.filled_segments[c] (its other voxels) and grid.all_segment (every covered voxel),
-        each (first, count) in grid.class_list."""
+        grouped by block and facing, finding the anchors first where the voxels changed, and
+        the covered level-1 cells by class. Returns the ClassIndex of grid.class_list and
+        grid.class_cells."""
         buckets = max(grid.n // CLASS_BLOCK, 1) ** 3 * CLASS_FACINGS  # per class and part: (block, facing)
         total = interleave * CLASS_PARTS * buckets
         grid.use_surface()
@@ -48,17 +48,18 @@ class GatherPass:
         grid.dispatch(self.classes, grid.covered.count)
         per_part = counts.reshape(interleave, CLASS_PARTS, buckets).sum(axis=2)
         part_firsts = firsts[::buckets].reshape(interleave, CLASS_PARTS)
-        grid.class_segments = [(int(part_firsts[c, 0]), int(per_part[c].sum())) for c in range(interleave)]
-        grid.anchor_segments = [(int(part_firsts[c, 0]), int(per_part[c, 0])) for c in range(interleave)]
-        grid.filled_segments = [(int(part_firsts[c, 1]), int(per_part[c, 1])) for c in range(interleave)]
-        grid.all_segment = (0, int(counts.sum()))
-        self._sort_cells(grid, interleave)
-        grid.classes_for = (grid.version, interleave)
+        class_cells, mixed_cells = self._sort_cells(grid, interleave)
+        return ClassIndex(
+            epoch=grid.epoch, interleave=interleave, voxel_list=grid.class_list,
+            classes=tuple((int(part_firsts[c, 0]), int(per_part[c].sum())) for c in range(interleave)),
+            anchors=tuple((int(part_firsts[c, 0]), int(per_part[c, 0])) for c in range(interleave)),
+            filled=tuple((int(part_firsts[c, 1]), int(per_part[c, 1])) for c in range(interleave)),
+            every=(0, int(counts.sum())), cell_list=grid.class_cells, class_cells=class_cells, mixed_cells=mixed_cells)
 
     def _sort_cells(self, grid, interleave):
         """Sort the covered level-1 cells by the class of their voxels (marked by the voxel
-        sort), the cells of several classes last. Sets grid.class_cell_segments and
-        grid.mixed_cell_segment, (first, count) in grid.class_cells."""
+        sort), the cells of several classes last. Returns each class's (first, count) in
+        grid.class_cells, and the mixed cells'."""
         buckets = interleave + 1
         grid.class_buckets.write(bytes(4 * buckets))
         grid.cells.bind_to_storage_buffer(STORAGE_BINDING["CELLS"])
@@ -70,17 +71,16 @@ class GatherPass:
         grid.class_buckets.write(firsts.astype("u4").tobytes())
         self.class_cells.set(scatter=True)
         grid.dispatch(self.class_cells, grid.level_counts[1])
-        grid.class_cell_segments = [(int(firsts[c]), int(counts[c])) for c in range(interleave)]
-        grid.mixed_cell_segment = (int(firsts[interleave]), int(counts[interleave]))
+        return tuple((int(firsts[c]), int(counts[c])) for c in range(interleave)), (int(firsts[interleave]), int(counts[interleave]))
 
     def _find_anchors(self, grid):
         """grid.gather_anchors for the grid's voxels: again for the voxels around those the
-        last voxelization touched (grid.stale) when the records were found for the version
+        last voxelization touched (grid.stale) when the records were found for the epoch
         before it, else for every covered voxel."""
-        if grid.anchors_for == grid.version:
+        if self.anchors_epoch is grid.epoch:
             return
         grid.gather_anchors.bind_to_storage_buffer(STORAGE_BINDING["GATHER_ANCHORS"])
-        every_voxel = grid.anchors_for != grid.version - 1
+        every_voxel = not grid.epoch.follows(self.anchors_epoch)
         count = grid.covered.count
         grid.stale.bind("STALE_VOXELS")
         if not every_voxel:
@@ -92,19 +92,20 @@ class GatherPass:
         grid.covered.bind("COVERED")
         self.anchors.set(**grid.uniforms(), every_voxel=every_voxel)
         grid.dispatch(self.anchors, count)
-        grid.anchors_for = grid.version
+        self.anchors_epoch = grid.epoch
 
-    def run(self, grid, cone_uniforms, out, class_index):
-        """Gather the anchors of interleave class `class_index` into volume `out`, then
-        interpolate the gather of the class's other voxels in it from the anchors around them."""
+    def run(self, grid, cone_uniforms, out, classes, class_index):
+        """Gather the anchors of interleave class `class_index` (of ClassIndex `classes`) into
+        volume `out`, then interpolate the gather of the class's other voxels in it from the
+        anchors around them."""
         grid.use_surface()
         grid.use_faces()
         grid.class_list.bind_to_storage_buffer(STORAGE_BINDING["CLASS_LIST"])
         bind_image(out, IMAGE_UNIT["GATHERED_OUT"])
-        anchors = grid.anchor_segment(class_index)
+        anchors = classes.anchor_segment(class_index)
         self.program.set(**grid.uniforms(), **cone_uniforms, first=anchors.first, count=anchors.count)
         grid.dispatch(self.program, anchors.count)
-        self.fill(grid, out, grid.filled_segment(class_index))
+        self.fill(grid, out, classes.filled_segment(class_index))
 
     def fill(self, grid, volume, segment):
         """Interpolate `volume` (the anchors' values written) at the voxels of `segment` (a

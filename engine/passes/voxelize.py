@@ -81,10 +81,8 @@ class VoxelizePass:
         bind_image(grid.base, IMAGE_UNIT["BASE_OUT"])
         self.keep.set(**uniforms)
         grid.dispatch(self.keep, grid.covered.count)
-        grid.covered, grid.covered_next = grid.covered_next, grid.covered
-        grid.covered.read_count()
+        grid.replace_covered()
         self._relist_cells(grid)
-        grid.version += 1
 
     def _relist_cells(self, grid):
         """Zero the face views over the old covered cells of every level, then list the cells

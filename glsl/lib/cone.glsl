@@ -70,10 +70,8 @@ vec4 face_lod(int face, vec3 uvw, float mip) {
 // by a cone with the given face weights; `wide`: a cone wider than 35.3 degrees. The faces the
 // cone looks into read `mip` (two levels blended where it is fractional), the back faces, which
 // take the small shares of the rays that diverge sideways, the nearest level: a blended lookup
-// reads twice the texels, and the back faces' jumps between levels do not show (the diffuse
-// gather takes 10 % less time; the Cornell box moved by at most 0.004 from 16^3 to 128^3).
-// Reading the minor front faces at the nearest level too saves as much again, but moves 16^3
-// (converged relMAE 0.087 instead of 0.075, 7 % bright).
+// reads twice the texels, and the back faces' jumps between levels do not show. (The front
+// faces read at the nearest level too make coarse grids read bright: docs/PERFORMANCE.md.)
 vec4 sample_faces(vec3 uvw, float mip, FaceWeights f, bool wide) {
     float nearest = round(mip);
     vec4 sum = f.weight.x * face_lod(f.face.x, uvw, mip) + f.weight.y * face_lod(f.face.y, uvw, mip)
@@ -88,11 +86,9 @@ vec4 sample_faces(vec3 uvw, float mip, FaceWeights f, bool wide) {
 // the cone, one sample per step. `blend_levels`: read the two mip levels around the footprint
 // blended (at the faces it looks into: sample_faces), or the nearest one. The diffuse cones
 // blend: at the nearest level the reading jumps where the distance to a surface crosses from
-// one level to the next, which draws bands on the receivers (one bounce at 128^3: relMAE 0.059
-// instead of 0.050). The specular cones read the
+// one level to the next, which draws bands on the receivers. The specular cones read the
 // nearest level: they are narrow and long, so most of their steps fall between levels 0 and 1,
-// where blending doubles the texel reads, and the images differ by 0.3-0.5 % (Sponza,
-// cornell_spheres). `emitted`: add the emission of the surfaces met (the specular cones), from the
+// where blending doubles the texel reads for images that hardly differ. `emitted`: add the emission of the surfaces met (the specular cones), from the
 // emission volume: its mean over the covered voxels of the cell, e.rgb / e.a, seen from every side.
 // `level_offset`: read that many levels below the footprint's and step by the narrower lookups
 // (the sky's cones: SKY_CONE_LEVEL_OFFSET); 0 for the others. `min_diameter`: the narrowest
