@@ -178,18 +178,29 @@ def voxel_update(previous, current):
 
 
 class Stage:
-    """What a stage of the frame last ran on: it runs again when its inputs differ (or always,
-    when change tracking is off). `version` counts its runs, an input of the stages after it."""
+    """What a stage of the frame last ran on, its inputs by name: it runs again when one of
+    them differs (or always, when change tracking is off). `version` counts its runs, an input
+    of the stages after it."""
 
     def __init__(self):
         self.inputs = None
         self.version = 0
 
-    def stale(self, inputs, tracking=True):
-        return not tracking or self.inputs is None or self.inputs != inputs
+    def changed(self, inputs, tracking=True):
+        """The names of `inputs` ({name: value}) whose values differ from the last run's (each
+        compared as a tuple compares its items); every name where it never ran or tracking is
+        off. Empty: the stage need not run."""
+        if not tracking or self.inputs is None:
+            return frozenset(inputs)
+        return frozenset(name for name, value in inputs.items()
+                         if not (self.inputs[name] is value or self.inputs[name] == value))
+
+    def last(self, name):
+        """The value input `name` had at the last run (None before the first)."""
+        return None if self.inputs is None else self.inputs[name]
 
     def ran(self, inputs):
-        self.inputs = inputs
+        self.inputs = dict(inputs)
         self.version += 1
 
     def forget(self):

@@ -279,12 +279,12 @@ class Renderer:
         """Shadow maps: the tiles of the lights that changed; all of them when a shadow caster
         moved, the scene bounds changed or lights came or went."""
         stage = self.stages["shadows"]
-        inputs = (frame.casters(), _bytes(frame.bounds), frame.light_values)
-        if stage.stale(inputs, self.track_changes):
+        inputs = dict(casters=frame.casters(), bounds=_bytes(frame.bounds), lights=frame.light_values)
+        changed = stage.changed(inputs, self.track_changes)
+        if changed:
             redraw = None
-            if self.track_changes and stage.inputs is not None and stage.inputs[:2] == inputs[:2] \
-                    and len(stage.inputs[2]) == len(inputs[2]):
-                redraw = {i for i, (a, b) in enumerate(zip(stage.inputs[2], inputs[2])) if a != b}
+            if changed == {"lights"} and len(stage.last("lights")) == len(inputs["lights"]):
+                redraw = {i for i, (a, b) in enumerate(zip(stage.last("lights"), inputs["lights"])) if a != b}
             with self.timed("shadow"):
                 self.shadow.render(frame.lights, frame.draws, frame.bounds, redraw, source)
             stage.ran(inputs)
@@ -293,8 +293,8 @@ class Renderer:
     def _gbuffer(self, frame, camera):
         """The G-buffer, drawn again when the view, the image size or a draw changed."""
         stage = self.stages["gbuffer"]
-        inputs = (_bytes(camera.view_projection), self.size, tuple(frame.draws))
-        if stage.stale(inputs, self.track_changes):
+        inputs = dict(view_projection=_bytes(camera.view_projection), size=self.size, draws=tuple(frame.draws))
+        if stage.changed(inputs, self.track_changes):
             with self.timed("gbuffer"):
                 self.gbuffer.render(frame.draws, camera.view_projection)
             stage.ran(inputs)
@@ -304,8 +304,8 @@ class Renderer:
         """Direct light, again when the G-buffer (and so the viewpoint) or the shadow maps (and so
         the lights) changed."""
         stage = self.stages["lighting"]
-        inputs = (self.stages["gbuffer"].version, self.stages["shadows"].version)
-        if stage.stale(inputs, self.track_changes):
+        inputs = dict(gbuffer=self.stages["gbuffer"].version, shadows=self.stages["shadows"].version)
+        if stage.changed(inputs, self.track_changes):
             with self.timed("lighting"):
                 self.lighting.render(gbuffer, shadow_maps, camera)
             stage.ran(inputs)
@@ -314,18 +314,18 @@ class Renderer:
     def _emitters(self, frame):
         """The emissive triangles, again when an emissive draw changed."""
         stage = self.stages["emitters"]
-        inputs = frame.emissive_draws()
-        if stage.stale(inputs, self.track_changes):
+        inputs = dict(emissive_draws=frame.emissive_draws())
+        if stage.changed(inputs, self.track_changes):
             with self.timed("emitters"):
-                self.emitters.upload(frame_emitters(inputs))
+                self.emitters.upload(frame_emitters(inputs["emissive_draws"]))
             stage.ran(inputs)
         return self.emitters
 
     def _environment(self, frame):
         """The environment's map, again when the environment changed."""
         stage = self.stages["environment"]
-        inputs = (frame.environment_values,)
-        if stage.stale(inputs, self.track_changes):
+        inputs = dict(environment=frame.environment_values)
+        if stage.changed(inputs, self.track_changes):
             with self.timed("environment"):
                 self.environment.upload(frame.environment)
             stage.ran(inputs)
@@ -338,9 +338,9 @@ class Renderer:
         stage = self.stages["voxels"]
         if self.grid.ensure(s.grid, frame.region, source):
             stage.forget()
-        inputs = (s.grid, _bytes((frame.region.center, frame.region.size)), tuple(frame.draws))
-        if stage.stale(inputs, self.track_changes):
-            held = stage.inputs[2] if self.track_changes and stage.inputs is not None else None
+        inputs = dict(grid=s.grid, region=_bytes((frame.region.center, frame.region.size)), draws=tuple(frame.draws))
+        if stage.changed(inputs, self.track_changes):
+            held = stage.last("draws") if self.track_changes else None
             update = voxel_update(held, frame.draws)
             if update.full or update.removed or update.added:
                 with self.timed("voxelize"):
@@ -354,14 +354,16 @@ class Renderer:
     def _emitter_light(self, emitters, s):
         """The emitters' light at the voxels, when the voxels, the emitters or the cones that
         shadow it changed."""
-        inputs = (self.stages["voxels"].version, self.stages["emitters"].version, s.cone_step, s.cone_offset)
+        inputs = dict(voxels=self.stages["voxels"].version, emitters=self.stages["emitters"].version,
+                      cone_step=s.cone_step, cone_offset=s.cone_offset)
         self._voxel_light("emitter_light", inputs, self.emitter_light_rounds, s, lambda classes, class_index: (
             self.emitter_light.run(self.grid, emitters, s.cone_uniforms(), classes.segment(class_index))))
 
     def _sky_light(self, environment, frame, s):
         """The environment's light at the voxels, when the voxels, the environment or the cones
         that bring it changed."""
-        inputs = (self.stages["voxels"].version, frame.environment_values, s.cone_step, s.cone_offset)
+        inputs = dict(voxels=self.stages["voxels"].version, environment=frame.environment_values,
+                      cone_step=s.cone_step, cone_offset=s.cone_offset)
         self._voxel_light("sky_light", inputs, self.sky_light_rounds, s, lambda classes, class_index: (
             self.sky_light.run(self.grid, environment, s.cone_uniforms(), classes.anchor_segment(class_index)),
             self.gather.fill(self.grid, self.grid.sky_traced, classes.filled_segment(class_index)),
@@ -376,7 +378,7 @@ class Renderer:
         bounce is spread: an edit makes no frame pay for more than 1 voxel in K, and while an
         emitter or the sky keeps changing every voxel is still relit once every K frames."""
         stage = self.stages[name]
-        if stage.stale(inputs, self.track_changes):
+        if stage.changed(inputs, self.track_changes):
             rounds.restart(s.bounce_interleave if self._spreads_work(s) else 1)
             self.bounces.sort_classes(self.grid, rounds.interleave, self.timed)
             self.bounces.compose(self.grid, self.bounces.gathered(self.grid), self.timed)
@@ -393,16 +395,18 @@ class Renderer:
         voxelization touched at once and, where the lights changed, each interleave class as
         the bounce updates it; other frames every voxel at once."""
         stage = self.stages["radiance"]
-        inputs = (self.stages["voxels"].version, self.stages["shadows"].version, self.stages["emitter_light"].version,
-                  self.stages["sky_light"].version, self.grid.sky_lit)
-        if stage.stale(inputs, self.track_changes):
+        inputs = dict(voxels=self.stages["voxels"].version, shadows=self.stages["shadows"].version,
+                      emitter_light=self.stages["emitter_light"].version, sky_light=self.stages["sky_light"].version,
+                      sky_lit=self.grid.sky_lit)
+        changed = stage.changed(inputs, self.track_changes)
+        if changed:
             interleave = self.bounces.interleave(s, self.progressive)
             if not self._spreads_work(s) or stage.inputs is None:
                 self.bounces.inject(self.grid, shadow_maps, interleave, self.timed)
             else:
-                if stage.inputs[0] != inputs[0]:
+                if "voxels" in changed:
                     self.bounces.inject_touched(self.grid, shadow_maps, interleave, self.timed)
-                if stage.inputs[1:] != inputs[1:]:
+                if changed - {"voxels"}:
                     self.bounces.inject_spread(interleave)
             stage.ran(inputs)
 
@@ -415,9 +419,9 @@ class Renderer:
         """Bounce again when the base radiance or the bounce settings changed; progressive
         frames add one bounce until the radiance settles."""
         stage = self.stages["bounces"]
-        inputs = (self.stages["radiance"].version, s.bounces, s.bounce_interleave, s.cone_step, s.cone_offset,
-                  self.progressive)
-        if stage.stale(inputs, self.track_changes):
+        inputs = dict(radiance=self.stages["radiance"].version, bounces=s.bounces, interleave=s.bounce_interleave,
+                      cone_step=s.cone_step, cone_offset=s.cone_offset, progressive=self.progressive)
+        if stage.changed(inputs, self.track_changes):
             self.bounces.restart(self.grid, s, s.cone_uniforms(), self.progressive, self.timed)
             stage.ran(inputs)
         self.bounces.advance(self.grid, s, s.cone_uniforms(), shadow_maps, self.timed)

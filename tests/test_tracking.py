@@ -349,3 +349,21 @@ def test_an_emission_edit_in_the_viewer_lights_the_room_over_the_next_frames():
     assert glowing.sum() > 100 and not (before.mean(axis=2) > 4.0).any()
     assert frames[0].mean() < frames[-1].mean()      # its light reaches the room over the frames
     assert rel_mae(frames[-1], expected) < 0.01
+
+
+def test_a_stage_names_the_inputs_that_changed_since_it_last_ran():
+    """Without GL: a stage that never ran, or runs untracked, sees every input as changed;
+    after a run, only the inputs whose values differ (compared as tuples compare their items:
+    the same object is unchanged)."""
+    from engine.changes import Stage
+
+    stage = Stage()
+    inputs = {"voxels": 3, "lights": ((1.0, 2.0),), "draws": (object(),)}
+    assert stage.changed(inputs) == set(inputs) and stage.last("voxels") is None
+    stage.ran(inputs)
+    assert stage.version == 1 and not stage.changed(dict(inputs))
+    assert stage.changed(dict(inputs, lights=((1.0, 2.5),))) == {"lights"}
+    assert stage.changed(dict(inputs, voxels=4, draws=(object(),))) == {"voxels", "draws"}
+    assert stage.changed(inputs, tracking=False) == set(inputs)
+    stage.forget()
+    assert stage.changed(inputs) == set(inputs)
