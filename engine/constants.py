@@ -81,8 +81,8 @@ STORAGE_BINDING = {
     "EMITTER_TRIANGLES": 24,  # the emissive triangles (GLSL_STRUCTS["EmitterTriangle"])
     "EMITTER_PATCHES": 25,    # groups of them that share a visibility cone (GLSL_STRUCTS["EmitterPatch"])
     "GATHER_ANCHORS": 26,     # per voxel: whether it traces the gather, or the anchors it takes it from
-    "CELL_CLASSES": 27,       # per level-1 cell: a bit per interleave class of the voxels in it
-    "CLASS_CELLS": 28,        # the covered level-1 cells sorted by class, the mixed ones last
+    "CELL_CLASS_BITS": 27,    # per level-1 cell: a bit per interleave class of the voxels in it
+    "CELLS_BY_CLASS": 28,     # the covered level-1 cells sorted by class, the mixed ones last
     "STALE_VOXELS": 29,       # voxels whose gather-anchor records a voxelization may have changed
     "VOXEL_LIST": 30,         # the voxels injection, composition and the emitters' light run over (a VoxelSegment)
 }

@@ -106,8 +106,8 @@ class ClassIndex:
     filled: tuple        # per class: its voxels that take their gather from the anchors
     every: tuple         # every covered voxel
     cell_list: object
-    class_cells: tuple   # per class: its level-1 cells
-    mixed_cells: tuple   # the level-1 cells that hold voxels of several classes
+    cell_runs: tuple     # per class: the run of its level-1 cells
+    mixed_cell_run: tuple  # the level-1 cells that hold voxels of several classes
 
     def sorted_for(self, epoch, interleave):
         return self.epoch is epoch and self.interleave == interleave
@@ -127,7 +127,7 @@ class ClassIndex:
 
     def cell_segments(self, class_index):
         """The level-1 cells an interleave class's voxels lie in: its own, then the mixed."""
-        return [self.class_cells[class_index], self.mixed_cells]
+        return [self.cell_runs[class_index], self.mixed_cell_run]
 
 
 class VoxelList:
@@ -208,8 +208,8 @@ class VoxelGrid:
         self.class_buckets = self._keep(ctx.buffer(reserve=4 * CLASS_PARTS * MAX_INTERLEAVE * max(n // CLASS_BLOCK, 1) ** 3 * CLASS_FACINGS))
         self.gather_anchors = self._keep(ctx.buffer(reserve=4 * voxels))  # lib/gather_anchors.glsl, per voxel
         # The classes of the voxels in each level-1 cell, and those cells sorted by class.
-        self.cell_classes = self._keep(ctx.buffer(reserve=4 * sizes[1]))
-        self.class_cells = self._keep(ctx.buffer(reserve=4 * sizes[1]))
+        self.cell_class_bits = self._keep(ctx.buffer(reserve=4 * sizes[1]))
+        self.cells_by_class = self._keep(ctx.buffer(reserve=4 * sizes[1]))
         self.epoch = Epoch()  # a new grid: nothing was computed from its lists yet
         self.framebuffer = self._keep(ctx.empty_framebuffer((n, n)))
 

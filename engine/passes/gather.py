@@ -15,11 +15,11 @@ from ..voxel_grid import ClassIndex, bind_image
 class GatherPass:
     def __init__(self, ctx, programs):
         self.ctx = ctx
-        self.program = programs.compute("gather/trace_anchor_cones.comp")
-        self.anchors_stale = programs.compute("gather/mark_stale_anchors.comp")
-        self.anchors = programs.compute("gather/find_anchors.comp")
-        self.classes = programs.compute("gather/sort_classes.comp")
-        self.class_cells = programs.compute("gather/sort_class_cells.comp")
+        self.trace_program = programs.compute("gather/trace_anchor_cones.comp")
+        self.mark_stale_program = programs.compute("gather/mark_stale_anchors.comp")
+        self.find_anchors_program = programs.compute("gather/find_anchors.comp")
+        self.sort_classes_program = programs.compute("gather/sort_classes.comp")
+        self.sort_cells_program = programs.compute("gather/sort_class_cells.comp")
         self.fill_program = programs.compute("gather/interpolate_from_anchors.comp")
         self.extrapolate_program = programs.compute("gather/close_bounce_series.comp")
         self.anchors_epoch = None  # the epoch of the covered list grid.gather_anchors was found for
@@ -28,7 +28,7 @@ class GatherPass:
         """Sort the covered voxels into `interleave` classes, each its anchors then the others,
         grouped by block and facing, finding the anchors first where the voxels changed, and
         the covered level-1 cells by class. Returns the ClassIndex of grid.class_list and
-        grid.class_cells."""
+        grid.cells_by_class."""
         buckets = max(grid.n // CLASS_BLOCK, 1) ** 3 * CLASS_FACINGS  # per class and part: (block, facing)
         total = interleave * CLASS_PARTS * buckets
         grid.use_surface()
@@ -37,40 +37,40 @@ class GatherPass:
         grid.class_buckets.write(bytes(4 * total))
         grid.class_buckets.bind_to_storage_buffer(STORAGE_BINDING["CLASS_BUCKETS"])
         grid.class_list.bind_to_storage_buffer(STORAGE_BINDING["CLASS_LIST"])
-        grid.cell_classes.write(bytes(grid.cell_classes.size))
-        grid.cell_classes.bind_to_storage_buffer(STORAGE_BINDING["CELL_CLASSES"])
-        self.classes.set(**grid.uniforms(), interleave=interleave, scatter=False)
-        grid.dispatch(self.classes, grid.covered.count)
+        grid.cell_class_bits.write(bytes(grid.cell_class_bits.size))
+        grid.cell_class_bits.bind_to_storage_buffer(STORAGE_BINDING["CELL_CLASS_BITS"])
+        self.sort_classes_program.set(**grid.uniforms(), interleave=interleave, scatter=False)
+        grid.dispatch(self.sort_classes_program, grid.covered.count)
         counts = np.frombuffer(grid.class_buckets.read(4 * total), dtype="u4").astype(np.int64)
         firsts = np.concatenate([[0], np.cumsum(counts)[:-1]])
         grid.class_buckets.write(firsts.astype("u4").tobytes())
-        self.classes.set(scatter=True)
-        grid.dispatch(self.classes, grid.covered.count)
+        self.sort_classes_program.set(scatter=True)
+        grid.dispatch(self.sort_classes_program, grid.covered.count)
         per_part = counts.reshape(interleave, CLASS_PARTS, buckets).sum(axis=2)
         part_firsts = firsts[::buckets].reshape(interleave, CLASS_PARTS)
-        class_cells, mixed_cells = self._sort_cells(grid, interleave)
+        cell_runs, mixed_cell_run = self._sort_cells(grid, interleave)
         return ClassIndex(
             epoch=grid.epoch, interleave=interleave, voxel_list=grid.class_list,
             classes=tuple((int(part_firsts[c, 0]), int(per_part[c].sum())) for c in range(interleave)),
             anchors=tuple((int(part_firsts[c, 0]), int(per_part[c, 0])) for c in range(interleave)),
             filled=tuple((int(part_firsts[c, 1]), int(per_part[c, 1])) for c in range(interleave)),
-            every=(0, int(counts.sum())), cell_list=grid.class_cells, class_cells=class_cells, mixed_cells=mixed_cells)
+            every=(0, int(counts.sum())), cell_list=grid.cells_by_class, cell_runs=cell_runs, mixed_cell_run=mixed_cell_run)
 
     def _sort_cells(self, grid, interleave):
         """Sort the covered level-1 cells by the class of their voxels (marked by the voxel
         sort), the cells of several classes last. Returns each class's (first, count) in
-        grid.class_cells, and the mixed cells'."""
+        grid.cells_by_class, and the mixed cells'."""
         buckets = interleave + 1
         grid.class_buckets.write(bytes(4 * buckets))
         grid.cells.bind_to_storage_buffer(STORAGE_BINDING["CELLS"])
-        grid.class_cells.bind_to_storage_buffer(STORAGE_BINDING["CLASS_CELLS"])
-        self.class_cells.set(**grid.uniforms(), first=grid.level_first[1], interleave=interleave, scatter=False)
-        grid.dispatch(self.class_cells, grid.level_counts[1])
+        grid.cells_by_class.bind_to_storage_buffer(STORAGE_BINDING["CELLS_BY_CLASS"])
+        self.sort_cells_program.set(**grid.uniforms(), first=grid.level_first[1], interleave=interleave, scatter=False)
+        grid.dispatch(self.sort_cells_program, grid.level_counts[1])
         counts = np.frombuffer(grid.class_buckets.read(4 * buckets), dtype="u4").astype(np.int64)
         firsts = np.concatenate([[0], np.cumsum(counts)[:-1]])
         grid.class_buckets.write(firsts.astype("u4").tobytes())
-        self.class_cells.set(scatter=True)
-        grid.dispatch(self.class_cells, grid.level_counts[1])
+        self.sort_cells_program.set(scatter=True)
+        grid.dispatch(self.sort_cells_program, grid.level_counts[1])
         return tuple((int(firsts[c]), int(counts[c])) for c in range(interleave)), (int(firsts[interleave]), int(counts[interleave]))
 
     def _find_anchors(self, grid):
@@ -86,12 +86,12 @@ class GatherPass:
         if not every_voxel:
             grid.touched.bind("TOUCHED")
             grid.stale.clear()
-            self.anchors_stale.set(**grid.uniforms())
-            grid.dispatch(self.anchors_stale, grid.touched.count)
+            self.mark_stale_program.set(**grid.uniforms())
+            grid.dispatch(self.mark_stale_program, grid.touched.count)
             count = grid.stale.read_count()
         grid.covered.bind("COVERED")
-        self.anchors.set(**grid.uniforms(), every_voxel=every_voxel)
-        grid.dispatch(self.anchors, count)
+        self.find_anchors_program.set(**grid.uniforms(), every_voxel=every_voxel)
+        grid.dispatch(self.find_anchors_program, count)
         self.anchors_epoch = grid.epoch
 
     def run(self, grid, cone_uniforms, out, classes, class_index):
@@ -103,8 +103,8 @@ class GatherPass:
         grid.class_list.bind_to_storage_buffer(STORAGE_BINDING["CLASS_LIST"])
         bind_image(out, IMAGE_UNIT["GATHERED_OUT"])
         anchors = classes.anchor_segment(class_index)
-        self.program.set(**grid.uniforms(), **cone_uniforms, first=anchors.first, count=anchors.count)
-        grid.dispatch(self.program, anchors.count)
+        self.trace_program.set(**grid.uniforms(), **cone_uniforms, first=anchors.first, count=anchors.count)
+        grid.dispatch(self.trace_program, anchors.count)
         self.fill(grid, out, classes.filled_segment(class_index))
 
     def fill(self, grid, volume, segment):
@@ -130,6 +130,7 @@ class GatherPass:
         self.extrapolate(grid, source, target, (0.0, 0.0, 0.0))
 
     def release(self):
-        for handle in (self.program, self.anchors_stale, self.anchors, self.classes, self.class_cells, self.fill_program,
+        for handle in (self.trace_program, self.mark_stale_program, self.find_anchors_program, self.sort_classes_program,
+                       self.sort_cells_program, self.fill_program,
                        self.extrapolate_program):
             handle.release()

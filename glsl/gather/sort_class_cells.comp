@@ -8,9 +8,9 @@
 
 layout(local_size_x = LIST_GROUP) in;
 layout(std430, binding = SSBO_CELLS) readonly buffer Cells { uint cell_count[CELL_LIST_LEVELS]; uint cells[]; };
-layout(std430, binding = SSBO_CELL_CLASSES) readonly buffer CellClasses { uint cell_classes[]; };
+layout(std430, binding = SSBO_CELL_CLASS_BITS) readonly buffer CellClassBits { uint cell_class_bits[]; };
 layout(std430, binding = SSBO_CLASS_BUCKETS) buffer ClassBuckets { uint buckets[]; };  // counts, then next free entries
-layout(std430, binding = SSBO_CLASS_CELLS) writeonly buffer ClassCells { uint class_cells[]; };
+layout(std430, binding = SSBO_CELLS_BY_CLASS) writeonly buffer CellsByClass { uint cells_by_class[]; };
 uniform uint first;     // level 1's first entry in `cells`
 uniform int interleave;
 uniform bool scatter;
@@ -18,8 +18,8 @@ uniform bool scatter;
 void main() {
     if (gl_GlobalInvocationID.x >= cell_count[1]) return;
     uint entry = cells[first + gl_GlobalInvocationID.x];
-    uint classes = cell_classes[grid_index(unpack_voxel(entry), voxel_grid >> 1)];
+    uint classes = cell_class_bits[grid_index(unpack_voxel(entry), voxel_grid >> 1)];
     uint bucket = bitCount(classes) == 1 ? uint(findLSB(classes)) : uint(interleave);
-    if (scatter) class_cells[atomicAdd(buckets[bucket], 1u)] = entry;
+    if (scatter) cells_by_class[atomicAdd(buckets[bucket], 1u)] = entry;
     else atomicAdd(buckets[bucket], 1u);
 }

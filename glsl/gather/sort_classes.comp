@@ -9,7 +9,7 @@
 // which end after as many steps. A counting sort: a pass counting the entries of each bucket
 // (class, part, block, facing), then, once the host has turned the counts into each bucket's first entry, a
 // pass scattering the voxels into their buckets, which also marks the classes each level-1
-// cell holds (CELL_CLASSES, zeroed by the host before). gather/find_anchors.comp has found the
+// cell holds (CELL_CLASS_BITS, zeroed by the host before). gather/find_anchors.comp has found the
 // anchors.
 #include "lib/gather_anchors.glsl"
 
@@ -17,7 +17,7 @@ layout(local_size_x = LIST_GROUP) in;
 #include "lib/covered_voxels.glsl"
 layout(std430, binding = SSBO_CLASS_BUCKETS) buffer ClassBuckets { uint buckets[]; };  // counts, then next free entries
 layout(std430, binding = SSBO_CLASS_LIST) writeonly buffer ClassList { uint class_list[]; };
-layout(std430, binding = SSBO_CELL_CLASSES) buffer CellClasses { uint cell_classes[]; };  // per level-1 cell: a bit per class
+layout(std430, binding = SSBO_CELL_CLASS_BITS) buffer CellClassBits { uint cell_class_bits[]; };  // per level-1 cell: a bit per class
 uniform int interleave;
 uniform bool scatter;
 
@@ -36,7 +36,7 @@ void main() {
     uint bucket = block_index * uint(CLASS_FACINGS) + uint(facing);
     if (scatter) {
         class_list[atomicAdd(buckets[bucket], 1u)] = entry;
-        atomicOr(cell_classes[grid_index(v >> 1, voxel_grid >> 1)], 1u << class_index);
+        atomicOr(cell_class_bits[grid_index(v >> 1, voxel_grid >> 1)], 1u << class_index);
     } else {
         atomicAdd(buckets[bucket], 1u);
     }
