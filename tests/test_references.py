@@ -14,15 +14,24 @@ def reference(name):
     return np.load(REFERENCES / f"{name}.npy").astype(np.float64)
 
 
+def render(name, **settings):
+    """Reference scene `name` (its scene file, or NAME.glb: a glTF file that is the scene)
+    rendered at 256x256 with `settings`."""
+    scene = engine.load_scene(REFERENCES / name if name.endswith(".glb") else REFERENCES / f"{name}.json")
+    with engine.Renderer(256, 256) as r:
+        return r.render(scene, **settings)
+
+
+def assert_matches(image, expected, error_bound, luminance_bound):
+    """Relative MAE at most `error_bound`, mean luminance within `luminance_bound` of the reference's."""
+    assert rel_mae(image, expected) <= error_bound
+    assert luminance_ratio(image, expected) == pytest.approx(1.0, abs=luminance_bound)
+
+
 def test_textured_box_direct_light_matches_its_reference():
     """A glTF box with an asymmetric sRGB base-colour texture and an alpha-masked grille whose
     patterned shadow falls on the back wall: direct light within 5 % (relative MAE)."""
-    scene = engine.load_scene(REFERENCES / "textured_box.json")
-    with engine.Renderer(256, 256) as r:
-        direct = r.render(scene, mode="direct")
-    expected = reference("textured_box_direct")
-    assert rel_mae(direct, expected) <= 0.05
-    assert luminance_ratio(direct, expected) == pytest.approx(1.0, abs=0.02)
+    assert_matches(render("textured_box", mode="direct"), reference("textured_box_direct"), 0.05, 0.02)
 
 
 def test_textured_box_converged_gi_matches_its_reference():
@@ -30,12 +39,7 @@ def test_textured_box_converged_gi_matches_its_reference():
     glTF dielectrics' diffuse layers reflecting what their specular layers leave; within 10 %
     (relative MAE, measured 0.064), luminance within 5 % (1.013; a diffuse layer not reduced by
     the specular one's share came out 23 % bright)."""
-    scene = engine.load_scene(REFERENCES / "textured_box.json")
-    with engine.Renderer(256, 256) as r:
-        gi = r.render(scene, grid=128)
-    expected = reference("textured_box_gi")
-    assert rel_mae(gi, expected) <= 0.10
-    assert luminance_ratio(gi, expected) == pytest.approx(1.0, abs=0.05)
+    assert_matches(render("textured_box", grid=128), reference("textured_box_gi"), 0.10, 0.05)
 
 
 # Measured at grid 128 (docs/ACCURACY.md): the bounds hold those figures with a margin and fail
@@ -57,13 +61,7 @@ def test_light_from_emissive_surfaces_matches_its_reference(name):
     """Scenes lit by emissive surfaces alone (a panel 1 cm under the ceiling, a glowing box on
     the floor, an orange panel on a wall, a ceiling panel over a metal and a plastic sphere),
     all bounces through the voxels."""
-    error_bound, luminance_bound = EMISSIVE[name]
-    scene = engine.load_scene(REFERENCES / f"{name}.json")
-    with engine.Renderer(256, 256) as r:
-        gi = r.render(scene, grid=128)
-    expected = reference(f"{name}_gi")
-    assert rel_mae(gi, expected) <= error_bound
-    assert luminance_ratio(gi, expected) == pytest.approx(1.0, abs=luminance_bound)
+    assert_matches(render(name, grid=128), reference(f"{name}_gi"), *EMISSIVE[name])
 
 
 # Measured at grid 128: panel 0.0029, glowing box 0.0104 (with the tall box's shadow), orange
@@ -78,12 +76,7 @@ def test_direct_light_from_emissive_surfaces_matches_its_reference(name):
     cones through the voxels: within 3 % of the path tracer's (relative MAE), close to the
     emitter (a floor by a glowing box, a wall under a lamp 1 cm from the ceiling) as across
     the room."""
-    scene = engine.load_scene(REFERENCES / f"{name}.json")
-    with engine.Renderer(256, 256) as r:
-        direct = r.render(scene, mode="direct", grid=128)
-    expected = reference(f"{name}_direct")
-    assert rel_mae(direct, expected) <= 0.03
-    assert luminance_ratio(direct, expected) == pytest.approx(1.0, abs=0.02)
+    assert_matches(render(name, mode="direct", grid=128), reference(f"{name}_direct"), 0.03, 0.02)
 
 
 # The panel's back side, in the image (rows and columns inside its outline).
@@ -128,13 +121,7 @@ AS_AUTHORED = {
 @pytest.mark.parametrize("name", sorted(AS_AUTHORED))
 def test_scenes_as_authored_match_their_references(name):
     """Skies and a glTF file as the scene, all bounces through the voxels."""
-    error_bound, luminance_bound = AS_AUTHORED[name]
-    scene = engine.load_scene(REFERENCES / name if name.endswith(".glb") else REFERENCES / f"{name}.json")
-    with engine.Renderer(256, 256) as r:
-        gi = r.render(scene, grid=128)
-    expected = reference(f"{name.removesuffix('.glb')}_gi")
-    assert rel_mae(gi, expected) <= error_bound
-    assert luminance_ratio(gi, expected) == pytest.approx(1.0, abs=luminance_bound)
+    assert_matches(render(name, grid=128), reference(f"{name.removesuffix('.glb')}_gi"), *AS_AUTHORED[name])
 
 
 @pytest.mark.parametrize("name", ["open_box_sky", "sky_room", "gltf_room.glb", "gltf_spheres"])
@@ -143,13 +130,7 @@ def test_direct_light_of_skies_and_gltf_scenes_matches_its_reference(name):
     for the open box, 0.139 through the opening, where the cones' visibility is noisy), a
     glTF file's KHR lights and the glTF spheres' layers within 3 % (0.028, 0.023)."""
     bounds = {"open_box_sky": (0.06, 0.04), "sky_room": (0.15, 0.07), "gltf_room.glb": (0.03, 0.02), "gltf_spheres": (0.03, 0.02)}
-    error_bound, luminance_bound = bounds[name]
-    scene = engine.load_scene(REFERENCES / name if name.endswith(".glb") else REFERENCES / f"{name}.json")
-    with engine.Renderer(256, 256) as r:
-        direct = r.render(scene, mode="direct", grid=128)
-    expected = reference(f"{name.removesuffix('.glb')}_direct")
-    assert rel_mae(direct, expected) <= error_bound
-    assert luminance_ratio(direct, expected) == pytest.approx(1.0, abs=luminance_bound)
+    assert_matches(render(name, mode="direct", grid=128), reference(f"{name.removesuffix('.glb')}_direct"), *bounds[name])
 
 
 def test_gltf_dielectrics_and_metals_at_three_roughnesses_match_their_reference():
@@ -157,15 +138,11 @@ def test_gltf_dielectrics_and_metals_at_three_roughnesses_match_their_reference(
     box, seen from above: relMAE 0.113, luminance 0.926. The issue's 0.10 / 5 % are not met:
     the image is mostly floor and lower walls, whose light is mostly indirect, and their
     indirect light is read 11-16 % dark around the gold spheres, whose caustics the voxels'
-    Lambertian lobes do not carry (docs/ACCURACY.md). A renderer that added the dielectrics' layers instead of splitting them would
-    make the spheres' diffuse layers reflect 8 % more per bounce; the furnaces
+    Lambertian lobes do not carry (docs/ACCURACY.md). A renderer that added the dielectrics'
+    layers instead of splitting them would make the spheres' diffuse layers reflect 8 % more
+    per bounce; the furnaces
     (tests/test_environment.py) check that split directly."""
-    scene = engine.load_scene(REFERENCES / "gltf_spheres.json")
-    with engine.Renderer(256, 256) as r:
-        gi = r.render(scene, grid=128)
-    expected = reference("gltf_spheres_gi")
-    assert rel_mae(gi, expected) <= 0.13
-    assert luminance_ratio(gi, expected) == pytest.approx(1.0, abs=0.09)
+    assert_matches(render("gltf_spheres", grid=128), reference("gltf_spheres_gi"), 0.13, 0.09)
 
 
 # The short box's turned front face, as the gold tall box of glossy_cornell reflects it.
@@ -187,11 +164,7 @@ def test_a_flat_face_reflected_in_glossy_gold_shows_at_most_faint_voxel_stairs()
     within 0.10 (measured 0.091) and 6 % (0.944); in the gold box, the short box's turned face
     shows stripes of contrast 0.020 (the path tracer's 0.004; cones reading single voxels drew
     the face's voxel staircase at 0.039). The issue asks for none at all: not met."""
-    scene = engine.load_scene(REFERENCES / "glossy_cornell.json")
-    with engine.Renderer(256, 256) as r:
-        gi = r.render(scene, grid=128)
-    expected = reference("glossy_cornell_gi")
-    assert rel_mae(gi, expected) <= 0.10
-    assert luminance_ratio(gi, expected) == pytest.approx(1.0, abs=0.06)
+    gi, expected = render("glossy_cornell", grid=128), reference("glossy_cornell_gi")
+    assert_matches(gi, expected, 0.10, 0.06)
     assert stripe_contrast(expected) < 0.01
     assert stripe_contrast(gi) <= 0.025
