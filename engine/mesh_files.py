@@ -147,20 +147,30 @@ def flat_normals(positions, triangles, *attributes):
     return (positions[corners], normals, np.arange(len(corners), dtype=np.uint32).reshape(-1, 3), *expanded)
 
 
+def smooth_normals(positions, triangles, *attributes):
+    """(positions, normals, triangles, attributes...): each vertex's normal the sum of its
+    faces' normals weighted by their areas, unit length; where faces facing apart share a
+    vertex and that sum (nearly) cancels, flat normals instead (flat_normals)."""
+    faces = face_normals(positions, triangles)
+    sums = np.zeros_like(positions, dtype=np.float64)
+    np.add.at(sums, triangles.reshape(-1), np.repeat(faces, 3, axis=0))
+    lengths = np.linalg.norm(sums[triangles.reshape(-1)], axis=1)
+    if not np.all(lengths > 1e-6 * np.repeat(np.linalg.norm(faces, axis=1), 3)):
+        return flat_normals(positions, triangles, *attributes)
+    return (positions, _unit(sums), triangles, *attributes)
+
+
 def surface_mesh(positions, triangles, normals=None, texcoords=None):
     """(mesh, dropped): a Mesh of the triangles whose vertex data is finite and within
     +-MAX_MAGNITUDE and whose area is not zero (None if none is left), and how many triangles
     were dropped for their vertex data (zero-area ones are not counted: they draw nothing).
     Its normals: the given ones scaled to unit length where every one of them has a length,
-    else smooth (area-weighted per vertex; flat where faces facing apart share vertices and
-    their normals would cancel)."""
+    else smooth_normals."""
     positions = np.asarray(positions, np.float64)
     data = [positions] if texcoords is None else [positions, np.asarray(texcoords, np.float64)]
     valid = np.all([np.all(np.abs(array[triangles]) <= MAX_MAGNITUDE, axis=(1, 2)) for array in data], axis=0)
     triangles = triangles[valid]
-    normals_of_faces = face_normals(positions, triangles)
-    keep = np.linalg.norm(normals_of_faces, axis=1) > 0
-    triangles, normals_of_faces = triangles[keep], normals_of_faces[keep]
+    triangles = triangles[np.linalg.norm(face_normals(positions, triangles), axis=1) > 0]
     dropped = int(np.count_nonzero(~valid))
     if len(triangles) == 0:
         return None, dropped
@@ -173,14 +183,7 @@ def surface_mesh(positions, triangles, normals=None, texcoords=None):
         lengths = np.linalg.norm(np.where(np.isfinite(normals), normals, 0.0), axis=1)
         normals = normals / lengths[:, None] if np.all(np.isfinite(normals)) and np.all(lengths > 1e-6) else None
     if normals is None:
-        normals = np.zeros_like(positions, dtype=np.float64)
-        np.add.at(normals, triangles.reshape(-1), np.repeat(normals_of_faces, 3, axis=0))
-        lengths = np.linalg.norm(normals[triangles.reshape(-1)], axis=1)
-        areas = np.repeat(np.linalg.norm(normals_of_faces, axis=1), 3)
-        if not np.all(lengths > 1e-6 * areas):
-            positions, normals, triangles, texcoords = flat_normals(positions, triangles, texcoords)
-            return Mesh(positions.astype(np.float32), normals, triangles, texcoords), dropped
-        normals = _unit(normals)
+        positions, normals, triangles, texcoords = smooth_normals(positions, triangles, texcoords)
     return Mesh(positions.astype(np.float32), normals.astype(np.float32), triangles.astype(np.uint32), texcoords), dropped
 
 

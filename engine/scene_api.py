@@ -49,7 +49,7 @@ import numpy as np
 from .errors import SceneError, VctError
 from .input_files import InputFiles
 from .limits import MAX_DEPTH, MIN_FOV_DEG, check_material, check_placement, check_vertices
-from .mesh_files import _Textures, default_material, face_normals, flat_normals, generate_tangents
+from .mesh_files import _Textures, default_material, face_normals, generate_tangents, smooth_normals
 from .scene import TEXTURE_FIELDS, Material, Mesh, Node, NodeCamera, Scene
 from .scene_file import DEFAULT_WIDTH, FALLBACK_ASPECT, framing_camera
 from .transforms import decompose
@@ -113,7 +113,7 @@ def _mesh(positions, indices, normals, texcoords, colors, fail):
         normals = normals[used] / lengths[:, None]
     positions, texcoords, colors = (None if a is None else a[used] for a in (positions, texcoords, colors))
     if normals is None:
-        positions, normals, triangles, texcoords, colors = _computed_normals(positions, triangles, texcoords, colors)
+        positions, normals, triangles, texcoords, colors = smooth_normals(positions, triangles, texcoords, colors)
     return Mesh(positions.astype(np.float32), normals.astype(np.float32), triangles.astype(np.uint32),
                 None if texcoords is None else texcoords.astype(np.float32),
                 colors=None if colors is None else colors.astype(np.float32))
@@ -148,19 +148,6 @@ def _triangles(indices, count, fail):
     if triangles.min() < 0 or triangles.max() >= count:
         fail("indices", f"must be vertex numbers 0..{count - 1}, got {int(triangles.min())}..{int(triangles.max())}")
     return triangles
-
-
-def _computed_normals(positions, triangles, *attributes):
-    """(positions, normals, triangles, attributes...): each vertex the sum of its faces'
-    normals weighted by their areas, unit length; where faces facing apart share a vertex and
-    that sum (nearly) cancels, flat normals instead (flat_normals)."""
-    faces = face_normals(positions, triangles)
-    sums = np.zeros_like(positions)
-    np.add.at(sums, triangles.reshape(-1), np.repeat(faces, 3, axis=0))
-    lengths = np.linalg.norm(sums, axis=1)
-    if not np.all(lengths[triangles.reshape(-1)] > 1e-6 * np.repeat(np.linalg.norm(faces, axis=1), 3)):
-        return flat_normals(positions, triangles, *attributes)
-    return (positions, sums / lengths[:, None], triangles, *attributes)
 
 
 # ---- the limits of loaded scenes ----------------------------------------------------------
