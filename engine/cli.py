@@ -371,11 +371,7 @@ def warn_if_black(scene, radiance, settings, source):
 
 def check_animation(scene, args):
     """Refuse an --animation the scene does not have, before anything is rendered."""
-    names = scene.animations()
-    if args.animation is not None and args.animation not in names:
-        listed = ", ".join(f'"{name}"' for name in names) or "none"
-        raise VctError(f'no animation named "{args.animation}" (the scene has: {listed})', source=args.scene,
-                       field="--animation")
+    scene.played(args.animation, field="--animation", source=args.scene)
 
 
 def check_outputs(args, frames):

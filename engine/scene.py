@@ -292,17 +292,25 @@ class Scene:
                     durations[name] = max(durations.get(name, 0.0), duration)
         return durations
 
+    def played(self, animation=None, field="animation", source=None):
+        """{name: duration} of the animations `animation` plays (a name of `animations()`;
+        None: all of them). VctError naming `field` (and `source`) for a name the scene has not."""
+        durations = self.animations()
+        if animation is None:
+            return durations
+        if animation not in durations:
+            names = ", ".join(f'"{name}"' for name in durations) or "none"
+            raise VctError(f'no animation named "{animation}" (the scene has: {names})', source=source, field=field)
+        return {animation: durations[animation]}
+
     def pose_at(self, t, animation=None):
         """Pose the scene at `t` seconds, in place: every animated node takes its translation,
         rotation and scale at t of `animation` (a name of `animations()`; None: all of them
         together), looping over the longest of them; a camera placed from a camera node
         follows the node. Returns the scene."""
-        durations = self.animations()
-        if animation is not None and animation not in durations:
-            names = ", ".join(f'"{name}"' for name in durations) or "none"
-            raise VctError(f'no animation named "{animation}" (the scene has: {names})', field="animation")
-        names = [animation] if animation is not None else list(durations)
-        longest = max((durations[name] for name in names), default=0.0)
+        durations = self.played(animation)
+        names = list(durations)
+        longest = max(durations.values(), default=0.0)
         local_t = float(t) % longest if longest > 0.0 else 0.0
         for node, _ in self.root.walk():
             if node.animation is not None:
