@@ -26,7 +26,7 @@ from .settings import MODE_TABLE
 FRAME_KINDS = ("static", "light", "object", "animated")
 ANIMATION_FPS = 30.0  # animation time per frame of the animated kind: 1/30 s
 PASS_ORDER = ("shadow", "gbuffer", "lighting", "emitters", "environment", "voxelize", "emission_mipmap", "emitter_light",
-              "sky_light", "inject", "classes", "gather", "faces", "mipmap", "cone_trace", "voxel_view", "gbuffer_view")
+              "sky_light", "inject", "classes", "gather", "faces", "mipmap", "totals", "cone_trace", "voxel_view", "gbuffer_view")
 SETTLE_FRAMES = 400  # progressive frames allowed for the radiance to settle before timing
 
 
@@ -103,7 +103,7 @@ def settle(scene, renderer, settings):
     """Render progressive frames until the bounces settle."""
     for _ in range(SETTLE_FRAMES):
         renderer.render_frame(scene, settings)
-        if renderer.bounces.settled:
+        if renderer.schedule.settled:
             return
 
 

@@ -1,11 +1,11 @@
-"""Bounce scheduling: how the voxel radiance gets its diffuse bounces after its base radiance
-(emission + direct light) changed, and the state that carries from frame to frame.
+"""Radiance scheduling: which per-voxel work a frame does after the voxels, the lights, the
+emitters or the sky changed, and the state that carries from frame to frame. GL-free: the
+schedule plans work items (below) and the renderer runs each under the timer of its pass.
 
 A bounce gathers light at every voxel with the 6 diffuse cones, traced by the anchors (1 in 4
 of a surface's voxels) and interpolated by the others (passes/gather.py), and composes the face
-views again with it (passes/faces.py). The gathers live in two
-volumes: `latest` is the one the image and the face views use, the other keeps an earlier
-gather for closing the series.
+views again with it (passes/faces.py). The gathers live in two volumes: `latest` is the one
+the image and the face views use, the other keeps an earlier gather for closing the series.
 
 - `bounces` K >= 1: K bounces when the base radiance changes; the face views carry K - 1 of
   them and the latest gather the K-th, which the image adds.
@@ -15,13 +15,18 @@ gather for closing the series.
   voxels interpolate them, and its face views are composed again. A cycle of K frames updates
   every voxel once, and the series closes over cycles as it does over bounces. Then no bounce
   work until the next change. Where only the lights changed, the base radiance is injected
-  again with the class (`inject`): no frame pays for more than 1 voxel in K, and while a light
-  keeps moving every voxel is still relit once every K frames.
+  again with the class: no frame pays for more than 1 voxel in K, and while a light keeps
+  moving every voxel is still relit once every K frames.
 
 The face views hold L = L_base - L_e + rho G: the light surfaces reflect (emitters light the
-surfaces directly, passes/emitter_light.py). `ClassRounds` spreads other per-voxel work over
-the same classes (the emitters' light at the voxels).
+surfaces directly, passes/emitter_light.py). The emitters' and the sky's light at the voxels
+is spread over the same classes (`ClassRounds`).
+
+Each planning method is a generator: it yields the work items in the order they must run,
+receives what a `MeasureTotals` measured, and updates the schedule's state as it plans.
 """
+from dataclasses import dataclass
+
 import numpy as np
 
 from .progress import progress
@@ -29,6 +34,91 @@ from .settings import MAX_BOUNCES
 
 CONVERGENCE_TOLERANCE = 2e-3  # an increment of the totals under this fraction of them: converged
 RATIO_SETTLED = 0.01          # successive increment ratios this close: close the series
+NO_GAIN = (0.0, 0.0, 0.0)
+
+
+@dataclass(frozen=True)
+class Voxels:
+    """Covered voxels a work item runs over: "every" one, those of interleave class `class_index`
+    ("class", of the class index last sorted) or those the last voxelization "touched"."""
+
+    kind: str
+    class_index: int = None
+
+
+EVERY_VOXEL = Voxels("every")
+TOUCHED_VOXELS = Voxels("touched")
+
+
+def class_voxels(class_index):
+    return Voxels("class", class_index)
+
+
+# -- work items: what the renderer runs, each under the timer named by its `timer` ----------
+
+@dataclass(frozen=True)
+class SortClasses:
+    """Sort the covered voxels into `interleave` classes (GatherPass.sort_classes)."""
+    interleave: int
+    timer = "classes"
+
+
+@dataclass(frozen=True)
+class Inject:
+    """The base radiance of `voxels` (InjectPass)."""
+    voxels: Voxels
+    timer = "inject"
+
+
+@dataclass(frozen=True)
+class LightVoxels:
+    """The light of `source` ("emitter_light" or "sky_light") at the voxels of a class."""
+    source: str
+    class_index: int
+
+    @property
+    def timer(self):
+        return self.source
+
+
+@dataclass(frozen=True)
+class ComposeFaces:
+    """Level 0 of the face views of each of `voxels` from their base radiance plus gather
+    volume `gathered` (None: before the first bounce)."""
+    voxels: tuple
+    gathered: int
+    timer = "faces"
+
+
+@dataclass(frozen=True)
+class Mipmap:
+    """The face views' coarser levels: over every covered cell (`class_index` None) or, at
+    level 1, over the cells of one interleave class."""
+    class_index: int = None
+    timer = "mipmap"
+
+
+@dataclass(frozen=True)
+class Gather:
+    """The gather of interleave class `class_index` into gather volume `into`."""
+    class_index: int
+    into: int
+    timer = "gather"
+
+
+@dataclass(frozen=True)
+class ExtrapolateGather:
+    """Gather volume older <- latest + (latest - older) * gain (gain 0: a copy)."""
+    latest: int
+    older: int
+    gain: tuple
+    timer = "gather"
+
+
+@dataclass(frozen=True)
+class MeasureTotals:
+    """The face views' total radiance (rgb), sent back to the plan."""
+    timer = "totals"
 
 
 class Series:
@@ -55,7 +145,7 @@ class Series:
         if len(self.ratios) >= 2 and np.all(np.abs(self.ratios[-1] - self.ratios[-2]) <= RATIO_SETTLED) \
                 and np.all(self.ratios[-1] < 1):
             r = np.clip(self.ratios[-1], 0.0, 0.99)
-            return r / (1.0 - r)
+            return tuple(float(g) for g in r / (1.0 - r))
         return None
 
 
@@ -84,185 +174,187 @@ class ClassRounds:
         return chosen
 
 
-class BounceSchedule:
-    def __init__(self, injection, gather, faces):
-        self.injection = injection
-        self.gather = gather
-        self.faces = faces
+class RadianceSchedule:
+    """The state of the voxels' radiance between frames, and the plans that move it on.
+
+    `settled`: no bounce work is due (always, outside progressive frames, once a plan ran).
+    Progressive frames are in one of two states: converging (`settled` False: each frame one
+    class, `phase` the next) or settled. Also carried: the classes whose base radiance is
+    still to inject (`pending_base`, for interleave `pending_for`), the voxel sets injected
+    since the face views were last composed (`stale_faces`), the epoch of the covered list the
+    base radiance was last injected for and the class index was sorted for, the series of
+    cycle totals, and whether the running cycle ran on the current base radiance throughout."""
+
+    def __init__(self):
         self.latest = 0
         self.settled = True
         self.series = None    # progressive: the totals at the end of each cycle
         self.phase = 0        # progressive: the interleave class updated next
         self.iterations = 0   # bounces the last restart ran (or the progressive bounces so far)
-        self.pending_base = set()  # progressive: the classes whose base radiance is still to inject,
-        self.pending_for = 1       # of this interleave
-        self.stale_faces = []      # progressive: VoxelSegments to compose before the next gather
-        self.injected_epoch = None  # the covered list's epoch the base radiance was last injected for
-        self.classes = None         # the ClassIndex of the covered voxels, as last sorted (sort_classes)
-        self.cycle_clean = False   # progressive: this cycle runs on the current base radiance throughout
+        self.pending_base = set()
+        self.pending_for = 1
+        self.stale_faces = []
+        self.injected_epoch = None
+        self.sorted_for = None  # (epoch, interleave) of the class index as last sorted
+        self.cycle_clean = False
+        self.voxel_light_rounds = {"emitter_light": ClassRounds(), "sky_light": ClassRounds()}
 
-    def gathered(self, grid):
-        return grid.gathered[self.latest]
+    # -- plans -------------------------------------------------------------------------------
 
-    @staticmethod
-    def interleave(settings, progressive):
-        """The classes the covered voxels are sorted into: the progressive bounce's, else one."""
-        return settings.bounce_interleave if progressive and settings.bounces == 0 else 1
+    def light_voxels(self, source, restart, interleave, epoch):
+        """The light of `source` at the voxels, when its inputs changed (`restart`: spread over
+        `interleave` classes) and for the classes still due. Its cones read the face views'
+        coverage, so a restart composes them first, with the gathers so far (the light they
+        hold follows with the bounces). Yields a LightVoxels item when a class is due."""
+        rounds = self.voxel_light_rounds[source]
+        if restart:
+            rounds.restart(interleave)
+            yield from self._sort(epoch, rounds.interleave)
+            yield from self._compose([EVERY_VOXEL], self.latest)
+        chosen = rounds.next_class()
+        if chosen is not None:
+            yield from self._sort(epoch, rounds.interleave)
+            yield LightVoxels(source, chosen)
 
-    def inject(self, grid, shadow_maps, interleave, timed):
-        """The base radiance of every voxel, now."""
-        classes = self.sort_classes(grid, interleave, timed)
-        self._inject_now(grid, shadow_maps, classes.segment(), timed)
+    def inject(self, voxels_changed, lights_changed, interleave, spread, epoch):
+        """The base radiance after the voxels or the light reaching them changed. Spread
+        (progressive frames with converging bounces, tracked): the voxels a voxelization
+        touched now (every voxel, if the list changed more than once since the last
+        injection), and where the light changed each class as the bounce next updates it.
+        Otherwise every voxel, now."""
+        if not spread:
+            yield from self._inject_every(interleave, epoch)
+            return
+        if voxels_changed:
+            if epoch.follows(self.injected_epoch):
+                yield from self._inject_now(TOUCHED_VOXELS, epoch)
+            else:
+                yield from self._inject_every(interleave, epoch)
+        if lights_changed:
+            self.pending_base, self.pending_for = set(range(interleave)), interleave
+            self.cycle_clean = False
+
+    def bounce(self, restart, bounces, interleave, progressive, epoch):
+        """The bounces: all of them when `restart` (the base radiance or the bounce settings
+        changed), outside progressive frames; in progressive frames this frame's share."""
+        if restart:
+            self.iterations = 0
+            if bounces == 0 and progressive:  # resume from the previous gathers; a new series from the next cycle
+                self.settled, self.series = False, None
+            else:
+                self.settled = True
+                yield from self._compose([EVERY_VOXEL], None)
+                if bounces:
+                    yield from self._fixed(bounces, epoch)
+                else:
+                    yield from self._converge(epoch)
+        if not self.settled:
+            yield from self._advance(interleave, epoch)
+
+    # -- steps -------------------------------------------------------------------------------
+
+    def _sort(self, epoch, interleave):
+        """Sort the classes unless the class index is sorted so for the covered list as it is."""
+        if self.sorted_for is None or self.sorted_for[0] is not epoch or self.sorted_for[1] != interleave:
+            self.sorted_for = (epoch, interleave)
+            yield SortClasses(interleave)
+
+    def _inject_every(self, interleave, epoch):
+        yield from self._sort(epoch, interleave)
+        yield from self._inject_now(EVERY_VOXEL, epoch)
         self.pending_base = set()
 
-    def inject_touched(self, grid, shadow_maps, interleave, timed):
-        """Progressive, the voxels changed: the base radiance of the voxels the voxelization
-        touched, now (of every voxel, if others changed since the last injection)."""
-        if not grid.epoch.follows(self.injected_epoch):
-            self.inject(grid, shadow_maps, interleave, timed)
-        else:
-            self._inject_now(grid, shadow_maps, grid.touched.segment(), timed)
-
-    def inject_spread(self, interleave):
-        """Progressive, the lights changed: the base radiance of each class when it is next
-        updated (advance)."""
-        self.pending_base, self.pending_for = set(range(interleave)), interleave
+    def _inject_now(self, voxels, epoch):
+        yield Inject(voxels)
+        self.injected_epoch = epoch
+        self.stale_faces.append(voxels)
         self.cycle_clean = False
 
-    def _inject_now(self, grid, shadow_maps, segment, timed):
-        with timed("inject"):
-            self.injection.run(grid, shadow_maps, segment)
-        self.injected_epoch = grid.epoch
-        self.stale_faces.append(segment)
-        self.cycle_clean = False
-
-    def restart(self, grid, settings, cone_uniforms, progressive, timed):
-        """The base radiance or the bounce settings changed."""
-        self.iterations = 0
-        if settings.bounces == 0 and progressive:  # resume from the previous gathers; a new series from the next cycle
-            self.settled, self.series = False, None
-            return
-        self.settled = True
-        self.compose(grid, None, timed)
-        if settings.bounces:
-            self._fixed(grid, settings.bounces, cone_uniforms, timed)
-        else:
-            self._converge(grid, cone_uniforms, timed)
-
-    def advance(self, grid, settings, cone_uniforms, shadow_maps, timed):
-        """Progressive: this frame's share of the bounces. The next interleave class gathers
-        again (its anchors' cones read the face views of the frames before), with its base
-        radiance injected first if the lights changed since, and its face views are composed
-        again. Where the voxels changed, the face views of the voxels injected since (and of
-        the class) are composed before the gather instead, with every mip level, as its cones
-        must see the voxels as they are now. At the end of a cycle that ran on the current base
-        radiance throughout, the series is checked and the gathers kept: the series starts from
-        gathers that all read it, as a bounce's do, since the totals it watches miss light that
-        only moved."""
-        if self.settled:
-            return
-        interleave = settings.bounce_interleave
-        if self.pending_base and self.pending_for != interleave:  # classes of another interleave: all again
-            self.pending_base, self.pending_for = set(range(interleave)), interleave
-        classes = self.sort_classes(grid, interleave, timed)
-        self.phase %= interleave
-        chosen = self.phase
-        if chosen in self.pending_base:
-            with timed("inject"):
-                self.injection.run(grid, shadow_maps, classes.segment(chosen))
-            self.pending_base.discard(chosen)
-        stale = self.stale_faces
-        if stale:
-            every_voxel = classes.segment()
-            extra = [] if every_voxel in stale else [classes.segment(chosen)]
-            self._compose_segments(grid, self.gathered(grid), stale + extra, timed)
-        with timed("gather"):
-            self.gather.run(grid, cone_uniforms, self.gathered(grid), classes, chosen)
-        if not stale:
-            self.compose(grid, self.gathered(grid), timed, chosen)
-        self.phase = (chosen + 1) % interleave
-        self.iterations += 1
-        if self.phase == 0:
-            if self.cycle_clean:
-                self._end_cycle(grid, timed)
-            self.cycle_clean = not self.pending_base
-
-    def _end_cycle(self, grid, timed):
-        """Check the series; unless it closes, keep the gathers of this cycle's end for closing it."""
-        total = self.faces.totals(grid)
-        outcome = None if self.series is None else self.series.add(total)
-        if self.series is None:
-            self.series = Series(total)
-        if outcome is not None:
-            if outcome is not Series.CONVERGED:
-                self._close_series(grid, outcome, timed)
-            self.settled = True
-            return
-        with timed("gather"):
-            self.gather.copy(grid, self.gathered(grid), grid.gathered[1 - self.latest])
-
-    def sort_classes(self, grid, interleave, timed):
-        """The ClassIndex of the grid's voxels in `interleave` classes, sorted again unless it
-        is sorted so for the covered list as it is."""
-        if self.classes is None or not self.classes.sorted_for(grid.epoch, interleave):
-            with timed("classes"):
-                self.classes = self.gather.sort_classes(grid, interleave)
-        return self.classes
-
-    def compose(self, grid, gathered, timed, class_index=None):
-        """The face views of the voxels of interleave class `class_index` (None: every voxel)
-        from their base radiance and `gathered` (None: before the first bounce), then the mip
-        levels over the cells they changed."""
-        if class_index is None:
-            self._compose_segments(grid, gathered, [self.classes.segment()], timed)
-            return
-        with timed("faces"):
-            self.faces.compose(grid, gathered, self.classes.segment(class_index))
-        with timed("mipmap"):
-            self.faces.mipmap(grid, self.classes, class_index)
-
-    def _compose_segments(self, grid, gathered, segments, timed):
-        """The face views of the voxels of `segments`, then every mip level: none is stale after."""
-        with timed("faces"):
-            for segment in segments:
-                self.faces.compose(grid, gathered, segment)
-        with timed("mipmap"):
-            self.faces.mipmap(grid)
+    def _compose(self, voxels, gathered):
+        """The face views of `voxels` (a list of Voxels), then every mip level: none is stale after."""
+        yield ComposeFaces(tuple(voxels), gathered)
+        yield Mipmap()
         self.stale_faces = []
 
-    def _close_series(self, grid, gain, timed):
-        """latest <- latest + (latest - earlier) * gain; the face views follow."""
-        with timed("gather"):
-            self.gather.extrapolate(grid, self.gathered(grid), grid.gathered[1 - self.latest], gain)
-        self.latest = 1 - self.latest
-        self.compose(grid, self.gathered(grid), timed)
+    def _compose_class(self, class_index):
+        yield ComposeFaces((class_voxels(class_index),), self.latest)
+        yield Mipmap(class_index)
 
-    def _gather_all(self, grid, cone_uniforms, timed):
-        classes = self.sort_classes(grid, 1, timed)
-        with timed("gather"):
-            self.gather.run(grid, cone_uniforms, self.gathered(grid), classes, 0)
+    def _gather_every(self, epoch):
+        yield from self._sort(epoch, 1)
+        yield Gather(0, self.latest)
 
-    def _fixed(self, grid, bounces, cone_uniforms, timed):
+    def _fixed(self, bounces, epoch):
         for k in range(1, bounces + 1):
-            self._gather_all(grid, cone_uniforms, timed)
+            yield from self._gather_every(epoch)
             if k < bounces:
-                self.compose(grid, self.gathered(grid), timed)
+                yield from self._compose([EVERY_VOXEL], self.latest)
         self.iterations = bounces
 
-    def _converge(self, grid, cone_uniforms, timed):
-        series = Series(self.faces.totals(grid))
+    def _converge(self, epoch):
+        series = Series((yield MeasureTotals()))
         # How many bounces the series takes to close is not known ahead (a handful; at most
         # MAX_BOUNCES): a count and a rate on a terminal, no bar; no line in a log.
         with progress(None, "bounces", "bounce", summary=False) as bouncing:
             for iteration in range(1, MAX_BOUNCES + 1):
                 self.latest = 1 - self.latest  # the other volume holds the previous gather
-                self._gather_all(grid, cone_uniforms, timed)
-                self.compose(grid, self.gathered(grid), timed)
+                yield from self._gather_every(epoch)
+                yield from self._compose([EVERY_VOXEL], self.latest)
                 self.iterations = iteration
                 bouncing.update()
-                outcome = series.add(self.faces.totals(grid))
+                outcome = series.add((yield MeasureTotals()))
                 if outcome is Series.CONVERGED:
                     return
                 if outcome is not None:
-                    self._close_series(grid, outcome, timed)
+                    yield from self._close_series(outcome)
                     return
+
+    def _close_series(self, gain):
+        """latest <- latest + (latest - earlier) * gain; the face views follow."""
+        yield ExtrapolateGather(self.latest, 1 - self.latest, gain)
+        self.latest = 1 - self.latest
+        yield from self._compose([EVERY_VOXEL], self.latest)
+
+    def _advance(self, interleave, epoch):
+        """Progressive: the next interleave class gathers again (its anchors' cones read the
+        face views of the frames before), with its base radiance injected first if the lights
+        changed since, and its face views are composed again. Where the voxels changed, the
+        face views of the voxels injected since (and of the class) are composed before the
+        gather instead, with every mip level, as its cones must see the voxels as they are
+        now. At the end of a cycle that ran on the current base radiance throughout, the
+        series is checked and the gathers kept: the series starts from gathers that all read
+        it, as a bounce's do, since the totals it watches miss light that only moved."""
+        if self.pending_base and self.pending_for != interleave:  # classes of another interleave: all again
+            self.pending_base, self.pending_for = set(range(interleave)), interleave
+        yield from self._sort(epoch, interleave)
+        self.phase %= interleave
+        chosen = self.phase
+        if chosen in self.pending_base:
+            yield Inject(class_voxels(chosen))
+            self.pending_base.discard(chosen)
+        stale = self.stale_faces
+        if stale:
+            extra = [] if EVERY_VOXEL in stale else [class_voxels(chosen)]
+            yield from self._compose(stale + extra, self.latest)
+        yield Gather(chosen, self.latest)
+        if not stale:
+            yield from self._compose_class(chosen)
+        self.phase = (chosen + 1) % interleave
+        self.iterations += 1
+        if self.phase == 0:
+            if self.cycle_clean:
+                yield from self._end_cycle()
+            self.cycle_clean = not self.pending_base
+
+    def _end_cycle(self):
+        """Check the series; unless it closes, keep the gathers of this cycle's end for closing it."""
+        total = yield MeasureTotals()
+        outcome = None if self.series is None else self.series.add(total)
+        if self.series is None:
+            self.series = Series(total)
+        if outcome is not None:
+            if outcome is not Series.CONVERGED:
+                yield from self._close_series(outcome)
+            self.settled = True
+            return
+        yield ExtrapolateGather(self.latest, 1 - self.latest, NO_GAIN)

@@ -17,7 +17,7 @@ import moderngl
 import numpy as np
 
 from . import transforms
-from .bounces import BounceSchedule, ClassRounds
+from . import bounces
 from .changes import BoundsCache, FrameInputs, Stage, voxel_update
 from .emitters import frame_emitters
 from .errors import VctError
@@ -43,7 +43,16 @@ from .shaders import GLSL_ROOT, ProgramLibrary
 from .voxel_grid import VoxelGrid
 
 NEAR_PLANE = 0.01
-VOXEL_VOLUMES = {"radiance": "voxels", "normal": "voxel-normals", "albedo": "voxel-albedo"}
+VOXEL_VOLUMES = {"radiance": "voxels", "normal": "voxel-normals", "albedo": "voxel-albedo", "gathered": None}
+
+
+@dataclass(frozen=True)
+class WorkResources:
+    """What the radiance schedule's work items read besides the grid, for one frame."""
+    shadow_maps: object
+    emitters: object
+    environment: object
+    cone_uniforms: dict
 
 
 @dataclass
@@ -129,12 +138,11 @@ class Renderer:
         except Exception:
             self.close()
             raise
-        self.bounces = BounceSchedule(self.inject, self.gather, self.faces)
+        self.schedule = bounces.RadianceSchedule()
+        self.class_index = None     # the covered voxels sorted into interleave classes (GatherPass.sort_classes)
         self.bounds_cache = BoundsCache()
         self.stages = {name: Stage() for name in ("shadows", "gbuffer", "lighting", "emitters", "environment", "voxels",
                                                   "emitter_light", "sky_light", "radiance", "bounces")}
-        self.emitter_light_rounds = ClassRounds()
-        self.sky_light_rounds = ClassRounds()
 
     def _create_passes(self):
         """The passes of a frame, each with its programs and targets."""
@@ -188,7 +196,8 @@ class Renderer:
     def voxels(self, name="radiance", level=0):
         """A voxel volume of the last frame as float32 (n, n, n, 4), indexed [z, y, x]:
         "radiance" (emission + direct light, a = opacity), "normal" (mean normal, its length
-        the coherence), "albedo"; levels above 0 (up to log2 n, one voxel) come from hardware
+        the coherence), "albedo", "gathered" (the diffuse light each voxel gathered in the latest
+        bounce, G = sum_j w_j L(p, w_j)); levels above 0 (up to log2 n, one voxel) come from hardware
         mipmaps."""
         if name not in VOXEL_VOLUMES:
             raise VctError(f"must be one of {', '.join(VOXEL_VOLUMES)}, got {name!r}", field="name")
@@ -197,7 +206,7 @@ class Renderer:
         top = self.grid.n.bit_length() - 1
         if not isinstance(level, numbers.Integral) or isinstance(level, bool) or not 0 <= level <= top:
             raise VctError(f"must be a whole number in 0..{top} for grid {self.grid.n}, got {level!r}", field="level")
-        volume = shown_volume(self.grid, VOXEL_VOLUMES[name])
+        volume = self._gathered() if name == "gathered" else shown_volume(self.grid, VOXEL_VOLUMES[name])
         if level > 0:
             volume.build_mipmaps()
         return self.grid.read_level(volume, self.readback, level)
@@ -216,7 +225,7 @@ class Renderer:
 
     @property
     def bounce_iterations(self):
-        return self.bounces.iterations
+        return self.schedule.iterations
 
     # -- frame ---------------------------------------------------------------------------
 
@@ -261,18 +270,19 @@ class Renderer:
             return direct
         self._voxels(frame, s, scene.source, emitters)
         self.grid.sky_lit = frame.environment is not None
+        work = WorkResources(shadow_maps, emitters, environment, s.cone_uniforms())
         if emitters.count:
-            self._emitter_light(emitters, s)
+            self._voxel_light("emitter_light", work, s, emitters=self.stages["emitters"].version)
         if self.grid.sky_lit:
-            self._sky_light(environment, frame, s)
+            self._voxel_light("sky_light", work, s, environment=frame.environment_values)
         if s.shown.uses_radiance:
-            self._radiance(s, shadow_maps)
-            self._bounces(s, shadow_maps)
+            self._radiance(s, work)
+            self._bounces(s, work)
         if s.shown.stage == "voxel_view":
             with self.timed("voxel_view"):
                 return self.voxel_view.render(self.grid, s.mode, s.voxel_mip, camera)
         with self.timed("cone_trace"):
-            return self.cone_trace.render(gbuffer, direct, self.grid, self.bounces.gathered(self.grid), emitters,
+            return self.cone_trace.render(gbuffer, direct, self.grid, self._gathered(), emitters,
                                           environment, s.cone_uniforms(), camera, s.image_terms(), s.ao_distance)
 
     def _shadows(self, frame, source):
@@ -351,63 +361,33 @@ class Renderer:
                     self.grid.emitted.build_mipmaps()
             stage.ran(inputs)
 
-    def _emitter_light(self, emitters, s):
-        """The emitters' light at the voxels, when the voxels, the emitters or the cones that
-        shadow it changed."""
-        inputs = dict(voxels=self.stages["voxels"].version, emitters=self.stages["emitters"].version,
-                      cone_step=s.cone_step, cone_offset=s.cone_offset)
-        self._voxel_light("emitter_light", inputs, self.emitter_light_rounds, s, lambda classes, class_index: (
-            self.emitter_light.run(self.grid, emitters, s.cone_uniforms(), classes.segment(class_index))))
-
-    def _sky_light(self, environment, frame, s):
-        """The environment's light at the voxels, when the voxels, the environment or the cones
-        that bring it changed."""
-        inputs = dict(voxels=self.stages["voxels"].version, environment=frame.environment_values,
-                      cone_step=s.cone_step, cone_offset=s.cone_offset)
-        self._voxel_light("sky_light", inputs, self.sky_light_rounds, s, lambda classes, class_index: (
-            self.sky_light.run(self.grid, environment, s.cone_uniforms(), classes.anchor_segment(class_index)),
-            self.gather.fill(self.grid, self.grid.sky_traced, classes.filled_segment(class_index)),
-            self.sky_light.filter(self.grid)))
-
-    def _voxel_light(self, name, inputs, rounds, s, run):
-        """Run the stage `name` (`run(classes, class_index)` an interleave class of a
-        ClassIndex) when `inputs` changed.
-        Its cones read the face views' coverage, so the face views are composed first, with the
-        gathers so far (the light they hold follows with the bounces). Progressive frames (the
+    def _voxel_light(self, name, work, s, **source):
+        """The emitters' or the sky's light at the voxels ("emitter_light", "sky_light"), when
+        the voxels, its `source` or the cones that bring it changed. Progressive frames (the
         viewer, converging bounces) spread it over the interleave classes, one a frame, as the
         bounce is spread: an edit makes no frame pay for more than 1 voxel in K, and while an
         emitter or the sky keeps changing every voxel is still relit once every K frames."""
         stage = self.stages[name]
-        if stage.changed(inputs, self.track_changes):
-            rounds.restart(s.bounce_interleave if self._spreads_work(s) else 1)
-            self.bounces.sort_classes(self.grid, rounds.interleave, self.timed)
-            self.bounces.compose(self.grid, self.bounces.gathered(self.grid), self.timed)
-        chosen = rounds.next_class()
-        if chosen is not None:
-            classes = self.bounces.sort_classes(self.grid, rounds.interleave, self.timed)
-            with self.timed(name):
-                run(classes, chosen)
+        inputs = dict(voxels=self.stages["voxels"].version, **source, cone_step=s.cone_step, cone_offset=s.cone_offset)
+        restart = bool(stage.changed(inputs, self.track_changes))
+        interleave = s.bounce_interleave if self._spreads_work(s) else 1
+        ran = self._run(self.schedule.light_voxels(name, restart, interleave, self.grid.epoch), work)
+        if any(isinstance(item, bounces.LightVoxels) for item in ran):
             stage.ran(inputs)
 
-    def _radiance(self, s, shadow_maps):
+    def _radiance(self, s, work):
         """Inject direct light into the voxels when the voxels, the lights or the emitters'
-        light changed. Progressive frames (the viewer, converging bounces) inject the voxels a
-        voxelization touched at once and, where the lights changed, each interleave class as
-        the bounce updates it; other frames every voxel at once."""
+        light changed (bounces.RadianceSchedule.inject)."""
         stage = self.stages["radiance"]
         inputs = dict(voxels=self.stages["voxels"].version, shadows=self.stages["shadows"].version,
                       emitter_light=self.stages["emitter_light"].version, sky_light=self.stages["sky_light"].version,
                       sky_lit=self.grid.sky_lit)
         changed = stage.changed(inputs, self.track_changes)
         if changed:
-            interleave = self.bounces.interleave(s, self.progressive)
-            if not self._spreads_work(s) or stage.inputs is None:
-                self.bounces.inject(self.grid, shadow_maps, interleave, self.timed)
-            else:
-                if "voxels" in changed:
-                    self.bounces.inject_touched(self.grid, shadow_maps, interleave, self.timed)
-                if changed - {"voxels"}:
-                    self.bounces.inject_spread(interleave)
+            interleave = s.bounce_interleave if self.progressive and s.bounces == 0 else 1
+            spread = self._spreads_work(s) and stage.inputs is not None
+            self._run(self.schedule.inject("voxels" in changed, bool(changed - {"voxels"}), interleave, spread,
+                                           self.grid.epoch), work)
             stage.ran(inputs)
 
     def _spreads_work(self, s):
@@ -415,16 +395,69 @@ class Renderer:
         one a frame: in progressive frames with converging bounces (the viewer), tracked."""
         return self.progressive and s.bounces == 0 and self.track_changes
 
-    def _bounces(self, s, shadow_maps):
+    def _bounces(self, s, work):
         """Bounce again when the base radiance or the bounce settings changed; progressive
         frames add one bounce until the radiance settles."""
         stage = self.stages["bounces"]
         inputs = dict(radiance=self.stages["radiance"].version, bounces=s.bounces, interleave=s.bounce_interleave,
                       cone_step=s.cone_step, cone_offset=s.cone_offset, progressive=self.progressive)
-        if stage.changed(inputs, self.track_changes):
-            self.bounces.restart(self.grid, s, s.cone_uniforms(), self.progressive, self.timed)
+        restart = bool(stage.changed(inputs, self.track_changes))
+        if restart:
             stage.ran(inputs)
-        self.bounces.advance(self.grid, s, s.cone_uniforms(), shadow_maps, self.timed)
+        self._run(self.schedule.bounce(restart, s.bounces, s.bounce_interleave, self.progressive, self.grid.epoch), work)
+
+    # -- the radiance schedule's work items -----------------------------------------------------
+
+    def _run(self, plan, work):
+        """Run the work items a plan of the radiance schedule yields, each under the timer of
+        its pass, sending back what each measured; returns the items run."""
+        ran, result = [], None
+        while True:
+            try:
+                item = plan.send(result)
+            except StopIteration:
+                return ran
+            with self.timed(item.timer):
+                result = self._execute(item, work)
+            ran.append(item)
+
+    def _gathered(self, index=None):
+        """Gather volume `index` (None: the latest)."""
+        return self.grid.gathered[self.schedule.latest if index is None else index]
+
+    def _voxel_segment(self, voxels):
+        """The VoxelSegment of a bounces.Voxels selection."""
+        if voxels.kind == "touched":
+            return self.grid.touched.segment()
+        return self.class_index.segment(voxels.class_index)
+
+    def _execute(self, item, work):
+        grid, classes = self.grid, self.class_index
+        if isinstance(item, bounces.SortClasses):
+            self.class_index = self.gather.sort_classes(grid, item.interleave)
+        elif isinstance(item, bounces.Inject):
+            self.inject.run(grid, work.shadow_maps, self._voxel_segment(item.voxels))
+        elif isinstance(item, bounces.LightVoxels) and item.source == "emitter_light":
+            self.emitter_light.run(grid, work.emitters, work.cone_uniforms, classes.segment(item.class_index))
+        elif isinstance(item, bounces.LightVoxels):
+            self.sky_light.run(grid, work.environment, work.cone_uniforms, classes.anchor_segment(item.class_index))
+            self.gather.fill(grid, grid.sky_traced, classes.filled_segment(item.class_index))
+            self.sky_light.filter(grid)
+        elif isinstance(item, bounces.ComposeFaces):
+            gathered = None if item.gathered is None else self._gathered(item.gathered)
+            for voxels in item.voxels:
+                self.faces.compose(grid, gathered, self._voxel_segment(voxels))
+        elif isinstance(item, bounces.Mipmap):
+            self.faces.mipmap(grid, classes, item.class_index)
+        elif isinstance(item, bounces.Gather):
+            self.gather.run(grid, work.cone_uniforms, self._gathered(item.into), classes, item.class_index)
+        elif isinstance(item, bounces.ExtrapolateGather):
+            self.gather.extrapolate(grid, self._gathered(item.latest), self._gathered(item.older), item.gain)
+        elif isinstance(item, bounces.MeasureTotals):
+            return self.faces.totals(grid)
+        else:
+            raise TypeError(f"not a work item: {item!r}")
+        return None
 
     @_current
     def render(self, scene, mode=None, **changes):

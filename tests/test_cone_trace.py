@@ -194,10 +194,9 @@ def test_voxels_between_gather_anchors_take_the_facing_weighted_mean_of_theirs(r
     two voxels wide and by how alike they face, max(0, n . n_u)^8 |n_u| (here in numpy)."""
     renderer.render(cornell, grid=32, bounces=1)
     grid = renderer.grid
-    assert 0.2 < sum(count for _, count in renderer.bounces.classes.anchors) / grid.covered.count < 0.35
+    assert 0.2 < sum(count for _, count in renderer.class_index.anchors) / grid.covered.count < 0.35
     normal, albedo = renderer.voxels("normal")[..., :3], renderer.voxels("albedo")
-    with renderer.ctx:
-        gathered = grid.read_level(renderer.bounces.gathered(grid), renderer.readback)
+    gathered = renderer.voxels("gathered")
     n = grid.n
     coords = np.stack(np.meshgrid(np.arange(n), np.arange(n), np.arange(n), indexing="ij"), axis=-1)  # (z, y, x) at [z, y, x]
     a = np.abs(normal)  # the dominant axis (x 0, y 1, z 2; the first of equals)

@@ -6,7 +6,6 @@ import pytest
 import engine
 from conftest import SCENES, rel_mae
 from engine.bench import settle
-from engine.bounces import ClassRounds
 from engine.constants import VOXEL_PACK_BITS
 
 SCREEN_PASSES = ["gbuffer", "lighting", "cone_trace"]
@@ -17,7 +16,7 @@ def settle_viewer(renderer, scene):
     """Progressive frames (the viewer) at grid 32 until the bounces settle; the last image."""
     renderer.progressive = True
     settle(scene, renderer, renderer.settings.replace(grid=32))
-    assert renderer.bounces.settled
+    assert renderer.schedule.settled
     return renderer.radiance()
 
 
@@ -226,7 +225,7 @@ def test_a_new_interleave_while_a_light_move_is_injected_relights_every_voxel():
         r.render(scene, grid=32)
         settings = r.settings.replace(grid=32, bounce_interleave=3)
         settle(scene, r, settings)
-        assert r.bounces.settled
+        assert r.schedule.settled
         image = r.radiance()
     with engine.Renderer(64, 64) as fresh:
         fresh.progressive = True
@@ -253,21 +252,6 @@ def test_face_view_mips_rebuilt_over_one_class_equal_mips_rebuilt_everywhere():
     assert not np.array_equal(partial[0], earlier)
     for level, (a, b) in enumerate(zip(partial, full), start=1):
         assert np.array_equal(a, b), f"level {level} differs"
-
-
-def test_work_spread_over_the_classes_reaches_every_class_even_when_restarted_every_frame():
-    """Restarted every frame (an emitter moving), the rounds still go through every class, one
-    a frame; restarted once, they do each class once and stop."""
-    rounds = ClassRounds()
-    chosen = []
-    for _ in range(8):
-        rounds.restart(4)
-        chosen.append(rounds.next_class())
-    assert chosen == [0, 1, 2, 3, 0, 1, 2, 3]
-    rounds.restart(4)
-    assert [rounds.next_class() for _ in range(5)] == [0, 1, 2, 3, None]
-    rounds.restart(1)
-    assert [rounds.next_class() for _ in range(2)] == [0, None]
 
 
 def test_progressive_tracked_frames_stay_within_a_percent_of_recomputed_frames():

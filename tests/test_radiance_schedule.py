@@ -1,0 +1,156 @@
+"""The radiance schedule, without a GL context: which work items a frame plans after the voxels
+or the lights changed, and how the bounces converge, headless and over progressive frames."""
+import numpy as np
+
+from engine.bounces import (EVERY_VOXEL, TOUCHED_VOXELS, ClassRounds, ComposeFaces, ExtrapolateGather, Gather, Inject,
+                            LightVoxels, MeasureTotals, Mipmap, RadianceSchedule, SortClasses, class_voxels)
+from engine.voxel_grid import Epoch
+
+
+def run(plan, totals=()):
+    """The items a plan yields, answering each MeasureTotals with the next of `totals`."""
+    totals = iter(totals)
+    items, result = [], None
+    while True:
+        try:
+            item = plan.send(result)
+        except StopIteration:
+            return items
+        result = np.asarray(next(totals), float) if isinstance(item, MeasureTotals) else None
+        items.append(item)
+
+
+def geometric_totals(first=1.0, ratio=0.5, count=40):
+    """Totals after each bounce of a series whose increments shrink by `ratio`."""
+    return [np.full(3, first * sum(ratio ** k for k in range(n + 1))) for n in range(count)]
+
+
+def of_type(items, kind):
+    return [item for item in items if isinstance(item, kind)]
+
+
+def progressive_frame(schedule, epoch, interleave=4, restart=False, totals=()):
+    return run(schedule.bounce(restart, 0, interleave, True, epoch), totals)
+
+
+def test_fixed_bounces_gather_k_times_and_compose_between():
+    """K bounces: the face views composed from the base radiance, then K gathers of every
+    voxel with the face views composed again between them (the K-th gather is the image's),
+    and no totals read back."""
+    schedule, epoch = RadianceSchedule(), Epoch()
+    items = run(schedule.bounce(True, 3, 4, False, epoch))
+    assert items[:3] == [ComposeFaces((EVERY_VOXEL,), None), Mipmap(), SortClasses(1)]
+    assert len(of_type(items, Gather)) == 3 and all(g.class_index == 0 for g in of_type(items, Gather))
+    composes = of_type(items, ComposeFaces)
+    assert composes[0] == ComposeFaces((EVERY_VOXEL,), None) and len(composes) == 3
+    assert not of_type(items, MeasureTotals) and schedule.settled and schedule.iterations == 3
+
+
+def test_converging_bounces_close_a_geometric_series_by_extrapolation():
+    """Bounces 0: once the increments of the totals shrink by a steady ratio r = 1/2, the
+    remaining bounces are added as r / (1 - r) = 1 times the last increment, and the face views
+    follow; the gathers alternate between the two volumes."""
+    schedule, epoch = RadianceSchedule(), Epoch()
+    items = run(schedule.bounce(True, 0, 4, False, epoch), geometric_totals())
+    gathers = of_type(items, Gather)
+    assert [g.into for g in gathers] == [1 - k % 2 for k in range(len(gathers))]
+    extrapolations = of_type(items, ExtrapolateGather)
+    assert len(extrapolations) == 1 and np.allclose(extrapolations[0].gain, 1.0)
+    assert items[-2:] == [ComposeFaces((EVERY_VOXEL,), schedule.latest), Mipmap()]
+    assert schedule.settled and schedule.iterations == len(gathers)
+
+
+def test_converging_bounces_stop_when_an_increment_is_negligible():
+    """A series whose second bounce adds nothing stops after it, without extrapolating."""
+    schedule = RadianceSchedule()
+    items = run(schedule.bounce(True, 0, 4, False, Epoch()), [np.ones(3), 2 * np.ones(3), 2 * np.ones(3)])
+    assert len(of_type(items, Gather)) == 2 and not of_type(items, ExtrapolateGather) and schedule.settled
+
+
+def test_progressive_frames_gather_one_class_each_until_the_cycles_converge():
+    """The viewer: each frame gathers one interleave class, in turn, and composes that class's
+    face views with level 1 of their mips over its cells; at the end of each cycle the totals
+    are read, and once the series closes no frame plans any work."""
+    schedule, epoch = RadianceSchedule(), Epoch()
+    run(schedule.inject(True, True, 4, False, epoch))
+    totals = iter(geometric_totals())
+    frames = [progressive_frame(schedule, epoch, restart=True, totals=totals)]
+    while not schedule.settled:
+        frames.append(progressive_frame(schedule, epoch, totals=totals))
+        assert len(frames) < 100
+    gathered = [of_type(items, Gather) for items in frames]
+    assert all(len(g) == 1 for g in gathered)
+    assert [g[0].class_index for g in gathered] == [k % 4 for k in range(len(frames))]
+    assert frames[1][-2:] == [ComposeFaces((class_voxels(1),), 0), Mipmap(1)]
+    assert all(of_type(items, MeasureTotals) for items in frames[3::4][1:])
+    assert progressive_frame(schedule, epoch, totals=totals) == []
+
+
+def test_progressive_light_changes_inject_each_class_before_its_gather():
+    """A light moved in progressive frames: no frame injects more than one class, each class
+    is injected right before it gathers, and every class is relit within one cycle."""
+    schedule, epoch = RadianceSchedule(), Epoch()
+    run(schedule.inject(True, True, 4, False, epoch))
+    progressive_frame(schedule, epoch, restart=True, totals=geometric_totals())
+    assert run(schedule.inject(False, True, 4, True, epoch)) == []
+    frames = [progressive_frame(schedule, epoch, restart=True, totals=geometric_totals())]
+    frames += [progressive_frame(schedule, epoch, totals=geometric_totals()) for _ in range(3)]
+    injected = [of_type(items, Inject) for items in frames]
+    assert all(len(i) == 1 for i in injected)
+    assert sorted(i[0].voxels.class_index for i in injected) == [0, 1, 2, 3]
+    for items in frames:
+        inject, gather = items.index(of_type(items, Inject)[0]), items.index(of_type(items, Gather)[0])
+        assert inject < gather and items[inject].voxels.class_index == items[gather].class_index
+
+
+def test_progressive_voxel_changes_inject_and_compose_the_touched_voxels_before_the_gather():
+    """Voxels changed by one voxelization since the last injection: only the touched voxels
+    are injected, and their face views (with the class's) are composed with every mip level
+    before the class gathers; after two voxelizations every voxel is injected again."""
+    schedule, epoch = RadianceSchedule(), Epoch()
+    run(schedule.inject(True, True, 4, False, epoch))
+    progressive_frame(schedule, epoch, restart=True)
+    epoch = epoch.next()
+    items = run(schedule.inject(True, False, 4, True, epoch))
+    assert items == [Inject(TOUCHED_VOXELS)]
+    frame = progressive_frame(schedule, epoch, restart=True)
+    compose = of_type(frame, ComposeFaces)[0]
+    assert compose.voxels == (TOUCHED_VOXELS, class_voxels(1))
+    assert frame.index(compose) < frame.index(Mipmap()) < frame.index(of_type(frame, Gather)[0])
+    epoch = epoch.next().next()
+    assert of_type(run(schedule.inject(True, False, 4, True, epoch)), Inject) == [Inject(EVERY_VOXEL)]
+
+
+def test_classes_are_sorted_again_only_for_a_new_covered_list_or_interleave():
+    """The class index is sorted once per state of the covered list and interleave."""
+    schedule, epoch = RadianceSchedule(), Epoch()
+    assert of_type(run(schedule.inject(True, True, 4, False, epoch)), SortClasses) == [SortClasses(4)]
+    assert not of_type(run(schedule.inject(True, True, 4, False, epoch)), SortClasses)
+    assert of_type(run(schedule.inject(True, True, 2, False, epoch)), SortClasses) == [SortClasses(2)]
+    assert of_type(run(schedule.inject(True, True, 2, False, epoch.next())), SortClasses) == [SortClasses(2)]
+
+
+def test_voxel_light_restarted_every_frame_still_reaches_every_class():
+    """The emitters' light restarted every frame (an emitter moving) goes through every class,
+    one a frame, composing the face views it reads first; restarted once, it lights each class
+    once and stops."""
+    schedule, epoch = RadianceSchedule(), Epoch()
+    chosen = []
+    for _ in range(8):
+        items = run(schedule.light_voxels("emitter_light", True, 4, epoch))
+        assert items.index(of_type(items, ComposeFaces)[0]) < items.index(of_type(items, LightVoxels)[0])
+        chosen += [item.class_index for item in of_type(items, LightVoxels)]
+    assert chosen == [0, 1, 2, 3, 0, 1, 2, 3]
+    frames = [run(schedule.light_voxels("sky_light", k == 0, 4, epoch)) for k in range(5)]
+    assert [[i.class_index for i in of_type(f, LightVoxels)] for f in frames] == [[0], [1], [2], [3], []]
+
+
+def test_class_rounds_restart_where_the_last_round_stopped():
+    """Rounds restarted before they finished go on from the class after the last one done."""
+    rounds = ClassRounds()
+    rounds.restart(4)
+    assert [rounds.next_class() for _ in range(2)] == [0, 1]
+    rounds.restart(4)
+    assert [rounds.next_class() for _ in range(5)] == [2, 3, 0, 1, None]
+    rounds.restart(1)
+    assert [rounds.next_class() for _ in range(2)] == [0, None]
