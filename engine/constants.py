@@ -27,11 +27,11 @@ TEXTURE_UNIT = {
     "HDR_INPUT": 12,
     "DIRECT_LIGHT": 13,
     "VOXEL_INSPECT": 14,    # the volume a voxel view or a readback reads
-    "VOXEL_EMITTED": 15,    # emission (rgb) and coverage (a) of every voxel, mipmapped: what specular cones add
-    "VOXEL_EMITTER_LIGHT": 16,  # the emitters' shadowed irradiance per voxel (rgb), its visible fraction (a)
+    "VOXEL_CONE_EMISSION": 15,    # emission (rgb) and coverage (a) of every voxel, mipmapped: what specular cones add
+    "VOXEL_EMITTER_IRRADIANCE": 16,  # the emitters' shadowed irradiance per voxel (rgb), its visible fraction (a)
     "ENVIRONMENT": 17,      # the sky's radiance, equirectangular, mipmapped (glsl/lib/environment.glsl)
-    "VOXEL_SKY_LIGHT": 18,  # the sky's irradiance per voxel, through the voxels (rgb), filtered
-    "VOXEL_SKY_TRACED": 19, # the same as the anchors' cones traced it and the others interpolated it
+    "VOXEL_SKY_IRRADIANCE": 18,  # the sky's irradiance per voxel, through the voxels (rgb), filtered
+    "VOXEL_TRACED_SKY_IRRADIANCE": 19, # the same as the anchors' cones traced it and the others interpolated it
     "BASE_COLOR_MAP": 20,   # the textures of the material being drawn (glsl/lib/material.glsl)
     "METAL_ROUGH_MAP": 21,
     "EMISSIVE_MAP": 22,
@@ -47,9 +47,9 @@ IMAGE_UNIT = {
     "ALBEDO_OUT": 0,
     "NORMAL_OUT": 1,
     "EMISSION_OUT": 2,
-    "EMITTED_OUT": 4,
-    "EMITTER_LIGHT_OUT": 5,
-    "SKY_LIGHT_OUT": 5,     # the sky's light pass binds no other image at 5
+    "CONE_EMISSION_OUT": 4,
+    "EMITTER_IRRADIANCE_OUT": 5,
+    "SKY_IRRADIANCE_OUT": 5,     # the sky's light pass binds no other image at 5
     "FRONT": 3,             # the voxelizer's front-layer keys, per voxel and facing direction
     "INSPECT_OUT": 0,
     "IMAGE_OUT": 0,         # a screen target a compute pass adds to

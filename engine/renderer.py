@@ -128,11 +128,12 @@ class Renderer:
         self.frame_settings = self.settings
         self.programs = ProgramLibrary(self.ctx, glsl_root)
         self.geometry = SceneGeometry(self.ctx)
-        self.grid = VoxelGrid(self.ctx)
+        self.grid = None
         self.emitters = EmitterBuffers(self.ctx)
         self.environment = EnvironmentMap(self.ctx)
         self._passes = []
         try:
+            self.grid = VoxelGrid(self.ctx, self.programs)
             with self._creating_targets(self.size):
                 self._create_passes()
         except Exception:
@@ -159,7 +160,6 @@ class Renderer:
         self.cone_trace = self._add(ConeTracePass(self.ctx, self.programs, self.size))
         self.voxel_view = self._add(VoxelViewPass(self.ctx, self.programs, self.size))
         self.tonemap = self._add(TonemapPass(self.ctx, self.programs, self.size))
-        self.readback = self.programs.compute("voxel_grid/read_level.comp")
 
     @staticmethod
     @contextmanager
@@ -209,7 +209,7 @@ class Renderer:
         volume = self._gathered() if name == "gathered" else shown_volume(self.grid, VOXEL_VOLUMES[name])
         if level > 0:
             volume.build_mipmaps()
-        return self.grid.read_level(volume, self.readback, level)
+        return self.grid.read_level(volume, level)
 
     @_current
     def reload_shaders(self):
@@ -269,11 +269,10 @@ class Renderer:
         if not s.shown.uses_voxels(emitters.count > 0 or frame.environment is not None):
             return direct
         self._voxels(frame, s, scene.source, emitters)
-        self.grid.sky_lit = frame.environment is not None
         work = WorkResources(shadow_maps, emitters, environment, s.cone_uniforms())
         if emitters.count:
             self._voxel_light("emitter_light", work, s, emitters=self.stages["emitters"].version)
-        if self.grid.sky_lit:
+        if environment.environment is not None:
             self._voxel_light("sky_light", work, s, environment=frame.environment_values)
         if s.shown.uses_radiance:
             self._radiance(s, work)
@@ -355,10 +354,9 @@ class Renderer:
             if update.full or update.removed or update.added:
                 with self.timed("voxelize"):
                     self.voxelize.update(self.grid, update, frame.draws)
-            self.grid.emitting = emitters.count > 0
-            if self.grid.emitting:
+            if emitters.count:
                 with self.timed("emission_mipmap"):
-                    self.grid.emitted.build_mipmaps()
+                    self.grid.build_emission_mips()
             stage.ran(inputs)
 
     def _voxel_light(self, name, work, s, **source):
@@ -381,7 +379,7 @@ class Renderer:
         stage = self.stages["radiance"]
         inputs = dict(voxels=self.stages["voxels"].version, shadows=self.stages["shadows"].version,
                       emitter_light=self.stages["emitter_light"].version, sky_light=self.stages["sky_light"].version,
-                      sky_lit=self.grid.sky_lit)
+                      sky_lit=work.environment.environment is not None)
         changed = stage.changed(inputs, self.track_changes)
         if changed:
             interleave = s.bounce_interleave if self.progressive and s.bounces == 0 else 1
@@ -436,12 +434,12 @@ class Renderer:
         if isinstance(item, bounces.SortClasses):
             self.class_index = self.gather.sort_classes(grid, item.interleave)
         elif isinstance(item, bounces.Inject):
-            self.inject.run(grid, work.shadow_maps, self._voxel_segment(item.voxels))
+            self.inject.run(grid, work.shadow_maps, work.emitters, work.environment, self._voxel_segment(item.voxels))
         elif isinstance(item, bounces.LightVoxels) and item.source == "emitter_light":
             self.emitter_light.run(grid, work.emitters, work.cone_uniforms, classes.segment(item.class_index))
         elif isinstance(item, bounces.LightVoxels):
             self.sky_light.run(grid, work.environment, work.cone_uniforms, classes.anchor_segment(item.class_index))
-            self.gather.fill(grid, grid.sky_traced, classes.filled_segment(item.class_index))
+            self.gather.fill(grid, grid.traced_sky_irradiance, classes.filled_segment(item.class_index))
             self.sky_light.filter(grid)
         elif isinstance(item, bounces.ComposeFaces):
             gathered = None if item.gathered is None else self._gathered(item.gathered)
@@ -506,9 +504,8 @@ class Renderer:
             for render_pass in reversed(self._passes):
                 render_pass.release()
             self._passes = []
-            if hasattr(self, "readback"):
-                self.readback.release()
-            self.grid.release()
+            if self.grid is not None:
+                self.grid.release()
             self.emitters.release()
             self.environment.release()
             self.geometry.release()

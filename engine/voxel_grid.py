@@ -1,48 +1,45 @@
-"""The voxel grid: every GPU resource of the N^3 grid in one object, owned by the renderer and
-passed to the passes that read and write it.
+"""The voxel grid: the N^3 grid over a region of the scene and what it holds, owned by the
+renderer and passed to the passes that read and write it. Its owner keeps these invariants:
+every volume starts zero and every empty voxel stays zero (passes touch only listed voxels);
+the covered list holds the voxels some surface covers, and its state is an `Epoch`, a new one
+at each rebuild (`replace_covered`).
 
-- the voxelizer's fixed-point sums, one storage buffer per channel (lib/voxel_sums.glsl), and
-  its front-layer keys, per voxel and facing direction (stacked like the face views);
-- the resolved surface of each voxel: albedo, mean normal, emission and surface offset; and
-  `emitted` (emission, a = 1 where covered) with its hardware mip chain, the emission specular
-  cones see;
-- `emitter_light`: the emitters' shadowed irradiance at each voxel's surface and the fraction
-  of it that arrives; `sky_light`: the environment's irradiance there, through the voxels, and
-  `sky_traced`, the same as the anchors' cones brought it, before it is averaged;
-- the radiance: `base` (emission + injected direct light), the diffuse `gathered` by each
+Volumes (n^3 RGBA16F, made for one size and region by `ensure`):
+- the resolved surface of each voxel: `albedo`, mean `normal`, `emission` (a: the surface
+  offset), and `cone_emission` (emission, a = 1 where covered) with a mip chain: the emission
+  the specular cones see;
+- the light arriving at each voxel's surface: `emitter_irradiance`, the emitters' shadowed
+  irradiance (a: the fraction of it that arrives); `sky_irradiance`, the environment's through
+  the voxels, and `traced_sky_irradiance`, the same as the anchors' cones brought it;
+- the radiance: `base` (emission + injected direct light), the diffuse light `gathered` by each
   voxel (two volumes, the latest and the one before, for closing the bounce series), and the
   six one-sided face views cones read, stacked along z in one volume `faces` (n x n x 6n,
-  view f at z in [f n, (f + 1) n)), with their mip chain;
-- lists of voxels: `covered` (surface voxels), `touched` (by the last voxelization), the covered
-  cells of every mip level, the covered voxels sorted by interleave class and, within a class,
-  into the gather's anchors and the others, and the covered level-1 cells sorted by class;
-  per voxel, whether it is an anchor and the anchors around it.
+  view f at z in [f n, (f + 1) n)), with their mip chain.
 
-Every volume starts zero and every empty voxel stays zero: passes touch only listed voxels.
-The covered list's state is an `Epoch`, a new one at each rebuild (`replace_covered`): what is
-computed from the list records the epoch it was computed for, and "exactly one rebuild since"
-is `grid.epoch.follows(recorded)`. Where the class list's segments lie is the `ClassIndex`
-that GatherPass.sort_classes returns, held by the bounce schedule.
+Lists (voxel_lists.py): `covered` (surface voxels), `touched` (by the last voxelization) and
+the covered `cells` of every mip level. Scratch storage of one pass (the voxelizer's sums, the
+gather's anchors and class lists) belongs to that pass.
 """
 import math
-from dataclasses import dataclass
 
 import numpy as np
 
-from .constants import (CELL_LIST_LEVELS, CLASS_BLOCK, CLASS_FACINGS, CLASS_PARTS, GL_IMAGE_FORMAT, GRID_SIZES, IMAGE_UNIT, LIST_GROUP, MAX_INTERLEAVE, STORAGE_BINDING, TEXTURE_UNIT,
-                        VOLUME_GROUP, VOXEL_FACES, VOXEL_FORMAT, VOXEL_MEMORY_BUDGET, VOXEL_SUM_CHANNELS)
+from .constants import (GL_IMAGE_FORMAT, GRID_SIZES, IMAGE_UNIT, LIST_GROUP, STORAGE_BINDING, TEXTURE_UNIT, VOLUME_GROUP, VOXEL_FACES,
+                        VOXEL_FORMAT, VOXEL_MEMORY_BUDGET, VOXEL_PACK_BITS, VOXEL_SUM_CHANNELS)
 from .errors import VctError
+from .voxel_lists import CellLists, Epoch, VoxelList
 
 TEXEL_BYTES = 8  # RGBA16F
 MIP_CHAIN = 8 / 7  # a full mip chain adds a seventh
 
 
 def voxel_memory_bytes(n):
-    """GPU bytes a grid of n^3 needs: sums, volumes (surface, radiance, faces with mips) and lists."""
+    """GPU bytes a grid of n^3 needs, the passes' storage sized by it included: the voxelizer's
+    sums, the volumes (surface, radiance, faces with mips) and the lists."""
     voxels = n ** 3
     sums = 4 * len(VOXEL_SUM_CHANNELS) + 4 * VOXEL_FACES  # and the front-layer keys
-    surface = TEXEL_BYTES * (3 * MIP_CHAIN + 1)              # albedo, normal (viewable), emitted; emission
-    radiance = TEXEL_BYTES * (MIP_CHAIN + 4)                 # base (viewable), two gathers, emitters' and sky light
+    surface = TEXEL_BYTES * (3 * MIP_CHAIN + 1)              # albedo, normal (viewable), cone emission; emission
+    radiance = TEXEL_BYTES * (MIP_CHAIN + 5)                 # base (viewable), two gathers, emitters' and sky irradiance (2)
     faces = TEXEL_BYTES * VOXEL_FACES * MIP_CHAIN
     lists = 6 * 4 + 2 * 4 / 7 + 2 * 4 / 8                    # touched, covered x2, stale, classes, anchors; cells, stamps;
                                                              # level-1 cells' classes, cells by class
@@ -62,110 +59,14 @@ def check_grid(ctx, n, source=None):
                        f"{VOXEL_MEMORY_BUDGET / 2**30:.1f} GiB", source=source, field="grid")
 
 
-@dataclass(frozen=True)
-class VoxelSegment:
-    """Entries [first, first + count) of a GPU buffer of packed voxel coordinates: what the
-    passes over a voxel list (injection, composition, the emitters' light) run over."""
-    buffer: object
-    first: int
-    count: int
-
-
-class Epoch:
-    """A token for one state of the covered-voxel list: each rebuild of the list starts a new
-    epoch after the one before. What was computed from the list (the gather anchors, the class
-    index, the injected light) records the epoch it was computed for."""
-
-    def __init__(self, previous=None):
-        self.previous = previous
-
-    def next(self):
-        """The epoch after this one (which forgets its own predecessor: only the latest step
-        is ever asked about)."""
-        successor = Epoch(self)
-        self.previous = None
-        return successor
-
-    def follows(self, earlier):
-        """Whether this epoch comes right after `earlier` (exactly one rebuild since)."""
-        return earlier is not None and self.previous is earlier
-
-
-@dataclass(frozen=True)
-class ClassIndex:
-    """The covered voxels sorted into interleave classes for the progressive bounce
-    (GatherPass.sort_classes): in `voxel_list` each class is one run, its gather anchors then
-    its other voxels; in `cell_list` the covered level-1 cells one run per class, the cells of
-    several classes last. Each segment (first, count). Valid for `epoch` and `interleave`."""
-
-    epoch: Epoch
-    interleave: int
-    voxel_list: object
-    classes: tuple       # (first, count) per class
-    anchors: tuple       # per class: its anchors, which trace the gather
-    filled: tuple        # per class: its voxels that take their gather from the anchors
-    every: tuple         # every covered voxel
-    cell_list: object
-    cell_runs: tuple     # per class: the run of its level-1 cells
-    mixed_cell_run: tuple  # the level-1 cells that hold voxels of several classes
-
-    def sorted_for(self, epoch, interleave):
-        return self.epoch is epoch and self.interleave == interleave
-
-    def segment(self, class_index=None):
-        """The voxels of an interleave class (None: every covered voxel)."""
-        first, count = self.every if class_index is None else self.classes[class_index]
-        return VoxelSegment(self.voxel_list, first, count)
-
-    def anchor_segment(self, class_index):
-        """The gather's anchors of an interleave class."""
-        return VoxelSegment(self.voxel_list, *self.anchors[class_index])
-
-    def filled_segment(self, class_index):
-        """The voxels of an interleave class that interpolate the anchors."""
-        return VoxelSegment(self.voxel_list, *self.filled[class_index])
-
-    def cell_segments(self, class_index):
-        """The level-1 cells an interleave class's voxels lie in: its own, then the mixed."""
-        return [self.cell_runs[class_index], self.mixed_cell_run]
-
-
-class VoxelList:
-    """Packed voxel coordinates on the GPU (a count, then the entries); `count` is the host's
-    copy, read back after the pass that appended."""
-
-    def __init__(self, ctx, capacity):
-        self.buffer = ctx.buffer(reserve=4 + 4 * capacity)
-        self.count = 0
-
-    def clear(self):
-        self.buffer.write(bytes(4))
-        self.count = 0
-
-    def read_count(self):
-        self.count = int(np.frombuffer(self.buffer.read(4), dtype="u4")[0])
-        return self.count
-
-    def segment(self):
-        """Every entry, as a VoxelSegment (they follow the count)."""
-        return VoxelSegment(self.buffer, 1, self.count)
-
-    def bind(self, binding):
-        self.buffer.bind_to_storage_buffer(STORAGE_BINDING[binding])
-
-    def release(self):
-        self.buffer.release()
-
-
 class VoxelGrid:
-    def __init__(self, ctx):
+    def __init__(self, ctx, programs):
         self.ctx = ctx
         self.n = 0
         self.region = None
         self._resources = []
         self.epoch = Epoch()  # of the covered list: a new one whenever it is rebuilt (replace_covered)
-        self.emitting = False  # whether any surface emits (`emitted` has its mip chain, `emitter_light` holds their light)
-        self.sky_lit = False   # whether the scene has an environment (`sky_light` holds its light)
+        self.read_program = programs.compute("voxel_grid/read_level.comp")
 
     # -- allocation ----------------------------------------------------------------------
 
@@ -174,7 +75,7 @@ class VoxelGrid:
         if n == self.n and self.region is not None and _same_region(region, self.region):
             return False
         check_grid(self.ctx, n, source)
-        self.release()
+        self._release_resources()
         self._allocate(n)
         self.region = region
         return True
@@ -183,35 +84,42 @@ class VoxelGrid:
         ctx = self.ctx
         self.n = n
         voxels = n ** 3
-        self.sums = [self._keep(ctx.buffer(data=bytes(4 * voxels))) for _ in VOXEL_SUM_CHANNELS]
-        self.front = self._keep(ctx.texture3d((n, n, VOXEL_FACES * n), 1, data=bytes(4 * VOXEL_FACES * voxels), dtype="u4"))
         self.albedo, self.normal, self.base = (self._volume(mipmapped=True) for _ in range(3))
         self.emission = self._volume()
-        self.emitted = self._volume(mipmapped=True)
+        self.cone_emission = self._volume(mipmapped=True)
         self.gathered = [self._volume() for _ in range(2)]
-        self.emitter_light = self._volume()
-        self.sky_light, self.sky_traced = self._volume(), self._volume()
+        self.emitter_irradiance = self._volume()
+        self.sky_irradiance, self.traced_sky_irradiance = self._volume(), self._volume()
         self.faces = self._volume(mipmapped=True, views=VOXEL_FACES)
         self.touched, self.covered, self.covered_next = (self._keep(VoxelList(ctx, voxels)) for _ in range(3))
-        self.stale = self._keep(VoxelList(ctx, voxels))  # whose gather-anchor records to find again
-        # Covered cells of levels 1..log2(n), one segment per level after a count per level.
-        sizes = [(n >> level) ** 3 for level in range(self.mip_count)]
-        self.level_first = [int(sum(sizes[1:level])) for level in range(self.mip_count)]
-        self.level_counts = [0] * self.mip_count
-        self.cells = self._keep(ctx.buffer(data=bytes(4 * (CELL_LIST_LEVELS + sum(sizes[1:])))))
-        self.cell_stamps = self._keep(ctx.buffer(data=bytes(4 * sum(sizes[1:]))))
-        self.cell_generation = 0
-        # Covered voxels sorted by interleave class, within a class into the gather's anchors and
-        # the others (the two parts), each by block; the buckets of that counting sort (and of
-        # the level-1 cells' sort by class, below); the list's segments.
-        self.class_list = self._keep(ctx.buffer(reserve=4 * voxels))
-        self.class_buckets = self._keep(ctx.buffer(reserve=4 * CLASS_PARTS * MAX_INTERLEAVE * max(n // CLASS_BLOCK, 1) ** 3 * CLASS_FACINGS))
-        self.gather_anchors = self._keep(ctx.buffer(reserve=4 * voxels))  # lib/gather_anchors.glsl, per voxel
-        # The classes of the voxels in each level-1 cell, and those cells sorted by class.
-        self.cell_class_bits = self._keep(ctx.buffer(reserve=4 * sizes[1]))
-        self.cells_by_class = self._keep(ctx.buffer(reserve=4 * sizes[1]))
+        self.cells = self._keep(CellLists(ctx, n))
         self.epoch = Epoch()  # a new grid: nothing was computed from its lists yet
-        self.framebuffer = self._keep(ctx.empty_framebuffer((n, n)))
+
+    def load(self, albedo, normal, emission=None):
+        """Hold surfaces given per voxel instead of voxelized ones: float arrays (n, n, n, 3)
+        indexed [z, y, x] of reflectance, mean normal (a voxel is covered where it is nonzero;
+        its length is the normals' coherence) and emission, each surface through its voxel's
+        centre. The covered list and cells follow (a new epoch); the radiance volumes are
+        zero. For grids made by hand, such as the tests of single passes."""
+        n = self.n
+        normal = np.asarray(normal, np.float32)
+        covered = np.any(normal != 0.0, axis=-1)
+        emission = np.zeros_like(normal) if emission is None else np.asarray(emission, np.float32)
+        self._release_resources()
+        self._allocate(n)
+        flag = covered[..., None].astype(np.float32)
+        for volume, rgb, a in ((self.albedo, albedo, flag), (self.normal, normal, flag), (self.emission, emission, 0.0 * flag),
+                               (self.cone_emission, emission, flag)):
+            volume.write(np.concatenate([np.asarray(rgb, np.float32) * flag, a], axis=-1).astype(VOXEL_FORMAT).tobytes())
+        z, y, x = np.nonzero(covered)
+        coords = np.stack([x, y, z], axis=-1)
+        self.covered.buffer.write(np.concatenate([[len(coords)], pack_voxels(coords)]).astype("u4").tobytes())
+        self.covered.count = len(coords)
+        for level in range(1, self.mip_count):
+            cells = np.unique(coords >> level, axis=0)
+            self.cells.buffer.write(pack_voxels(cells).astype("u4").tobytes(), offset=4 * self.cells.segment(level)[0])
+            self.cells.buffer.write(np.array([len(cells)], "u4").tobytes(), offset=4 * level)
+            self.cells.counts[level] = len(cells)
 
     def _keep(self, resource):
         self._resources.append(resource)
@@ -247,27 +155,20 @@ class VoxelGrid:
 
     def uniforms(self):
         return dict(voxel_region_min=tuple(self.bounds()[0]), voxel_region_size=float(self.region.size),
-                    voxel_grid=self.n, voxel_size=self.voxel_size, voxel_max_mip=float(self.mip_count - 1),
-                    voxel_emitters=self.emitting, voxel_sky=self.sky_lit)
-
-    def bind_sums(self):
-        """The voxelizer's sums and front-layer keys."""
-        for channel, buffer in enumerate(self.sums):
-            buffer.bind_to_storage_buffer(STORAGE_BINDING["VOXEL_SUMS"] + channel)
-        self.front.bind_to_image(IMAGE_UNIT["FRONT"], read=True, write=True, format=GL_IMAGE_FORMAT["r32ui"])
+                    voxel_grid=self.n, voxel_size=self.voxel_size, voxel_max_mip=float(self.mip_count - 1))
 
     def use_surface(self):
         """The resolved surface volumes and the emitters' and the sky's light at them."""
         self.albedo.use(TEXTURE_UNIT["VOXEL_ALBEDO"])
         self.normal.use(TEXTURE_UNIT["VOXEL_NORMAL"])
         self.emission.use(TEXTURE_UNIT["VOXEL_EMISSION"])
-        self.emitter_light.use(TEXTURE_UNIT["VOXEL_EMITTER_LIGHT"])
-        self.sky_light.use(TEXTURE_UNIT["VOXEL_SKY_LIGHT"])
+        self.emitter_irradiance.use(TEXTURE_UNIT["VOXEL_EMITTER_IRRADIANCE"])
+        self.sky_irradiance.use(TEXTURE_UNIT["VOXEL_SKY_IRRADIANCE"])
 
     def use_faces(self):
         """The face views and the emission volume: what cones read."""
         self.faces.use(TEXTURE_UNIT["VOXEL_FACES"])
-        self.emitted.use(TEXTURE_UNIT["VOXEL_EMITTED"])
+        self.cone_emission.use(TEXTURE_UNIT["VOXEL_CONE_EMISSION"])
 
     def replace_covered(self):
         """Make `covered_next` (which a voxelization filled) the covered list, the old one the
@@ -275,6 +176,10 @@ class VoxelGrid:
         self.covered, self.covered_next = self.covered_next, self.covered
         self.covered.read_count()
         self.epoch = self.epoch.next()
+
+    def build_emission_mips(self):
+        """The cone emission's mip chain, after a voxelization where surfaces emit."""
+        self.cone_emission.build_mipmaps()
 
     def bind_faces(self, level=0):
         bind_image(self.faces, IMAGE_UNIT["FACES_OUT"], level=level)
@@ -289,7 +194,7 @@ class VoxelGrid:
 
     # -- inspection --------------------------------------------------------------------------
 
-    def read_level(self, volume, readback, level=0):
+    def read_level(self, volume, level=0):
         """One mip level of a volume as float32 (depth, n, n, 4), indexed [z, y, x] (the
         face views' depth holds their six views one after the other)."""
         width, height, depth = (max(1, side >> level) for side in volume.size)
@@ -299,20 +204,30 @@ class VoxelGrid:
         buffer = self.ctx.buffer(reserve=width * height * depth * 16)
         try:
             volume.use(TEXTURE_UNIT["VOXEL_INSPECT"])
-            readback.set(level=level)
+            self.read_program.set(level=level)
             buffer.bind_to_storage_buffer(STORAGE_BINDING["READBACK"])
-            readback.program.run(*(math.ceil(side / VOLUME_GROUP) for side in (width, height, depth)))
+            self.read_program.program.run(*(math.ceil(side / VOLUME_GROUP) for side in (width, height, depth)))
             self.ctx.memory_barrier(self.ctx.SHADER_STORAGE_BARRIER_BIT)
             return np.frombuffer(buffer.read(), dtype="f4").reshape(shape).copy()
         finally:
             buffer.release()
 
-    def release(self):
+    def _release_resources(self):
         for resource in reversed(self._resources):
             resource.release()
         self._resources = []
+
+    def release(self):
+        self._release_resources()
         self.n = 0
         self.region = None
+        self.read_program.release()
+
+
+def pack_voxels(coords):
+    """Voxel coordinates (k, 3) as x, y, z packed into one uint each (lib/voxel.glsl pack_voxel)."""
+    coords = np.asarray(coords, np.uint32).reshape(-1, 3)
+    return coords[:, 0] | (coords[:, 1] << VOXEL_PACK_BITS) | (coords[:, 2] << (2 * VOXEL_PACK_BITS))
 
 
 def bind_image(volume, unit, level=0, read=False):

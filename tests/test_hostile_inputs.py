@@ -446,7 +446,7 @@ def test_voxels_at_a_level_the_grid_does_not_have_raise_vct_error_naming_the_lev
 
 
 def test_voxels_of_an_unknown_volume_raise_vct_error_naming_it(voxelized):
-    with pytest.raises(VctError, match="^name: must be one of radiance, normal, albedo, got 'colour'$"):
+    with pytest.raises(VctError, match="^name: must be one of radiance, normal, albedo, gathered, got 'colour'$"):
         voxelized.voxels("colour")
 
 

@@ -100,7 +100,7 @@ def test_gather_anchors_found_again_around_a_moved_object_equal_anchors_found_an
             with r.ctx:
                 x, y, z = list_voxels(r.grid.covered)
                 records.append((r.grid.touched.count, r.grid.covered.count, set(zip(x, y, z)),
-                                dict(zip(zip(x, y, z), np.frombuffer(r.grid.gather_anchors.read(), dtype="u4")[x + 32 * (y + 32 * z)]))))
+                                dict(zip(zip(x, y, z), np.frombuffer(r.gather.anchors.read(), dtype="u4")[x + 32 * (y + 32 * z)]))))
     (touched, covered, voxels, found_again), (_, _, fresh_voxels, found_anew) = records
     assert 0 < touched < covered  # a partial voxelization
     assert voxels == fresh_voxels and found_again == found_anew
@@ -243,12 +243,12 @@ def test_face_view_mips_rebuilt_over_one_class_equal_mips_rebuilt_everywhere():
         grid = r.grid
         scene.root.find("Omni Light").light.position = np.array([0.2, 0.6, -0.1])
         with r.ctx:
-            earlier = grid.read_level(grid.faces, r.readback, 1)
+            earlier = grid.read_level(grid.faces, 1)
         r.render(scene, grid=32)
         with r.ctx:
-            partial = [grid.read_level(grid.faces, r.readback, level) for level in range(1, grid.mip_count)]
+            partial = [grid.read_level(grid.faces, level) for level in range(1, grid.mip_count)]
             r.faces.mipmap(grid)
-            full = [grid.read_level(grid.faces, r.readback, level) for level in range(1, grid.mip_count)]
+            full = [grid.read_level(grid.faces, level) for level in range(1, grid.mip_count)]
     assert not np.array_equal(partial[0], earlier)
     for level, (a, b) in enumerate(zip(partial, full), start=1):
         assert np.array_equal(a, b), f"level {level} differs"

@@ -52,7 +52,8 @@ class ConeTracePass:
         grid.use_faces()
         gathered.use(TEXTURE_UNIT["VOXEL_GATHERED"])
         direct.texture.use(TEXTURE_UNIT["DIRECT_LIGHT"])
-        program.set(**grid.uniforms(), **cone_uniforms, output_kind=SHADER_ENUMS["OUTPUT"]["ao" if terms.ao else "radiance"], include_direct=terms.direct,
+        grid_uniforms = dict(grid.uniforms(), voxel_emitters=emitters.count > 0)
+        program.set(**grid_uniforms, **cone_uniforms, output_kind=SHADER_ENUMS["OUTPUT"]["ao" if terms.ao else "radiance"], include_direct=terms.direct,
                          include_diffuse=terms.diffuse, include_specular=terms.specular, ao_distance=float(ao_distance),
                          pixel_angle=float(camera.pixel_angle), **camera.uniforms())
         for pixel_list in (self.cone_pixels, self.shared_pixels, self.unshared_pixels):
@@ -67,7 +68,7 @@ class ConeTracePass:
                                     | self.ctx.SHADER_IMAGE_ACCESS_BARRIER_BIT)
             self.target.texture.bind_to_image(IMAGE_UNIT["IMAGE_OUT"], read=True, write=True, format=GL_IMAGE_FORMAT["rgba32f"])
             for program in (self.pixels_program, self.shared_program):
-                program.set(**grid.uniforms(), **cone_uniforms, **camera.uniforms())
+                program.set(**grid_uniforms, **cone_uniforms, **camera.uniforms())
             barrier = (self.ctx.SHADER_IMAGE_ACCESS_BARRIER_BIT | self.ctx.TEXTURE_FETCH_BARRIER_BIT
                        | self.ctx.SHADER_STORAGE_BARRIER_BIT | self.ctx.COMMAND_BARRIER_BIT)
             self.pixels_program.program.run_indirect(self.cone_pixels)  # the anchors first

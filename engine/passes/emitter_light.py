@@ -13,14 +13,15 @@ class EmitterLightPass:
 
     def run(self, grid, emitters, cone_uniforms, segment):
         """`emitters`: scene_gpu.EmitterBuffers; `segment`: a VoxelSegment of the class list.
-        Writes grid.emitter_light for those voxels."""
+        Writes and returns grid.emitter_irradiance, at those voxels."""
         grid.use_surface()
         grid.use_faces()
         segment.buffer.bind_to_storage_buffer(STORAGE_BINDING["VOXEL_LIST"])
         emitters.bind(self.program)
-        bind_image(grid.emitter_light, IMAGE_UNIT["EMITTER_LIGHT_OUT"])
+        bind_image(grid.emitter_irradiance, IMAGE_UNIT["EMITTER_IRRADIANCE_OUT"])
         self.program.set(**grid.uniforms(), **cone_uniforms, first=segment.first, count=segment.count)
         grid.dispatch(self.program, segment.count)
+        return grid.emitter_irradiance
 
     def release(self):
         self.program.release()

@@ -3,7 +3,7 @@ it gathered, L = L_base + rho G (rho: its reflectance), times the coverage of ea
 direction; then their mip levels, built over the covered cells of each level only."""
 import numpy as np
 
-from ..constants import CELL_LIST_LEVELS, STORAGE_BINDING, TEXTURE_UNIT, VOXEL_FACES
+from ..constants import STORAGE_BINDING, TEXTURE_UNIT, VOXEL_FACES
 
 
 class FaceViewsPass:
@@ -17,7 +17,7 @@ class FaceViewsPass:
     def compose(self, grid, gathered, segment):
         """Level 0 of the face views from the base radiance plus rho times `gathered` (a
         volume of the grid, or None before the first bounce), for the voxels of `segment` (a
-        VoxelSegment)."""
+        VoxelSegment). Returns the face views (grid.faces)."""
         grid.use_surface()
         grid.base.use(TEXTURE_UNIT["VOXEL_BASE"])
         if gathered is not None:
@@ -27,11 +27,13 @@ class FaceViewsPass:
         self.compose_program.set(**grid.uniforms(), first=segment.first, count=segment.count,
                                  include_gathered=gathered is not None)
         grid.dispatch(self.compose_program, segment.count)
+        return grid.faces
 
     def mipmap(self, grid, classes=None, class_index=None):
         """Every coarser level of the face views, level after level, over its covered cells;
         level 1 over the cells of interleave class `class_index` of ClassIndex `classes` only,
-        where only that class's voxels were composed (and those of several classes)."""
+        where only that class's voxels were composed (and those of several classes). Returns
+        the face views."""
         grid.use_faces()
         uniforms = grid.uniforms()
         for level in range(1, grid.mip_count):
@@ -39,11 +41,12 @@ class FaceViewsPass:
             if level == 1 and class_index is not None:
                 cells, segments = classes.cell_list, classes.cell_segments(class_index)
             else:
-                cells, segments = grid.cells, [(CELL_LIST_LEVELS + grid.level_first[level], grid.level_counts[level])]
+                cells, segments = grid.cells.buffer, [grid.cells.segment(level)]
             cells.bind_to_storage_buffer(STORAGE_BINDING["CELLS"])
             for first, count in segments:
                 self.mipmap_program.set(**uniforms, level=level, first=first, count=count)
                 grid.dispatch(self.mipmap_program, count)
+        return grid.faces
 
     def totals(self, grid):
         """Mean premultiplied radiance (rgb) of the face views over the grid, summed over the

@@ -8,8 +8,9 @@ then the others, and the covered level-1 cells by class, and closes the bounce s
 extrapolation."""
 import numpy as np
 
-from ..constants import CLASS_BLOCK, CLASS_FACINGS, CLASS_PARTS, IMAGE_UNIT, STORAGE_BINDING, TEXTURE_UNIT
-from ..voxel_grid import ClassIndex, bind_image
+from ..constants import CLASS_BLOCK, CLASS_FACINGS, CLASS_PARTS, IMAGE_UNIT, MAX_INTERLEAVE, STORAGE_BINDING, TEXTURE_UNIT
+from ..voxel_grid import bind_image
+from ..voxel_lists import ClassIndex, VoxelList
 
 
 class GatherPass:
@@ -22,73 +23,98 @@ class GatherPass:
         self.sort_cells_program = programs.compute("gather/sort_class_cells.comp")
         self.fill_program = programs.compute("gather/interpolate_from_anchors.comp")
         self.extrapolate_program = programs.compute("gather/close_bounce_series.comp")
-        self.anchors_epoch = None  # the epoch of the covered list grid.gather_anchors was found for
+        self.anchors_epoch = None  # the epoch of the covered list self.anchors was found for
+        self._storage = []
+        self._n = 0
+
+    def _ensure_storage(self, n):
+        """Per voxel of an n^3 grid: its anchor record (lib/gather_anchors.glsl) and the list of
+        voxels whose records to find again; the covered voxels sorted by class and the covered
+        level-1 cells sorted by class (what a ClassIndex points into); the buckets of those
+        counting sorts, and the classes of the voxels in each level-1 cell."""
+        if n == self._n:
+            return
+        self._release_storage()
+        ctx, voxels, cells = self.ctx, n ** 3, (n >> 1) ** 3
+        self.anchors = ctx.buffer(reserve=4 * voxels)
+        self.stale = VoxelList(ctx, voxels)
+        self.class_list = ctx.buffer(reserve=4 * voxels)
+        self.class_buckets = ctx.buffer(reserve=4 * CLASS_PARTS * MAX_INTERLEAVE * max(n // CLASS_BLOCK, 1) ** 3 * CLASS_FACINGS)
+        self.cell_class_bits = ctx.buffer(reserve=4 * cells)
+        self.cells_by_class = ctx.buffer(reserve=4 * cells)
+        self._storage = [self.anchors, self.stale, self.class_list, self.class_buckets, self.cell_class_bits, self.cells_by_class]
+        self._n, self.anchors_epoch = n, None
+
+    def _release_storage(self):
+        for resource in self._storage:
+            resource.release()
+        self._storage, self._n = [], 0
 
     def sort_classes(self, grid, interleave):
         """Sort the covered voxels into `interleave` classes, each its anchors then the others,
         grouped by block and facing, finding the anchors first where the voxels changed, and
-        the covered level-1 cells by class. Returns the ClassIndex of grid.class_list and
-        grid.cells_by_class."""
+        the covered level-1 cells by class. Returns the ClassIndex of the sorted lists."""
+        self._ensure_storage(grid.n)
         buckets = max(grid.n // CLASS_BLOCK, 1) ** 3 * CLASS_FACINGS  # per class and part: (block, facing)
         total = interleave * CLASS_PARTS * buckets
         grid.use_surface()
         self._find_anchors(grid)
         grid.covered.bind("COVERED")
-        grid.class_buckets.write(bytes(4 * total))
-        grid.class_buckets.bind_to_storage_buffer(STORAGE_BINDING["CLASS_BUCKETS"])
-        grid.class_list.bind_to_storage_buffer(STORAGE_BINDING["CLASS_LIST"])
-        grid.cell_class_bits.write(bytes(grid.cell_class_bits.size))
-        grid.cell_class_bits.bind_to_storage_buffer(STORAGE_BINDING["CELL_CLASS_BITS"])
+        self.class_buckets.write(bytes(4 * total))
+        self.class_buckets.bind_to_storage_buffer(STORAGE_BINDING["CLASS_BUCKETS"])
+        self.class_list.bind_to_storage_buffer(STORAGE_BINDING["CLASS_LIST"])
+        self.cell_class_bits.write(bytes(self.cell_class_bits.size))
+        self.cell_class_bits.bind_to_storage_buffer(STORAGE_BINDING["CELL_CLASS_BITS"])
         self.sort_classes_program.set(**grid.uniforms(), interleave=interleave, scatter=False)
         grid.dispatch(self.sort_classes_program, grid.covered.count)
-        counts = np.frombuffer(grid.class_buckets.read(4 * total), dtype="u4").astype(np.int64)
+        counts = np.frombuffer(self.class_buckets.read(4 * total), dtype="u4").astype(np.int64)
         firsts = np.concatenate([[0], np.cumsum(counts)[:-1]])
-        grid.class_buckets.write(firsts.astype("u4").tobytes())
+        self.class_buckets.write(firsts.astype("u4").tobytes())
         self.sort_classes_program.set(scatter=True)
         grid.dispatch(self.sort_classes_program, grid.covered.count)
         per_part = counts.reshape(interleave, CLASS_PARTS, buckets).sum(axis=2)
         part_firsts = firsts[::buckets].reshape(interleave, CLASS_PARTS)
         cell_runs, mixed_cell_run = self._sort_cells(grid, interleave)
         return ClassIndex(
-            epoch=grid.epoch, interleave=interleave, voxel_list=grid.class_list,
+            epoch=grid.epoch, interleave=interleave, voxel_list=self.class_list,
             classes=tuple((int(part_firsts[c, 0]), int(per_part[c].sum())) for c in range(interleave)),
             anchors=tuple((int(part_firsts[c, 0]), int(per_part[c, 0])) for c in range(interleave)),
             filled=tuple((int(part_firsts[c, 1]), int(per_part[c, 1])) for c in range(interleave)),
-            every=(0, int(counts.sum())), cell_list=grid.cells_by_class, cell_runs=cell_runs, mixed_cell_run=mixed_cell_run)
+            every=(0, int(counts.sum())), cell_list=self.cells_by_class, cell_runs=cell_runs, mixed_cell_run=mixed_cell_run)
 
     def _sort_cells(self, grid, interleave):
         """Sort the covered level-1 cells by the class of their voxels (marked by the voxel
         sort), the cells of several classes last. Returns each class's (first, count) in
-        grid.cells_by_class, and the mixed cells'."""
+        self.cells_by_class, and the mixed cells'."""
         buckets = interleave + 1
-        grid.class_buckets.write(bytes(4 * buckets))
-        grid.cells.bind_to_storage_buffer(STORAGE_BINDING["CELLS"])
-        grid.cells_by_class.bind_to_storage_buffer(STORAGE_BINDING["CELLS_BY_CLASS"])
-        self.sort_cells_program.set(**grid.uniforms(), first=grid.level_first[1], interleave=interleave, scatter=False)
-        grid.dispatch(self.sort_cells_program, grid.level_counts[1])
-        counts = np.frombuffer(grid.class_buckets.read(4 * buckets), dtype="u4").astype(np.int64)
+        self.class_buckets.write(bytes(4 * buckets))
+        grid.cells.bind()
+        self.cells_by_class.bind_to_storage_buffer(STORAGE_BINDING["CELLS_BY_CLASS"])
+        self.sort_cells_program.set(**grid.uniforms(), first=grid.cells.first[1], interleave=interleave, scatter=False)
+        grid.dispatch(self.sort_cells_program, grid.cells.counts[1])
+        counts = np.frombuffer(self.class_buckets.read(4 * buckets), dtype="u4").astype(np.int64)
         firsts = np.concatenate([[0], np.cumsum(counts)[:-1]])
-        grid.class_buckets.write(firsts.astype("u4").tobytes())
+        self.class_buckets.write(firsts.astype("u4").tobytes())
         self.sort_cells_program.set(scatter=True)
-        grid.dispatch(self.sort_cells_program, grid.level_counts[1])
+        grid.dispatch(self.sort_cells_program, grid.cells.counts[1])
         return tuple((int(firsts[c]), int(counts[c])) for c in range(interleave)), (int(firsts[interleave]), int(counts[interleave]))
 
     def _find_anchors(self, grid):
-        """grid.gather_anchors for the grid's voxels: again for the voxels around those the
-        last voxelization touched (grid.stale) when the records were found for the epoch
+        """The anchor records of the grid's voxels: again for the voxels around those the
+        last voxelization touched (self.stale) when the records were found for the epoch
         before it, else for every covered voxel."""
         if self.anchors_epoch is grid.epoch:
             return
-        grid.gather_anchors.bind_to_storage_buffer(STORAGE_BINDING["GATHER_ANCHORS"])
+        self.anchors.bind_to_storage_buffer(STORAGE_BINDING["GATHER_ANCHORS"])
         every_voxel = not grid.epoch.follows(self.anchors_epoch)
         count = grid.covered.count
-        grid.stale.bind("STALE_VOXELS")
+        self.stale.bind("STALE_VOXELS")
         if not every_voxel:
             grid.touched.bind("TOUCHED")
-            grid.stale.clear()
+            self.stale.clear()
             self.mark_stale_program.set(**grid.uniforms())
             grid.dispatch(self.mark_stale_program, grid.touched.count)
-            count = grid.stale.read_count()
+            count = self.stale.read_count()
         grid.covered.bind("COVERED")
         self.find_anchors_program.set(**grid.uniforms(), every_voxel=every_voxel)
         grid.dispatch(self.find_anchors_program, count)
@@ -97,40 +123,39 @@ class GatherPass:
     def run(self, grid, cone_uniforms, out, classes, class_index):
         """Gather the anchors of interleave class `class_index` (of ClassIndex `classes`) into
         volume `out`, then interpolate the gather of the class's other voxels in it from the
-        anchors around them."""
+        anchors around them. Returns `out`."""
         grid.use_surface()
         grid.use_faces()
-        grid.class_list.bind_to_storage_buffer(STORAGE_BINDING["CLASS_LIST"])
+        self.class_list.bind_to_storage_buffer(STORAGE_BINDING["CLASS_LIST"])
         bind_image(out, IMAGE_UNIT["GATHERED_OUT"])
         anchors = classes.anchor_segment(class_index)
         self.trace_program.set(**grid.uniforms(), **cone_uniforms, first=anchors.first, count=anchors.count)
         grid.dispatch(self.trace_program, anchors.count)
-        self.fill(grid, out, classes.filled_segment(class_index))
+        return self.fill(grid, out, classes.filled_segment(class_index))
 
     def fill(self, grid, volume, segment):
         """Interpolate `volume` (the anchors' values written) at the voxels of `segment` (a
-        class's voxels that are not anchors) from the anchors around them."""
+        class's voxels that are not anchors) from the anchors around them. Returns `volume`."""
         grid.use_surface()
-        grid.class_list.bind_to_storage_buffer(STORAGE_BINDING["CLASS_LIST"])
+        self.class_list.bind_to_storage_buffer(STORAGE_BINDING["CLASS_LIST"])
         bind_image(volume, IMAGE_UNIT["GATHERED_OUT"], read=True)
-        grid.gather_anchors.bind_to_storage_buffer(STORAGE_BINDING["GATHER_ANCHORS"])
+        self.anchors.bind_to_storage_buffer(STORAGE_BINDING["GATHER_ANCHORS"])
         self.fill_program.set(**grid.uniforms(), first=segment.first, count=segment.count)
         grid.dispatch(self.fill_program, segment.count)
+        return volume
 
     def extrapolate(self, grid, latest, older, gain):
-        """older <- latest + (latest - older) * gain, per covered voxel."""
+        """older <- latest + (latest - older) * gain, per covered voxel; returns `older`."""
         latest.use(TEXTURE_UNIT["VOXEL_GATHERED"])
         bind_image(older, IMAGE_UNIT["GATHERED_OUT"], read=True)
         grid.covered.bind("COVERED")
         self.extrapolate_program.set(**grid.uniforms(), gain=tuple(float(g) for g in gain))
         grid.dispatch(self.extrapolate_program, grid.covered.count)
-
-    def copy(self, grid, source, target):
-        """target <- source, per covered voxel: the extrapolation with gain 0."""
-        self.extrapolate(grid, source, target, (0.0, 0.0, 0.0))
+        return older
 
     def release(self):
         for handle in (self.trace_program, self.mark_stale_program, self.find_anchors_program, self.sort_classes_program,
                        self.sort_cells_program, self.fill_program,
                        self.extrapolate_program):
             handle.release()
+        self._release_storage()

@@ -10,14 +10,18 @@ class InjectPass:
     def __init__(self, ctx, programs):
         self.program = programs.compute("inject/inject_direct_light.comp")
 
-    def run(self, grid, shadow_maps, segment):
-        """Writes grid.base for the voxels of `segment` (a VoxelSegment)."""
+    def run(self, grid, shadow_maps, emitters, environment, segment):
+        """Writes grid.base for the voxels of `segment` (a VoxelSegment), adding the emitters'
+        and the sky's irradiance at the voxels where the scene has them (`emitters`:
+        scene_gpu.EmitterBuffers, `environment`: scene_gpu.EnvironmentMap)."""
         grid.use_surface()
         segment.buffer.bind_to_storage_buffer(STORAGE_BINDING["VOXEL_LIST"])
         shadow_maps.bind(self.program)
         bind_image(grid.base, IMAGE_UNIT["BASE_OUT"])
-        self.program.set(**grid.uniforms(), first=segment.first, count=segment.count)
+        self.program.set(**grid.uniforms(), voxel_emitters=emitters.count > 0, voxel_sky=environment.environment is not None,
+                         first=segment.first, count=segment.count)
         grid.dispatch(self.program, segment.count)
+        return grid.base
 
     def release(self):
         self.program.release()

@@ -2,9 +2,9 @@
 SKY_CONE_COUNT cones over its hemisphere, each bringing the sky around its direction as far as
 the voxels let it through (the face views must hold the grid's current coverage), each voxel's
 cones offset by a jitter of its own. Traced at the gather's anchors of a segment of the class
-list when the voxels or the environment change into grid.sky_traced, the other voxels
+list when the voxels or the environment change into grid.traced_sky_irradiance, the other voxels
 interpolating them as they interpolate the gather (GatherPass.fill); then averaged over the
-like-facing voxels around each covered voxel into grid.sky_light, which light injection adds to
+like-facing voxels around each covered voxel into grid.sky_irradiance, which light injection adds to
 the base radiance and the image interpolates per pixel."""
 from ..constants import IMAGE_UNIT, STORAGE_BINDING, TEXTURE_UNIT
 from ..voxel_grid import bind_image
@@ -17,23 +17,26 @@ class SkyLightPass:
 
     def run(self, grid, environment, cone_uniforms, segment):
         """`environment`: scene_gpu.EnvironmentMap; `segment`: a VoxelSegment of the class list
-        (the anchors of a class). Writes grid.sky_traced for those voxels."""
+        (the anchors of a class). Writes and returns grid.traced_sky_irradiance, at those voxels."""
         grid.use_surface()
         grid.use_faces()
         segment.buffer.bind_to_storage_buffer(STORAGE_BINDING["VOXEL_LIST"])
         environment.bind(self.program)
-        bind_image(grid.sky_traced, IMAGE_UNIT["SKY_LIGHT_OUT"])
+        bind_image(grid.traced_sky_irradiance, IMAGE_UNIT["SKY_IRRADIANCE_OUT"])
         self.program.set(**grid.uniforms(), **cone_uniforms, first=segment.first, count=segment.count)
         grid.dispatch(self.program, segment.count)
+        return grid.traced_sky_irradiance
 
     def filter(self, grid):
-        """grid.sky_light of every covered voxel from grid.sky_traced around it."""
+        """grid.sky_irradiance of every covered voxel from grid.traced_sky_irradiance around it
+        (written and returned)."""
         grid.use_surface()
-        grid.sky_traced.use(TEXTURE_UNIT["VOXEL_SKY_TRACED"])
+        grid.traced_sky_irradiance.use(TEXTURE_UNIT["VOXEL_TRACED_SKY_IRRADIANCE"])
         grid.covered.bind("COVERED")
-        bind_image(grid.sky_light, IMAGE_UNIT["SKY_LIGHT_OUT"])
+        bind_image(grid.sky_irradiance, IMAGE_UNIT["SKY_IRRADIANCE_OUT"])
         self.filter_program.set(**grid.uniforms())
         grid.dispatch(self.filter_program, grid.covered.count)
+        return grid.sky_irradiance
 
     def release(self):
         self.program.release()

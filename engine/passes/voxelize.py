@@ -11,10 +11,9 @@ Afterwards the covered-voxel list and the covered cells of every mip level are b
 date."""
 import numpy as np
 
-from ..constants import CELL_LIST_LEVELS, IMAGE_UNIT, SHADER_ENUMS, STORAGE_BINDING, TEXTURE_UNIT
+from ..constants import GL_IMAGE_FORMAT, IMAGE_UNIT, SHADER_ENUMS, STORAGE_BINDING, TEXTURE_UNIT, VOXEL_FACES, VOXEL_SUM_CHANNELS
 from ..scene_gpu import vertex_extras
 from ..voxel_grid import bind_image
-
 
 
 class VoxelizePass:
@@ -28,14 +27,37 @@ class VoxelizePass:
                          for extras in (False, True)}
         self.mark_covered = programs.compute("voxelize/mark_covered.comp")
         self.resolve = programs.compute("voxelize/resolve_sums.comp")
-        self.keep = programs.compute("voxelize/rebuild_covered_list.comp")
-        self.cells = programs.compute("voxelize/list_cells.comp")
+        self.rebuild_covered = programs.compute("voxelize/rebuild_covered_list.comp")
+        self.list_cells = programs.compute("voxelize/list_cells.comp")
         self.clear_cells = programs.compute("voxelize/clear_cells.comp")
+        self._scratch = []  # for grids of self._n^3: the fixed-point sums, front-layer keys, a framebuffer
+        self._n = 0
+
+    def _ensure_scratch(self, n):
+        """The sums, one storage buffer per channel (lib/voxel_sums.glsl), and the front-layer
+        keys, per voxel and facing direction (stacked like the face views), for n^3 voxels:
+        zero, and zero again after every voxelization (voxelize/resolve_sums.comp)."""
+        if n == self._n:
+            return
+        self._release_scratch()
+        ctx, voxels = self.ctx, n ** 3
+        self.sums = [ctx.buffer(data=bytes(4 * voxels)) for _ in VOXEL_SUM_CHANNELS]
+        self.front = ctx.texture3d((n, n, VOXEL_FACES * n), 1, data=bytes(4 * VOXEL_FACES * voxels), dtype="u4")
+        self.framebuffer = ctx.empty_framebuffer((n, n))
+        self._scratch, self._n = [*self.sums, self.front, self.framebuffer], n
+
+    def _bind_sums(self):
+        for channel, buffer in enumerate(self.sums):
+            buffer.bind_to_storage_buffer(STORAGE_BINDING["VOXEL_SUMS"] + channel)
+        self.front.bind_to_image(IMAGE_UNIT["FRONT"], read=True, write=True, format=GL_IMAGE_FORMAT["r32ui"])
 
     def update(self, grid, update, draws):
-        """Apply a changes.VoxelUpdate to the grid; `draws` are all of the frame's draws."""
+        """Apply a changes.VoxelUpdate to the grid; `draws` are all of the frame's draws.
+        Writes the grid's surface volumes, its touched, covered and cell lists (a new epoch),
+        and zeroes the face views and base radiance of the voxels it emptied."""
+        self._ensure_scratch(grid.n)
         grid.touched.clear()
-        grid.bind_sums()
+        self._bind_sums()
         grid.touched.bind("TOUCHED")
         uniforms = grid.uniforms()
         if update.full:
@@ -54,7 +76,7 @@ class VoxelizePass:
 
     def _rasterize(self, grid, draws, stage, touched_only, box):
         """Rasterize the parts of `draws` inside the world `box` in one of the fragment stages."""
-        grid.framebuffer.use()
+        self.framebuffer.use()
         self.ctx.viewport = (0, 0, grid.n, grid.n)
         self.ctx.disable(self.ctx.DEPTH_TEST | self.ctx.CULL_FACE | self.ctx.BLEND)
         for extras, program in self.programs.items():
@@ -70,7 +92,7 @@ class VoxelizePass:
         grid.covered_next.clear()
         grid.covered_next.bind("COVERED_NEXT")
         for unit, volume in (("ALBEDO_OUT", grid.albedo), ("NORMAL_OUT", grid.normal), ("EMISSION_OUT", grid.emission),
-                             ("EMITTED_OUT", grid.emitted), ("TOUCHED_FACES_OUT", grid.faces)):
+                             ("CONE_EMISSION_OUT", grid.cone_emission), ("TOUCHED_FACES_OUT", grid.faces)):
             bind_image(volume, IMAGE_UNIT[unit], read=unit == "ALBEDO_OUT")
         self.resolve.set(**uniforms)
         grid.dispatch(self.resolve, touched)
@@ -79,34 +101,37 @@ class VoxelizePass:
         grid.albedo.use(TEXTURE_UNIT["VOXEL_ALBEDO"])
         grid.bind_faces()
         bind_image(grid.base, IMAGE_UNIT["BASE_OUT"])
-        self.keep.set(**uniforms)
-        grid.dispatch(self.keep, grid.covered.count)
+        self.rebuild_covered.set(**uniforms)
+        grid.dispatch(self.rebuild_covered, grid.covered.count)
         grid.replace_covered()
         self._relist_cells(grid)
 
     def _relist_cells(self, grid):
         """Zero the face views over the old covered cells of every level, then list the cells
         the covered voxels now reach, level after level."""
-        uniforms = grid.uniforms()
-        grid.cells.bind_to_storage_buffer(STORAGE_BINDING["CELLS"])
+        uniforms, cells = grid.uniforms(), grid.cells
+        cells.bind()
         for level in range(1, grid.mip_count):
             grid.bind_faces(level)
-            self.clear_cells.set(**uniforms, level=level, first=grid.level_first[level])
-            grid.dispatch(self.clear_cells, grid.level_counts[level])
-        grid.cells.write(bytes(4 * CELL_LIST_LEVELS))
-        grid.cell_generation += 1
+            self.clear_cells.set(**uniforms, level=level, first=cells.first[level])
+            grid.dispatch(self.clear_cells, cells.counts[level])
+        generation = cells.restart()
         grid.covered.bind("COVERED")
-        grid.cell_stamps.bind_to_storage_buffer(STORAGE_BINDING["CELL_STAMPS"])
+        cells.bind_stamps()
         source_count = grid.covered.count
         for level in range(1, grid.mip_count):
-            self.cells.set(**uniforms, level=level, source_first=grid.level_first[level - 1],
-                           target_first=grid.level_first[level], stamp_first=grid.level_first[level],
-                           generation=grid.cell_generation)
-            grid.dispatch(self.cells, source_count)
-            source_count = int(np.frombuffer(grid.cells.read(4, offset=4 * level), dtype="u4")[0])
-            grid.level_counts[level] = source_count
+            self.list_cells.set(**uniforms, level=level, source_first=cells.first[level - 1],
+                           target_first=cells.first[level], stamp_first=cells.first[level], generation=generation)
+            grid.dispatch(self.list_cells, source_count)
+            source_count = cells.read_count(level)
+
+    def _release_scratch(self):
+        for resource in self._scratch:
+            resource.release()
+        self._scratch, self._n = [], 0
 
     def release(self):
-        for handle in (*self.programs.values(), self.mark_covered, self.resolve, self.keep, self.cells, self.clear_cells):
+        for handle in (*self.programs.values(), self.mark_covered, self.resolve, self.rebuild_covered, self.list_cells, self.clear_cells):
             handle.release()
+        self._release_scratch()
 

@@ -82,8 +82,8 @@ VoxelInterpolation interpolate_voxels(Surface s, bool want_gathered, bool want_v
             gathered_sum += weight * g.rgb;
             gathered_total += weight;
         }
-        if (want_visibility) visibility_sum += weight * texelFetch(voxel_emitter_light, v, 0).a;
-        if (want_sky) sky_sum += weight * texelFetch(voxel_sky_light, v, 0).rgb;
+        if (want_visibility) visibility_sum += weight * texelFetch(voxel_emitter_irradiance, v, 0).a;
+        if (want_sky) sky_sum += weight * texelFetch(voxel_sky_irradiance, v, 0).rgb;
         surface_total += weight;
     }
     VoxelInterpolation result;

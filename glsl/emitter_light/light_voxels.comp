@@ -13,7 +13,7 @@
 #include "lib/emitters.glsl"
 
 layout(local_size_x = LIST_GROUP) in;
-layout(binding = IMG_EMITTER_LIGHT_OUT, rgba16f) uniform writeonly image3D emitter_light_out;
+layout(binding = IMG_EMITTER_IRRADIANCE_OUT, rgba16f) uniform writeonly image3D emitter_irradiance_out;
 #include "lib/voxel_list.glsl"
 
 // Fraction of a patch p sees, from one cone towards the patch's centre as wide as its sphere.
@@ -54,5 +54,5 @@ void main() {
         }
     }
     float total = unshadowed.r + unshadowed.g + unshadowed.b;
-    imageStore(emitter_light_out, v, vec4(shadowed, total > 0.0 ? (shadowed.r + shadowed.g + shadowed.b) / total : 1.0));
+    imageStore(emitter_irradiance_out, v, vec4(shadowed, total > 0.0 ? (shadowed.r + shadowed.g + shadowed.b) / total : 1.0));
 }

@@ -26,8 +26,8 @@ void main() {
             vec3 l;
             irradiance += light_irradiance(i, s.position, s.mean_normal, l);
         }
-        if (voxel_emitters) irradiance += texelFetch(voxel_emitter_light, v, 0).rgb;
-        if (voxel_sky) irradiance += texelFetch(voxel_sky_light, v, 0).rgb;
+        if (voxel_emitters) irradiance += texelFetch(voxel_emitter_irradiance, v, 0).rgb;
+        if (voxel_sky) irradiance += texelFetch(voxel_sky_irradiance, v, 0).rgb;
     }
     imageStore(base_out, v, vec4(s.emission + s.albedo / PI * irradiance, 1.0));
 }

@@ -7,10 +7,10 @@ layout(binding = TEX_VOXEL_NORMAL) uniform sampler3D voxel_normal;     // xyz me
 layout(binding = TEX_VOXEL_EMISSION) uniform sampler3D voxel_emission; // rgb, a = surface offset in voxels
 // The emitters' shadowed irradiance at each voxel's surface (rgb) and the fraction of their
 // unshadowed light that arrives (a), where voxel_emitters (emitter_light/light_voxels.comp).
-layout(binding = TEX_VOXEL_EMITTER_LIGHT) uniform sampler3D voxel_emitter_light;
+layout(binding = TEX_VOXEL_EMITTER_IRRADIANCE) uniform sampler3D voxel_emitter_irradiance;
 // The environment's irradiance at each voxel's surface through the voxels (rgb), where
 // voxel_sky (sky_light/trace_sky_cones.comp).
-layout(binding = TEX_VOXEL_SKY_LIGHT) uniform sampler3D voxel_sky_light;
+layout(binding = TEX_VOXEL_SKY_IRRADIANCE) uniform sampler3D voxel_sky_irradiance;
 
 struct VoxelSurface {
     bool covered;

@@ -9,8 +9,8 @@
 #include "lib/voxel_surface.glsl"
 
 layout(local_size_x = LIST_GROUP) in;
-layout(binding = TEX_VOXEL_SKY_TRACED) uniform sampler3D sky_traced;  // a = 1 where traced or interpolated
-layout(binding = IMG_SKY_LIGHT_OUT, rgba16f) uniform writeonly image3D sky_light_out;
+layout(binding = TEX_VOXEL_TRACED_SKY_IRRADIANCE) uniform sampler3D sky_traced;  // a = 1 where traced or interpolated
+layout(binding = IMG_SKY_IRRADIANCE_OUT, rgba16f) uniform writeonly image3D sky_irradiance_out;
 #include "lib/covered_voxels.glsl"
 
 void main() {
@@ -37,5 +37,5 @@ void main() {
             total += weight;
         }
     }
-    imageStore(sky_light_out, v, vec4(total > 0.0 ? sum / total : vec3(0.0), total > 0.0 ? 1.0 : 0.0));
+    imageStore(sky_irradiance_out, v, vec4(total > 0.0 ? sum / total : vec3(0.0), total > 0.0 ? 1.0 : 0.0));
 }

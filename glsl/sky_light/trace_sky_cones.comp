@@ -15,7 +15,7 @@
 #include "lib/environment.glsl"
 
 layout(local_size_x = LIST_GROUP) in;
-layout(binding = IMG_SKY_LIGHT_OUT, rgba16f) uniform writeonly image3D sky_light_out;
+layout(binding = IMG_SKY_IRRADIANCE_OUT, rgba16f) uniform writeonly image3D sky_irradiance_out;
 #include "lib/voxel_list.glsl"
 
 // The voxel's own offsets of its cones in [0, 1)^2: a hash of its coordinates.
@@ -54,5 +54,5 @@ void main() {
         }
         irradiance *= PI / cosine_sum;  // E = pi x the cosine-weighted mean radiance
     }
-    imageStore(sky_light_out, v, vec4(irradiance, 1.0));
+    imageStore(sky_irradiance_out, v, vec4(irradiance, 1.0));
 }

@@ -13,7 +13,7 @@ layout(local_size_x = LIST_GROUP) in;
 layout(binding = IMG_ALBEDO_OUT, rgba16f) uniform image3D albedo_out;
 layout(binding = IMG_NORMAL_OUT, rgba16f) uniform writeonly image3D normal_out;
 layout(binding = IMG_EMISSION_OUT, rgba16f) uniform writeonly image3D emission_out;
-layout(binding = IMG_EMITTED_OUT, rgba16f) uniform writeonly image3D emitted_out;
+layout(binding = IMG_CONE_EMISSION_OUT, rgba16f) uniform writeonly image3D cone_emission_out;
 layout(binding = IMG_FRONT, r32ui) uniform writeonly uimage3D front;
 layout(binding = IMG_TOUCHED_FACES_OUT, rgba16f) uniform writeonly image3D faces_out;
 layout(std430, binding = SSBO_TOUCHED) readonly buffer TouchedVoxels { uint touched_count; uint touched[]; };
@@ -37,7 +37,7 @@ void main() {
         imageStore(albedo_out, v, vec4(0.0));
         imageStore(normal_out, v, vec4(0.0));
         imageStore(emission_out, v, vec4(0.0));
-        imageStore(emitted_out, v, vec4(0.0));
+        imageStore(cone_emission_out, v, vec4(0.0));
     } else {
         float samples = float(min(count, VOXEL_MAX_FRAGMENTS));
         float to_unit = 1.0 / (samples * VOXEL_UNIT_SCALE);
@@ -55,7 +55,7 @@ void main() {
         imageStore(albedo_out, v, vec4(albedo, 1.0));
         imageStore(normal_out, v, vec4(normal, 1.0));
         imageStore(emission_out, v, vec4(emission, surface_offset));
-        imageStore(emitted_out, v, vec4(emission, 1.0));
+        imageStore(cone_emission_out, v, vec4(emission, 1.0));
         if (!was_covered) next_covered[atomicAdd(next_count, 1u)] = pack_voxel(v);
     }
     for (int channel = 0; channel < VOXEL_SUM_CHANNELS; ++channel) voxel_sums[channel].value[i] = 0u;

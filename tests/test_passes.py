@@ -1,0 +1,108 @@
+"""Single passes on small grids made by hand (VoxelGrid.load): what each computes for a voxel
+whose inputs are known, checked against the formula it implements."""
+import numpy as np
+import pytest
+
+from engine.bounces import EVERY_VOXEL
+from engine.gl import create_headless_context
+from engine.passes.faces import FaceViewsPass
+from engine.passes.gather import GatherPass
+from engine.passes.inject import InjectPass
+from engine.passes.shadow import ShadowPass
+from engine.scene import Light, VoxelRegion
+from engine.scene_gpu import EmitterBuffers, EnvironmentMap, SceneGeometry
+from engine.settings import RenderSettings
+from engine.shaders import ProgramLibrary
+from engine.voxel_grid import VoxelGrid
+
+N = 16
+REGION = VoxelRegion(np.zeros(3), 1.6)  # 10 cm voxels over [-0.8, 0.8]^3
+
+
+@pytest.fixture(scope="module")
+def gl():
+    ctx = create_headless_context()
+    with ctx:
+        programs = ProgramLibrary(ctx)
+        passes = dict(grid=VoxelGrid(ctx, programs), geometry=SceneGeometry(ctx), emitters=EmitterBuffers(ctx),
+                      environment=EnvironmentMap(ctx), inject=InjectPass(ctx, programs), faces=FaceViewsPass(ctx, programs),
+                      gather=GatherPass(ctx, programs))
+        passes["shadow"] = ShadowPass(ctx, programs, passes["geometry"], 64)
+        passes["grid"].ensure(N, REGION)
+        yield passes
+        for resource in passes.values():
+            resource.release()
+    ctx.release()
+
+
+def empty():
+    return np.zeros((N, N, N, 3), np.float32)
+
+
+def centre(x, y, z):
+    """World position of voxel (x, y, z)'s centre."""
+    return REGION.center - REGION.size / 2 + (np.array([x, y, z]) + 0.5) * REGION.size / N
+
+
+def lights(gl, *scene_lights):
+    return gl["shadow"].render(list(scene_lights), [], (REGION.center - 1, REGION.center + 1))
+
+
+def every_voxel(gl):
+    return gl["gather"].sort_classes(gl["grid"], 1).segment()
+
+
+def test_a_voxel_lit_by_a_point_light_reflects_albedo_over_pi_times_its_irradiance(gl):
+    """One covered voxel, albedo 0.5, facing up, 0.6 m below a point light of 3 W/sr at 60°
+    from its normal: L_base = rho / pi * I cos(theta) / d^2. Its neighbours stay zero."""
+    grid = gl["grid"]
+    albedo, normal = empty(), empty()
+    albedo[8, 5, 7], normal[8, 5, 7] = 0.5, (0.0, 1.0, 0.0)
+    grid.load(albedo, normal)
+    light_position = centre(7, 5, 8) + 0.6 * np.array([np.sin(np.pi / 3), np.cos(np.pi / 3), 0.0])
+    maps = lights(gl, Light("point", np.full(3, 3.0), position=light_position, cast_shadows=False))
+    base = grid.read_level(gl["inject"].run(grid, maps, gl["emitters"], gl["environment"], every_voxel(gl)))
+    expected = 0.5 / np.pi * 3.0 * np.cos(np.pi / 3) / 0.6 ** 2
+    assert base[8, 5, 7, :3] == pytest.approx(np.full(3, expected), rel=2e-3)
+    base[8, 5, 7] = 0.0
+    assert not base.any()
+
+
+def test_a_mip_cell_is_the_mean_of_its_eight_children(gl):
+    """Face views of 3 of a 2^3 cell's voxels, all facing +x and lit alike: the level-1 cell
+    holds 3/8 of their premultiplied radiance and coverage on its +x face and nothing on the
+    others; level 2 (one covered cell of 8) holds 3/64."""
+    grid = gl["grid"]
+    albedo, normal = empty(), empty()
+    for x, y, z in ((4, 4, 4), (4, 5, 4), (4, 5, 5)):
+        albedo[z, y, x], normal[z, y, x] = 0.8, (1.0, 0.0, 0.0)
+    grid.load(albedo, normal)
+    maps = lights(gl, Light("directional", np.full(3, 2.0), direction=np.array([-1.0, 0.0, 0.0]), cast_shadows=False))
+    gl["inject"].run(grid, maps, gl["emitters"], gl["environment"], every_voxel(gl))
+    gl["faces"].compose(grid, None, every_voxel(gl))
+    faces = gl["faces"].mipmap(grid)
+    radiance = 0.8 / np.pi * 2.0
+    for level, fraction in ((1, 3 / 8), (2, 3 / 64)):
+        views = grid.read_level(faces, level).reshape(6, N >> level, N >> level, N >> level, 4)
+        cell = 4 >> level
+        assert views[0, cell, cell, cell] == pytest.approx([fraction * radiance] * 3 + [fraction], rel=2e-3)
+        views[0, cell, cell, cell] = 0.0
+        assert not views.any()
+
+
+def test_a_voxel_facing_a_wide_lit_wall_gathers_the_walls_radiance(gl):
+    """A voxel 0.3 m in front of a white wall that fills its view, lit by 3 W/m^2 along its
+    normal: all 6 cones stop on the wall, so the gather G = sum_j w_j L is the wall's radiance
+    L = rho E / pi (the weights sum to one) within the cones' blur."""
+    grid = gl["grid"]
+    albedo, normal = empty(), empty()
+    albedo[2, :, :], normal[2, :, :] = 1.0, (0.0, 0.0, 1.0)     # the wall at z = 2, facing +z
+    albedo[5, 8, 8], normal[5, 8, 8] = 0.5, (0.0, 0.0, -1.0)    # the voxel facing it
+    grid.load(albedo, normal)
+    maps = lights(gl, Light("directional", np.full(3, 3.0), direction=np.array([0.0, 0.0, -1.0]), cast_shadows=False))
+    gl["inject"].run(grid, maps, gl["emitters"], gl["environment"], every_voxel(gl))
+    gl["faces"].compose(grid, None, every_voxel(gl))
+    gl["faces"].mipmap(grid)
+    classes = gl["gather"].sort_classes(grid, 1)
+    gathered = grid.read_level(gl["gather"].run(grid, RenderSettings().cone_uniforms(), grid.gathered[0], classes, 0))
+    assert gathered[5, 8, 8, :3] == pytest.approx(np.full(3, 3.0 / np.pi), rel=0.01)
