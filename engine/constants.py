@@ -85,6 +85,7 @@ STORAGE_BINDING = {
     "CELLS_BY_CLASS": 28,     # the covered level-1 cells sorted by class, the mixed ones last
     "STALE_VOXELS": 29,       # voxels whose gather-anchor records a voxelization may have changed
     "VOXEL_LIST": 30,         # the voxels injection, composition and the emitters' light run over (a VoxelSegment)
+    "UNSHARED_PIXELS": 31,    # pixels between anchors that no anchor stood for: they trace their own cones
 }
 
 # Struct layouts shared with GLSL (vec4 and mat4 fields, so std140 and std430 lay them out

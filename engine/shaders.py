@@ -159,6 +159,49 @@ def check_bindings(sources):
             number += 1
 
 
+_DECLARATION = re.compile(r"layout\s*\(([^)]*)\)\s*((?:(?:uniform|buffer|readonly|writeonly|restrict|coherent|volatile)\s+)+)"
+                          r"(\w+)\s*(\w*)")
+
+
+def declared_resources(sources):
+    """The resources the stages declare at the bindings of constants.py: {GLSL name (a sampler,
+    an image or a block): (binding name "KIND_NAME", "read" | "write" | "read write")}.
+    Samplers and uniform blocks are read; images and storage blocks as qualified."""
+    declared = {}
+    for source in sources.values():
+        for layout, qualifiers, first, second in _DECLARATION.findall(source.text):
+            binding = _BINDING.search(f"layout({layout})")
+            if binding is None:
+                continue
+            kind = binding.group(1)
+            words = qualifiers.split()
+            block = "buffer" in words or kind == "UBO"
+            access = "read" if kind in ("TEX", "UBO") or "readonly" in words else "write" if "writeonly" in words else "read write"
+            declared[first if block else second] = (f"{kind}_{binding.group(2)}", access)
+    return declared
+
+
+def check_declared(program, sources, reads, writes):
+    """Refuse a program that uses a resource its pass does not declare (`reads`, `writes`:
+    binding names "KIND_NAME"), declares one its sources do not, or declares a read-only
+    resource (a sampler, a uniform block, a readonly image or block) in `writes` or a
+    writeonly one in `reads`: the pass's declaration is what the program may bind, and how."""
+    declared = declared_resources(sources)
+    files = ", ".join(source.files[0] for source in sources.values())
+    access_of = {binding: access for binding, access in declared.values()}
+    for binding in sorted(set(reads) | set(writes)):
+        access = access_of.get(binding)
+        if access is None:
+            raise ShaderError(f"{files}: error: its pass declares {binding}, which no stage declares")
+        if (access == "read" and binding in writes) or (access == "write" and binding in reads):
+            listed = "writes" if binding in writes else "reads"
+            raise ShaderError(f"{files}: error: its pass declares {binding} in {listed}, which the shader declares {access}-only")
+    for name in program:
+        entry = declared.get(re.sub(r"\[\d+\]$", "", name))
+        if entry is not None and entry[0] not in reads and entry[0] not in writes:
+            raise ShaderError(f"{files}: error: uses {entry[0]}, which its pass does not declare")
+
+
 def compile_sources(ctx, sources):
     """Compile and link preprocessed stages ({'vertex_shader': Source, ...}, or just
     'compute_shader'), after check_bindings. Errors raise ShaderError naming the real file and
@@ -206,8 +249,9 @@ class ProgramHandle:
     """A program that can be rebuilt when its files change. `program` always holds the last
     good build; `error` holds the last failure (None once a rebuild succeeds)."""
 
-    def __init__(self, library, stages, defines):
+    def __init__(self, library, stages, defines, reads, writes):
         self.library = library
+        self.reads, self.writes = tuple(reads), tuple(writes)  # binding names "KIND_NAME" (check_declared)
         self.stages = stages  # {'vertex_shader': 'gbuffer/draw_surfaces.vert', ...} or {'compute_shader': ...}
         self.defines = dict(defines or {})
         self.program = None
@@ -225,6 +269,11 @@ class ProgramHandle:
         try:
             sources = {stage: preprocess(name, self.defines, root, paths) for stage, name in self.stages.items()}
             program = compile_sources(ctx, sources)
+            try:
+                check_declared(program, sources, self.reads, self.writes)
+            except ShaderError:
+                program.release()
+                raise
         except ShaderError as exc:
             self.error = exc
             raise
@@ -267,13 +316,15 @@ class ProgramLibrary:
         self.root = Path(root)
         self.handles = set()
 
-    def program(self, defines=None, **stages):
-        handle = ProgramHandle(self, stages, defines)
+    def program(self, defines=None, reads=(), writes=(), **stages):
+        """A program of `stages` ({stage: file}), which binds what `reads` and `writes` name
+        (binding names of constants.py, "TEX_VOXEL_ALBEDO"; check_declared) and nothing else."""
+        handle = ProgramHandle(self, stages, defines, reads, writes)
         self.handles.add(handle)
         return handle
 
-    def compute(self, name, defines=None):
-        return self.program(defines, compute_shader=name)
+    def compute(self, name, defines=None, reads=(), writes=()):
+        return self.program(defines, reads, writes, compute_shader=name)
 
     def reload_changed(self):
         """Rebuild programs whose sources changed. Returns (rebuilt count, [ShaderError])."""

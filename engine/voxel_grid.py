@@ -66,7 +66,8 @@ class VoxelGrid:
         self.region = None
         self._resources = []
         self.epoch = Epoch()  # of the covered list: a new one whenever it is rebuilt (replace_covered)
-        self.read_program = programs.compute("voxel_grid/read_level.comp")
+        self.read_program = programs.compute("voxel_grid/read_level.comp", reads=("TEX_VOXEL_INSPECT",),
+                                             writes=("SSBO_READBACK",))
 
     # -- allocation ----------------------------------------------------------------------
 

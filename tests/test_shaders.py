@@ -66,6 +66,19 @@ def test_a_program_that_binds_two_resources_to_one_unit_is_refused_naming_both(g
     assert f"IMG_BASE_OUT is (glsl/voxelize/rebuild_covered_list.comp:{at + 1})" in message
 
 
+def test_a_program_that_reads_a_resource_its_pass_does_not_declare_is_refused(glsl_copy):
+    """Each pass declares what its programs bind (ProgramLibrary.program reads/writes): a
+    shader edited to sample the face views, which light injection does not declare, fails to
+    build with a line naming the file and the binding."""
+    shader = glsl_copy / "inject/inject_direct_light.comp"
+    text = shader.read_text().replace("void main() {", "layout(binding = TEX_VOXEL_FACES) uniform sampler3D faces_seen;\n"
+                                      "void main() {\n    if (texelFetch(faces_seen, ivec3(0), 0).a < 0.0) return;", 1)
+    shader.write_text(text)
+    with pytest.raises(engine.ShaderError) as error:
+        engine.Renderer(16, 16, glsl_root=glsl_copy)
+    assert str(error.value) == "glsl/inject/inject_direct_light.comp: error: uses TEX_VOXEL_FACES, which its pass does not declare"
+
+
 def test_compile_error_names_the_included_file_and_line(glsl_copy):
     lib = glsl_copy / "lib" / "brdf.glsl"
     lines = lib.read_text().splitlines()

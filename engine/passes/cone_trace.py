@@ -18,11 +18,25 @@ class ConeTracePass:
         self.ctx = ctx
         # The image's programs, by whether surfaces emit (EMITTERS) and whether the scene has an
         # environment (SKY).
-        self.programs = {(lit, sky): programs.program({name: 1 for name, on in (("EMITTERS", lit), ("SKY", sky)) if on} or None,
-                                                      vertex_shader="lib/fullscreen.vert", fragment_shader="cone_trace/shade_pixels.frag")
-                         for lit in (False, True) for sky in (False, True)}
-        self.pixels_program = programs.compute("cone_trace/trace_listed_pixels.comp")
-        self.shared_program = programs.compute("cone_trace/share_anchor_cones.comp")
+        # Each binds the three pixel lists (lib/cone_pixels.glsl declares them together).
+        self.programs = {(lit, sky): programs.program(
+            {name: 1 for name, on in (("EMITTERS", lit), ("SKY", sky)) if on} or None,
+            vertex_shader="lib/fullscreen.vert", fragment_shader="cone_trace/shade_pixels.frag",
+            reads=("TEX_GBUF_POSITION", "TEX_GBUF_NORMAL", "TEX_GBUF_ALBEDO", "TEX_GBUF_EMISSION", "TEX_DIRECT_LIGHT", "TEX_VOXEL_NORMAL", "TEX_VOXEL_FACES", "TEX_VOXEL_GATHERED",
+                   "TEX_VOXEL_EMITTER_IRRADIANCE", "TEX_VOXEL_SKY_IRRADIANCE", "TEX_ENVIRONMENT", "SSBO_EMITTER_TRIANGLES",
+                   "SSBO_EMITTER_PATCHES", "SSBO_UNSHARED_PIXELS"),
+            writes=("SSBO_CONE_PIXELS", "SSBO_SHARED_PIXELS", "IMG_DIFFUSE_IN"))
+            for lit in (False, True) for sky in (False, True)}
+        # The traced pixels' programs: the cone pixels', then the unshared pixels'.
+        self.traced_programs = [programs.compute(
+            "cone_trace/trace_listed_pixels.comp", defines,
+            reads=("TEX_GBUF_POSITION", "TEX_GBUF_NORMAL", "TEX_GBUF_ALBEDO", "TEX_GBUF_EMISSION", "TEX_VOXEL_FACES", "TEX_VOXEL_CONE_EMISSION", "TEX_ENVIRONMENT", "SSBO_CONE_PIXELS",
+                   "SSBO_SHARED_PIXELS", "SSBO_UNSHARED_PIXELS"),
+            writes=("IMG_IMAGE_OUT", "IMG_DIFFUSE_IN", "IMG_SPECULAR_IN")) for defines in (None, {"TRACE_UNSHARED": 1})]
+        self.shared_program = programs.compute(
+            "cone_trace/share_anchor_cones.comp", reads=("TEX_GBUF_POSITION", "TEX_GBUF_NORMAL", "TEX_GBUF_ALBEDO", "TEX_GBUF_EMISSION", "SSBO_CONE_PIXELS", "SSBO_SHARED_PIXELS", "IMG_DIFFUSE_IN",
+                                                          "IMG_SPECULAR_IN"),
+            writes=("SSBO_UNSHARED_PIXELS", "IMG_IMAGE_OUT"))
         self.target = ScreenTarget(ctx, size)
         self.cone_pixels = self.shared_pixels = self.unshared_pixels = self.specular_in = self.diffuse_in = None
         self.resize(size)
@@ -46,7 +60,7 @@ class ConeTracePass:
         program = self.programs[emitters.count > 0, environment.environment is not None]
         gbuffer.use()
         emitters.bind(program)
-        for handle in (program, self.pixels_program, self.shared_program):
+        for handle in (program, *self.traced_programs, self.shared_program):
             environment.bind(handle)
         grid.use_surface()
         grid.use_faces()
@@ -58,8 +72,9 @@ class ConeTracePass:
                          pixel_angle=float(camera.pixel_angle), **camera.uniforms())
         for pixel_list in (self.cone_pixels, self.shared_pixels, self.unshared_pixels):
             pixel_list.write(np.array([0, 1, 1, 0], dtype="u4").tobytes())  # no group, no pixel yet
-        self.cone_pixels.bind_to_storage_buffer(STORAGE_BINDING["CONE_PIXELS"])
-        self.shared_pixels.bind_to_storage_buffer(STORAGE_BINDING["SHARED_PIXELS"])
+        for name, pixel_list in (("CONE_PIXELS", self.cone_pixels), ("SHARED_PIXELS", self.shared_pixels),
+                                 ("UNSHARED_PIXELS", self.unshared_pixels)):
+            pixel_list.bind_to_storage_buffer(STORAGE_BINDING[name])
         for name, anchor_image in (("SPECULAR_IN", self.specular_in), ("DIFFUSE_IN", self.diffuse_in)):
             anchor_image.bind_to_image(IMAGE_UNIT[name], read=True, write=True, format=GL_IMAGE_FORMAT["rgba32f"])
         self.target.draw(program)
@@ -67,20 +82,18 @@ class ConeTracePass:
             self.ctx.memory_barrier(self.ctx.SHADER_STORAGE_BARRIER_BIT | self.ctx.COMMAND_BARRIER_BIT
                                     | self.ctx.SHADER_IMAGE_ACCESS_BARRIER_BIT)
             self.target.texture.bind_to_image(IMAGE_UNIT["IMAGE_OUT"], read=True, write=True, format=GL_IMAGE_FORMAT["rgba32f"])
-            for program in (self.pixels_program, self.shared_program):
-                program.set(**grid_uniforms, **cone_uniforms, **camera.uniforms())
             barrier = (self.ctx.SHADER_IMAGE_ACCESS_BARRIER_BIT | self.ctx.TEXTURE_FETCH_BARRIER_BIT
                        | self.ctx.SHADER_STORAGE_BARRIER_BIT | self.ctx.COMMAND_BARRIER_BIT)
-            self.pixels_program.program.run_indirect(self.cone_pixels)  # the anchors first
-            self.ctx.memory_barrier(barrier)
-            self.unshared_pixels.bind_to_storage_buffer(STORAGE_BINDING["CONE_PIXELS"])  # the shared pass lists them
-            self.shared_program.program.run_indirect(self.shared_pixels)
-            self.ctx.memory_barrier(barrier)
-            self.pixels_program.program.run_indirect(self.unshared_pixels)
-            self.ctx.memory_barrier(barrier)
+            cone_program, unshared_program = self.traced_programs
+            # The anchors first, then the pixels between them, then those no anchor stood for.
+            for handle, pixel_list in ((cone_program, self.cone_pixels), (self.shared_program, self.shared_pixels),
+                                       (unshared_program, self.unshared_pixels)):
+                handle.set(**grid_uniforms, **cone_uniforms, **camera.uniforms())
+                handle.program.run_indirect(pixel_list)
+                self.ctx.memory_barrier(barrier)
         return self.target
 
     def release(self):
-        for resource in (self.target, *self.programs.values(), self.pixels_program, self.shared_program,
+        for resource in (self.target, *self.programs.values(), *self.traced_programs, self.shared_program,
                          self.cone_pixels, self.shared_pixels, self.unshared_pixels, self.specular_in, self.diffuse_in):
             resource.release()

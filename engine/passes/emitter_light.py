@@ -9,7 +9,10 @@ from ..voxel_grid import bind_image
 
 class EmitterLightPass:
     def __init__(self, ctx, programs):
-        self.program = programs.compute("emitter_light/light_voxels.comp")
+        self.program = programs.compute(
+            "emitter_light/light_voxels.comp", writes=("IMG_EMITTER_IRRADIANCE_OUT",),
+            reads=("SSBO_VOXEL_LIST", "TEX_VOXEL_NORMAL", "TEX_VOXEL_EMISSION", "TEX_VOXEL_FACES", "SSBO_EMITTER_TRIANGLES",
+                   "SSBO_EMITTER_PATCHES"))
 
     def run(self, grid, emitters, cone_uniforms, segment):
         """`emitters`: scene_gpu.EmitterBuffers; `segment`: a VoxelSegment of the class list.

@@ -9,9 +9,12 @@ from ..constants import STORAGE_BINDING, TEXTURE_UNIT, VOXEL_FACES
 class FaceViewsPass:
     def __init__(self, ctx, programs):
         self.ctx = ctx
-        self.compose_program = programs.compute("faces/compose_face_views.comp")
-        self.mipmap_program = programs.compute("faces/mipmap_face_views.comp")
-        self.totals_program = programs.compute("faces/sum_face_views.comp")
+        self.compose_program = programs.compute(
+            "faces/compose_face_views.comp", writes=("IMG_FACES_OUT",),
+            reads=("SSBO_VOXEL_LIST", "TEX_VOXEL_ALBEDO", "TEX_VOXEL_NORMAL", "TEX_VOXEL_EMISSION", "TEX_VOXEL_BASE", "TEX_VOXEL_GATHERED"))
+        self.mipmap_program = programs.compute("faces/mipmap_face_views.comp", reads=("SSBO_CELLS", "TEX_VOXEL_FACES"),
+                                               writes=("IMG_FACES_OUT",))
+        self.totals_program = programs.compute("faces/sum_face_views.comp", reads=("TEX_VOXEL_FACES",), writes=("SSBO_READBACK",))
         self.totals_buffer = ctx.buffer(reserve=16 * VOXEL_FACES)
 
     def compose(self, grid, gathered, segment):

@@ -16,13 +16,23 @@ from ..voxel_lists import ClassIndex, VoxelList
 class GatherPass:
     def __init__(self, ctx, programs):
         self.ctx = ctx
-        self.trace_program = programs.compute("gather/trace_anchor_cones.comp")
-        self.mark_stale_program = programs.compute("gather/mark_stale_anchors.comp")
-        self.find_anchors_program = programs.compute("gather/find_anchors.comp")
-        self.sort_classes_program = programs.compute("gather/sort_classes.comp")
-        self.sort_cells_program = programs.compute("gather/sort_class_cells.comp")
-        self.fill_program = programs.compute("gather/interpolate_from_anchors.comp")
-        self.extrapolate_program = programs.compute("gather/close_bounce_series.comp")
+        self.trace_program = programs.compute(
+            "gather/trace_anchor_cones.comp", writes=("IMG_GATHERED_OUT",),
+            reads=("SSBO_CLASS_LIST", "TEX_VOXEL_NORMAL", "TEX_VOXEL_EMISSION", "TEX_VOXEL_FACES"))
+        self.mark_stale_program = programs.compute("gather/mark_stale_anchors.comp", reads=("SSBO_TOUCHED",),
+                                                   writes=("SSBO_GATHER_ANCHORS", "SSBO_STALE_VOXELS"))
+        self.find_anchors_program = programs.compute(
+            "gather/find_anchors.comp", writes=("SSBO_GATHER_ANCHORS",),
+            reads=("SSBO_COVERED", "SSBO_STALE_VOXELS", "TEX_VOXEL_ALBEDO", "TEX_VOXEL_NORMAL"))
+        self.sort_classes_program = programs.compute(
+            "gather/sort_classes.comp", reads=("SSBO_COVERED", "SSBO_GATHER_ANCHORS", "TEX_VOXEL_NORMAL"),
+            writes=("SSBO_CLASS_BUCKETS", "SSBO_CLASS_LIST", "SSBO_CELL_CLASS_BITS"))
+        self.sort_cells_program = programs.compute("gather/sort_class_cells.comp", reads=("SSBO_CELLS", "SSBO_CELL_CLASS_BITS"),
+                                                   writes=("SSBO_CLASS_BUCKETS", "SSBO_CELLS_BY_CLASS"))
+        self.fill_program = programs.compute("gather/interpolate_from_anchors.comp", writes=("IMG_GATHERED_OUT",),
+                                             reads=("SSBO_CLASS_LIST", "SSBO_GATHER_ANCHORS", "TEX_VOXEL_NORMAL"))
+        self.extrapolate_program = programs.compute("gather/close_bounce_series.comp", reads=("SSBO_COVERED", "TEX_VOXEL_GATHERED"),
+                                                    writes=("IMG_GATHERED_OUT",))
         self.anchors_epoch = None  # the epoch of the covered list self.anchors was found for
         self._storage = []
         self._n = 0

@@ -38,7 +38,8 @@ class GBufferPass:
         # vertex colours, a second texture coordinate set or texture transforms (else none).
         self.programs = {(mapped, extras): programs.program(
             {name: 1 for name, wanted in (("NORMAL_MAP", mapped), ("VERTEX_EXTRAS", extras)) if wanted},
-            vertex_shader="gbuffer/draw_surfaces.vert", fragment_shader="gbuffer/draw_surfaces.frag")
+            vertex_shader="gbuffer/draw_surfaces.vert", fragment_shader="gbuffer/draw_surfaces.frag",
+            reads=("TEX_BASE_COLOR_MAP", "TEX_METAL_ROUGH_MAP", "TEX_EMISSIVE_MAP", "TEX_NORMAL_MAP"))
             for mapped in (False, True) for extras in (False, True)}
         self.target = GBuffer(ctx, size)
 

@@ -5,7 +5,8 @@ from .target import ScreenTarget
 
 class GBufferViewPass:
     def __init__(self, ctx, programs, size):
-        self.program = programs.program(vertex_shader="lib/fullscreen.vert", fragment_shader="gbuffer_view/show_gbuffer.frag")
+        self.program = programs.program(vertex_shader="lib/fullscreen.vert", fragment_shader="gbuffer_view/show_gbuffer.frag",
+                                        reads=("TEX_GBUF_POSITION", "TEX_GBUF_NORMAL", "TEX_GBUF_ALBEDO"))
         self.target = ScreenTarget(ctx, size)
 
     def resize(self, size):

@@ -8,7 +8,10 @@ from ..voxel_grid import bind_image
 
 class InjectPass:
     def __init__(self, ctx, programs):
-        self.program = programs.compute("inject/inject_direct_light.comp")
+        self.program = programs.compute(
+            "inject/inject_direct_light.comp", writes=("IMG_BASE_OUT",),
+            reads=("SSBO_VOXEL_LIST", "TEX_VOXEL_ALBEDO", "TEX_VOXEL_NORMAL", "TEX_VOXEL_EMISSION", "TEX_VOXEL_EMITTER_IRRADIANCE",
+                   "TEX_VOXEL_SKY_IRRADIANCE", "TEX_SHADOW_ATLAS", "UBO_LIGHTS", "UBO_SHADOW_VIEWS"))
 
     def run(self, grid, shadow_maps, emitters, environment, segment):
         """Writes grid.base for the voxels of `segment` (a VoxelSegment), adding the emitters'

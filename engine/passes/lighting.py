@@ -5,7 +5,8 @@ from .target import ScreenTarget
 
 class LightingPass:
     def __init__(self, ctx, programs, size):
-        self.program = programs.program(vertex_shader="lib/fullscreen.vert", fragment_shader="lighting/shade_lights.frag")
+        self.program = programs.program(vertex_shader="lib/fullscreen.vert", fragment_shader="lighting/shade_lights.frag",
+                                        reads=("TEX_GBUF_POSITION", "TEX_GBUF_NORMAL", "TEX_GBUF_ALBEDO", "TEX_GBUF_EMISSION", "TEX_SHADOW_ATLAS", "UBO_LIGHTS", "UBO_SHADOW_VIEWS"))
         self.target = ScreenTarget(ctx, size)
 
     def resize(self, size):

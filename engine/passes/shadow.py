@@ -80,7 +80,8 @@ class ShadowPass:
         self.depth_program = programs.program(vertex_shader="shadow/draw_depth.vert")
         # Cut-outs read their texture through its transform and set (VERTEX_EXTRAS): shadow/draw_depth.vert
         # passes both sets on for every draw.
-        self.cut_out_program = programs.program({"VERTEX_EXTRAS": 1}, vertex_shader="shadow/draw_depth.vert", fragment_shader="shadow/cut_out.frag")
+        self.cut_out_program = programs.program({"VERTEX_EXTRAS": 1}, vertex_shader="shadow/draw_depth.vert", fragment_shader="shadow/cut_out.frag",
+                                                reads=("TEX_BASE_COLOR_MAP",))
         self.maps = ShadowMaps(ctx, tile_size)
 
     def _views(self, light, bounds):

@@ -12,8 +12,12 @@ from ..voxel_grid import bind_image
 
 class SkyLightPass:
     def __init__(self, ctx, programs):
-        self.program = programs.compute("sky_light/trace_sky_cones.comp")
-        self.filter_program = programs.compute("sky_light/filter_sky_light.comp")
+        self.program = programs.compute(
+            "sky_light/trace_sky_cones.comp", writes=("IMG_SKY_IRRADIANCE_OUT",),
+            reads=("SSBO_VOXEL_LIST", "TEX_VOXEL_NORMAL", "TEX_VOXEL_EMISSION", "TEX_VOXEL_FACES", "TEX_ENVIRONMENT"))
+        self.filter_program = programs.compute(
+            "sky_light/filter_sky_light.comp", writes=("IMG_SKY_IRRADIANCE_OUT",),
+            reads=("SSBO_COVERED", "TEX_VOXEL_NORMAL", "TEX_VOXEL_TRACED_SKY_IRRADIANCE"))
 
     def run(self, grid, environment, cone_uniforms, segment):
         """`environment`: scene_gpu.EnvironmentMap; `segment`: a VoxelSegment of the class list

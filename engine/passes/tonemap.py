@@ -5,7 +5,8 @@ from .target import ScreenTarget
 
 class TonemapPass:
     def __init__(self, ctx, programs, size):
-        self.program = programs.program(vertex_shader="lib/fullscreen.vert", fragment_shader="tonemap/tone_map.frag")
+        self.program = programs.program(vertex_shader="lib/fullscreen.vert", fragment_shader="tonemap/tone_map.frag",
+                                        reads=("TEX_HDR_INPUT",))
         self.target = ScreenTarget(ctx, size, dtype="f1")
 
     def resize(self, size):

@@ -15,7 +15,8 @@ def shown_volume(grid, view):
 
 class VoxelViewPass:
     def __init__(self, ctx, programs, size):
-        self.program = programs.program(vertex_shader="lib/fullscreen.vert", fragment_shader="voxel_view/march_voxels.frag")
+        self.program = programs.program(vertex_shader="lib/fullscreen.vert", fragment_shader="voxel_view/march_voxels.frag",
+                                        reads=("TEX_VOXEL_INSPECT",))
         self.target = ScreenTarget(ctx, size)
 
     def resize(self, size):

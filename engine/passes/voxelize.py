@@ -23,13 +23,21 @@ class VoxelizePass:
         # Per whether the draw has vertex colours, a second texture coordinate set or texture
         # transforms (scene_gpu.vertex_extras).
         self.programs = {extras: programs.program({"VERTEX_EXTRAS": 1} if extras else None, vertex_shader="voxelize/rasterize.vert",
-                                                  geometry_shader="voxelize/rasterize.geom", fragment_shader="voxelize/rasterize.frag")
+                                                  geometry_shader="voxelize/rasterize.geom", fragment_shader="voxelize/rasterize.frag",
+                                                  reads=("TEX_BASE_COLOR_MAP", "TEX_METAL_ROUGH_MAP", "TEX_EMISSIVE_MAP"),
+                                                  writes=("SSBO_VOXEL_SUMS", "IMG_FRONT", "SSBO_TOUCHED"))
                          for extras in (False, True)}
-        self.mark_covered = programs.compute("voxelize/mark_covered.comp")
-        self.resolve = programs.compute("voxelize/resolve_sums.comp")
-        self.rebuild_covered = programs.compute("voxelize/rebuild_covered_list.comp")
-        self.list_cells = programs.compute("voxelize/list_cells.comp")
-        self.clear_cells = programs.compute("voxelize/clear_cells.comp")
+        self.mark_covered = programs.compute("voxelize/mark_covered.comp", reads=("SSBO_COVERED",),
+                                             writes=("SSBO_TOUCHED", "SSBO_VOXEL_SUMS"))
+        self.resolve = programs.compute(
+            "voxelize/resolve_sums.comp", reads=("SSBO_TOUCHED",),
+            writes=("SSBO_VOXEL_SUMS", "IMG_FRONT", "IMG_ALBEDO_OUT", "IMG_NORMAL_OUT", "IMG_EMISSION_OUT", "IMG_CONE_EMISSION_OUT",
+                    "IMG_TOUCHED_FACES_OUT", "SSBO_COVERED_NEXT"))
+        self.rebuild_covered = programs.compute("voxelize/rebuild_covered_list.comp", reads=("SSBO_COVERED", "TEX_VOXEL_ALBEDO"),
+                                                writes=("SSBO_COVERED_NEXT", "IMG_BASE_OUT", "IMG_FACES_OUT"))
+        self.list_cells = programs.compute("voxelize/list_cells.comp", reads=("SSBO_COVERED",),
+                                           writes=("SSBO_CELLS", "SSBO_CELL_STAMPS"))
+        self.clear_cells = programs.compute("voxelize/clear_cells.comp", reads=("SSBO_CELLS",), writes=("IMG_FACES_OUT",))
         self._scratch = []  # for grids of self._n^3: the fixed-point sums, front-layer keys, a framebuffer
         self._n = 0
 

@@ -72,5 +72,5 @@ void main() {
         else unshared |= PIXEL_SPECULAR_CONE;
     }
     imageStore(image_out, pixel, imageLoad(image_out, pixel) + vec4(radiance, 0.0));
-    if (unshared != 0u) list_cone_pixel(uvec2(entry.x, unshared));  // the cone list bound here: the unshared pixels'
+    if (unshared != 0u) list_unshared_pixel(uvec2(entry.x, unshared));
 }

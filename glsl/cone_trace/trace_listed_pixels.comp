@@ -6,9 +6,9 @@
 //             (cone_trace/share_anchor_cones.comp)
 //   specular: F(w_o . n) Lv(p, w_s, a_s) at the anchor pixels (lib/specular_cone.glsl), whose
 //             Lv is kept likewise, and at every pixel whose cone is too narrow to share
-// Run twice: over the list cone_trace/shade_pixels.frag made, then over the pixels between anchors that
-// no anchor stood for (cone_trace/share_anchor_cones.comp lists them).
-// Dispatched indirectly with the group count the listing counted.
+// Built twice: over the cone pixels cone_trace/shade_pixels.frag listed, and (TRACE_UNSHARED)
+// over the pixels between anchors that no anchor stood for (cone_trace/share_anchor_cones.comp
+// lists them). Dispatched indirectly with the group count the listing counted.
 #include "lib/gbuffer.glsl"
 #include "lib/cone.glsl"
 #include "lib/brdf.glsl"
@@ -18,9 +18,17 @@
 layout(local_size_x = LIST_GROUP) in;
 layout(binding = IMG_IMAGE_OUT, rgba32f) uniform image2D image_out;
 
+#ifdef TRACE_UNSHARED
+#define traced_count unshared_count
+#define traced_pixels unshared_pixels
+#else
+#define traced_count pixel_count
+#define traced_pixels pixels
+#endif
+
 void main() {
-    if (gl_GlobalInvocationID.x >= pixel_count) return;
-    uvec2 entry = pixels[gl_GlobalInvocationID.x];
+    if (gl_GlobalInvocationID.x >= traced_count) return;
+    uvec2 entry = traced_pixels[gl_GlobalInvocationID.x];
     ivec2 pixel = unpack_pixel(entry.x);
     Surface s = read_gbuffer(pixel);
     vec3 radiance = vec3(0.0);
