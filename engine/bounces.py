@@ -23,7 +23,9 @@ surfaces directly, passes/emitter_light.py). The emitters' and the sky's light a
 is spread over the same classes (`ClassRounds`).
 
 Each planning method is a generator: it yields the work items in the order they must run,
-receives what a `MeasureTotals` measured, and updates the schedule's state as it plans.
+receives what a `MeasureTotals` or `ReadTotals` measured, and updates the schedule's state as
+it plans. Progressive frames read nothing back in the frame that computes it: the totals at a
+cycle's end are requested then and read at the start of the next frame.
 """
 from dataclasses import dataclass
 
@@ -117,7 +119,20 @@ class ExtrapolateGather:
 
 @dataclass(frozen=True)
 class MeasureTotals:
-    """The face views' total radiance (rgb), sent back to the plan."""
+    """The face views' total radiance (rgb), sent back to the plan (headless: read back now)."""
+    timer = "totals"
+
+
+@dataclass(frozen=True)
+class RequestTotals:
+    """The face views' total radiance computed on the GPU, to be read a frame later
+    (ReadTotals), when it is done: progressive frames never wait for the GPU."""
+    timer = "totals"
+
+
+@dataclass(frozen=True)
+class ReadTotals:
+    """The totals the last RequestTotals computed, sent back to the plan."""
     timer = "totals"
 
 
@@ -197,6 +212,7 @@ class RadianceSchedule:
         self.injected_epoch = None
         self.sorted_for = None  # (epoch, interleave) of the class index as last sorted
         self.cycle_clean = False
+        self.totals_requested = False  # progressive: a cycle's totals wait to be read
         self.voxel_light_rounds = {"emitter_light": ClassRounds(), "sky_light": ClassRounds()}
 
     # -- plans -------------------------------------------------------------------------------
@@ -239,6 +255,7 @@ class RadianceSchedule:
         changed), outside progressive frames; in progressive frames this frame's share."""
         if restart:
             self.iterations = 0
+            self.totals_requested = False
             if bounces == 0 and progressive:  # resume from the previous gathers; a new series from the next cycle
                 self.settled, self.series = False, None
             else:
@@ -324,6 +341,11 @@ class RadianceSchedule:
         now. At the end of a cycle that ran on the current base radiance throughout, the
         series is checked and the gathers kept: the series starts from gathers that all read
         it, as a bounce's do, since the totals it watches miss light that only moved."""
+        if self.totals_requested:
+            self.totals_requested = False
+            yield from self._end_cycle((yield ReadTotals()))
+            if self.settled:
+                return
         if self.pending_base and self.pending_for != interleave:  # classes of another interleave: all again
             self.pending_base, self.pending_for = set(range(interleave)), interleave
         yield from self._sort(epoch, interleave)
@@ -343,12 +365,13 @@ class RadianceSchedule:
         self.iterations += 1
         if self.phase == 0:
             if self.cycle_clean:
-                yield from self._end_cycle()
+                yield RequestTotals()
+                self.totals_requested = True
             self.cycle_clean = not self.pending_base
 
-    def _end_cycle(self):
-        """Check the series; unless it closes, keep the gathers of this cycle's end for closing it."""
-        total = yield MeasureTotals()
+    def _end_cycle(self, total):
+        """Check the series with a cycle's totals; unless it closes, keep the gathers of that
+        cycle's end (still the latest) for closing it."""
         outcome = None if self.series is None else self.series.add(total)
         if self.series is None:
             self.series = Series(total)

@@ -86,6 +86,8 @@ STORAGE_BINDING = {
     "STALE_VOXELS": 29,       # voxels whose gather-anchor records a voxelization may have changed
     "VOXEL_LIST": 30,         # the voxels injection, composition and the emitters' light run over (a VoxelSegment)
     "UNSHARED_PIXELS": 31,    # pixels between anchors that no anchor stood for: they trace their own cones
+    "SEGMENTS": 32,           # rows of list segments the GPU counted (GLSL_STRUCTS["ListSegment"])
+    "COUNTED": 33,            # a list whose count a segment row is sized from (voxel_grid/size_segment.comp)
 }
 
 # Struct layouts shared with GLSL (vec4 and mat4 fields, so std140 and std430 lay them out
@@ -107,6 +109,9 @@ GLSL_STRUCTS = {
     # w), their mean plane through the centre (unit normal xyz, w: distance of the farthest
     # corner from it) and their range of the triangle list (first, count).
     "EmitterPatch": (("vec4", "sphere"), ("vec4", "plane"), ("uvec4", "triangles")),
+    # A segment of a list: the group count of an indirect dispatch over it (x; y = z = 1) and
+    # its first entry and count (xy of `range`), as the GPU counted them (engine/voxel_lists.py).
+    "ListSegment": (("uvec4", "dispatch"), ("uvec4", "range")),
 }
 
 # Uniform block bindings (lights are read by every shaded pixel and voxel: uniform blocks are
@@ -160,6 +165,10 @@ CLASS_FACINGS = 7
 # A class's two parts: the voxels that trace the gather (anchors), then those that take it
 # from them (glsl/lib/gather_anchors.glsl).
 CLASS_PARTS = 2
+# The rows a bucket scan writes at most (gather/scan_buckets.comp: 1 + 3 per class), and its
+# workgroup's size.
+MAX_SEGMENT_ROWS = 1 + 3 * MAX_INTERLEAVE
+SCAN_GROUP = 256
 
 
 def cone_cosine_centroid_tilt(tilt, half_angle, samples=400):
@@ -281,6 +290,8 @@ def glsl_header():
         f"#define CLASS_FACINGS {CLASS_FACINGS}",
         f"#define CLASS_PARTS {CLASS_PARTS}",
         f"#define CELL_LIST_LEVELS {CELL_LIST_LEVELS}",
+        f"#define MAX_SEGMENT_ROWS {MAX_SEGMENT_ROWS}",
+        f"#define SCAN_GROUP {SCAN_GROUP}",
         f"#define VOXEL_UNIT_SCALE {VOXEL_UNIT_SCALE:.1f}",
         f"#define VOXEL_MAX_FRAGMENTS {VOXEL_MAX_FRAGMENTS}u",
         f"#define VOXEL_EMISSION_SCALE {VOXEL_EMISSION_SCALE:.1f}",

@@ -453,6 +453,10 @@ class Renderer:
             self.gather.extrapolate(grid, self._gathered(item.latest), self._gathered(item.older), item.gain)
         elif isinstance(item, bounces.MeasureTotals):
             return self.faces.totals(grid)
+        elif isinstance(item, bounces.RequestTotals):
+            self.faces.request_totals(grid)
+        elif isinstance(item, bounces.ReadTotals):
+            return self.faces.read_totals()
         else:
             raise TypeError(f"not a work item: {item!r}")
         return None

@@ -24,10 +24,10 @@ import math
 
 import numpy as np
 
-from .constants import (GL_IMAGE_FORMAT, GRID_SIZES, IMAGE_UNIT, LIST_GROUP, STORAGE_BINDING, TEXTURE_UNIT, VOLUME_GROUP, VOXEL_FACES,
+from .constants import (GL_IMAGE_FORMAT, GRID_SIZES, IMAGE_UNIT, STORAGE_BINDING, TEXTURE_UNIT, VOLUME_GROUP, VOXEL_FACES,
                         VOXEL_FORMAT, VOXEL_MEMORY_BUDGET, VOXEL_PACK_BITS, VOXEL_SUM_CHANNELS)
 from .errors import VctError
-from .voxel_lists import CellLists, Epoch, VoxelList
+from .voxel_lists import SEGMENT, CellLists, Epoch, VoxelList
 
 TEXEL_BYTES = 8  # RGBA16F
 MIP_CHAIN = 8 / 7  # a full mip chain adds a seventh
@@ -68,6 +68,7 @@ class VoxelGrid:
         self.epoch = Epoch()  # of the covered list: a new one whenever it is rebuilt (replace_covered)
         self.read_program = programs.compute("voxel_grid/read_level.comp", reads=("TEX_VOXEL_INSPECT",),
                                              writes=("SSBO_READBACK",))
+        self.size_program = programs.compute("voxel_grid/size_segment.comp", reads=("SSBO_COUNTED",), writes=("SSBO_SEGMENTS",))
 
     # -- allocation ----------------------------------------------------------------------
 
@@ -115,12 +116,13 @@ class VoxelGrid:
         z, y, x = np.nonzero(covered)
         coords = np.stack([x, y, z], axis=-1)
         self.covered.buffer.write(np.concatenate([[len(coords)], pack_voxels(coords)]).astype("u4").tobytes())
-        self.covered.count = len(coords)
+        self.covered.table.write(0, 1, len(coords))
         for level in range(1, self.mip_count):
             cells = np.unique(coords >> level, axis=0)
-            self.cells.buffer.write(pack_voxels(cells).astype("u4").tobytes(), offset=4 * self.cells.segment(level)[0])
+            first = self.cells.entries_first(level)
+            self.cells.buffer.write(pack_voxels(cells).astype("u4").tobytes(), offset=4 * first)
             self.cells.buffer.write(np.array([len(cells)], "u4").tobytes(), offset=4 * level)
-            self.cells.counts[level] = len(cells)
+            self.cells.table.write(level, first, len(cells))
 
     def _keep(self, resource):
         self._resources.append(resource)
@@ -175,7 +177,7 @@ class VoxelGrid:
         """Make `covered_next` (which a voxelization filled) the covered list, the old one the
         next to fill, and start a new epoch."""
         self.covered, self.covered_next = self.covered_next, self.covered
-        self.covered.read_count()
+        self.size_list(self.covered)
         self.epoch = self.epoch.next()
 
     def build_emission_mips(self):
@@ -185,13 +187,36 @@ class VoxelGrid:
     def bind_faces(self, level=0):
         bind_image(self.faces, IMAGE_UNIT["FACES_OUT"], level=level)
 
-    def dispatch(self, handle, count):
-        """Run a compute program once per entry of a voxel list (`count` entries), then make its
-        writes visible to the texture fetches, image loads and buffer reads that follow."""
-        if count:
-            handle.program.run(math.ceil(count / LIST_GROUP))
+    def dispatch(self, handle, segment):
+        """Run a compute program once per entry of a list segment (a VoxelSegment: its row
+        bound as the program's `segment`, the dispatch's size read by the GPU from the row),
+        then make its writes visible to the texture fetches, image loads, buffer reads and
+        indirect dispatches that follow."""
+        segment.table.bind()
+        handle.set(segment=segment.row)
+        handle.program.run_indirect(segment.table.buffer, SEGMENT.itemsize * segment.row)
+        self.barrier()
+
+    def size_list(self, voxel_list):
+        """The segment row of a voxel list (every entry) from its count, after a pass appended."""
+        self._size(voxel_list.buffer, 0, 1, voxel_list.table, 0)
+
+    def size_cells(self, level):
+        """The segment row of a level's covered cells from its count, after they are listed."""
+        self._size(self.cells.buffer, level, self.cells.entries_first(level), self.cells.table, level)
+
+    def _size(self, buffer, count_index, entries_first, table, row):
+        buffer.bind_to_storage_buffer(STORAGE_BINDING["COUNTED"])
+        table.bind()
+        self.size_program.set(count_index=count_index, entries_first=entries_first, row=row)
+        self.size_program.program.run(1)
+        self.barrier()
+
+    def barrier(self):
+        """Make a pass's writes visible to what follows, indirect dispatches included."""
         self.ctx.memory_barrier(self.ctx.SHADER_IMAGE_ACCESS_BARRIER_BIT | self.ctx.TEXTURE_FETCH_BARRIER_BIT
-                                | self.ctx.SHADER_STORAGE_BARRIER_BIT | self.ctx.TEXTURE_UPDATE_BARRIER_BIT)
+                                | self.ctx.SHADER_STORAGE_BARRIER_BIT | self.ctx.TEXTURE_UPDATE_BARRIER_BIT
+                                | self.ctx.COMMAND_BARRIER_BIT)
 
     # -- inspection --------------------------------------------------------------------------
 
@@ -223,6 +248,7 @@ class VoxelGrid:
         self.n = 0
         self.region = None
         self.read_program.release()
+        self.size_program.release()
 
 
 def pack_voxels(coords):

@@ -2,23 +2,61 @@
 
 - `VoxelList`: packed voxel coordinates after a count (covered, touched, stale voxels);
 - `CellLists`: the covered cells of every mip level, listed level after level;
+- `SegmentTable`: where segments of those lists lie and how large a dispatch over each is,
+  as the GPU counted them: passes over a list are dispatched indirectly from its rows, so no
+  frame reads a count back;
 - `Epoch`: one state of the covered list (what was computed from it records its epoch);
 - `ClassIndex`: where the covered voxels' interleave classes lie in a sorted list.
 """
+import math
 from dataclasses import dataclass
 
 import numpy as np
 
-from .constants import CELL_LIST_LEVELS, STORAGE_BINDING
+from .constants import CELL_LIST_LEVELS, LIST_GROUP, STORAGE_BINDING, struct_dtype
+
+SEGMENT = struct_dtype("ListSegment")
+
+
+class SegmentTable:
+    """Rows of GLSL_STRUCTS["ListSegment"], written on the GPU (voxel_grid/size_segment.comp,
+    gather/scan_buckets.comp): each a segment of a list, its first entry and count, and the
+    group count of an indirect dispatch over it."""
+
+    def __init__(self, ctx, rows):
+        self.buffer = ctx.buffer(data=bytes(SEGMENT.itemsize * rows))
+        self.rows = rows
+
+    def bind(self):
+        self.buffer.bind_to_storage_buffer(STORAGE_BINDING["SEGMENTS"])
+
+    def write(self, row, first, count):
+        """Set a row from the host (a list it filled itself)."""
+        entry = np.zeros((), SEGMENT)
+        entry["dispatch"] = (math.ceil(count / LIST_GROUP), 1, 1, 0)
+        entry["range"] = (first, count, 0, 0)
+        self.buffer.write(entry.tobytes(), offset=row * SEGMENT.itemsize)
+
+    def read(self):
+        """(first, count) of every row: a read back from the GPU, for inspection."""
+        rows = np.frombuffer(self.buffer.read(), SEGMENT)
+        return [(int(r["range"][0]), int(r["range"][1])) for r in rows]
+
+    def release(self):
+        self.buffer.release()
 
 
 @dataclass(frozen=True)
 class VoxelSegment:
-    """Entries [first, first + count) of a GPU buffer of packed voxel coordinates: what the
+    """A segment of a GPU buffer of packed voxel coordinates, row `row` of `table`: what the
     passes over a voxel list (injection, composition, the emitters' light) run over."""
     buffer: object
-    first: int
-    count: int
+    table: SegmentTable
+    row: int
+
+    def read(self):
+        """(first, count): a read back from the GPU, for inspection."""
+        return self.table.read()[self.row]
 
 
 class Epoch:
@@ -46,94 +84,99 @@ class ClassIndex:
     """The covered voxels sorted into interleave classes for the progressive bounce
     (GatherPass.sort_classes): in `voxel_list` each class is one run, its gather anchors then
     its other voxels; in `cell_list` the covered level-1 cells one run per class, the cells of
-    several classes last. Each segment (first, count). Valid for `epoch` and `interleave`."""
+    several classes last. The segments are rows of `voxel_rows` and `cell_rows` (ClassIndex
+    rows). Valid for `epoch` and `interleave`."""
 
     epoch: Epoch
     interleave: int
     voxel_list: object
-    classes: tuple       # (first, count) per class
-    anchors: tuple       # per class: its anchors, which trace the gather
-    filled: tuple        # per class: its voxels that take their gather from the anchors
-    every: tuple         # every covered voxel
+    voxel_rows: SegmentTable  # every voxel; per class its voxels; its anchors; its other voxels
     cell_list: object
-    cell_runs: tuple     # per class: the run of its level-1 cells
-    mixed_cell_run: tuple  # the level-1 cells that hold voxels of several classes
+    cell_rows: SegmentTable   # per class the run of its level-1 cells; the mixed cells last
+
+    @staticmethod
+    def voxel_row_buckets(interleave, parts, buckets):
+        """The buckets of the class sort each voxel row spans, [first, end): every voxel, then
+        per class its voxels, its anchors (part 0) and its other voxels (part 1)."""
+        span = parts * buckets
+        return ([(0, interleave * span)] + [(c * span, (c + 1) * span) for c in range(interleave)]
+                + [(c * span, c * span + buckets) for c in range(interleave)]
+                + [(c * span + buckets, (c + 1) * span) for c in range(interleave)])
 
     def sorted_for(self, epoch, interleave):
         return self.epoch is epoch and self.interleave == interleave
 
     def segment(self, class_index=None):
         """The voxels of an interleave class (None: every covered voxel)."""
-        first, count = self.every if class_index is None else self.classes[class_index]
-        return VoxelSegment(self.voxel_list, first, count)
+        return VoxelSegment(self.voxel_list, self.voxel_rows, 0 if class_index is None else 1 + class_index)
 
     def anchor_segment(self, class_index):
         """The gather's anchors of an interleave class."""
-        return VoxelSegment(self.voxel_list, *self.anchors[class_index])
+        return VoxelSegment(self.voxel_list, self.voxel_rows, 1 + self.interleave + class_index)
 
     def filled_segment(self, class_index):
         """The voxels of an interleave class that interpolate the anchors."""
-        return VoxelSegment(self.voxel_list, *self.filled[class_index])
+        return VoxelSegment(self.voxel_list, self.voxel_rows, 1 + 2 * self.interleave + class_index)
 
     def cell_segments(self, class_index):
         """The level-1 cells an interleave class's voxels lie in: its own, then the mixed."""
-        return [self.cell_runs[class_index], self.mixed_cell_run]
+        return [VoxelSegment(self.cell_list, self.cell_rows, row) for row in (class_index, self.interleave)]
 
 
 class VoxelList:
-    """Packed voxel coordinates on the GPU (a count, then the entries); `count` is the host's
-    copy, read back after the pass that appended."""
+    """Packed voxel coordinates on the GPU: a count, then the entries; its segment row (every
+    entry) is sized on the GPU after the passes that append (VoxelGrid.size_list)."""
 
     def __init__(self, ctx, capacity):
         self.buffer = ctx.buffer(reserve=4 + 4 * capacity)
-        self.count = 0
+        self.table = SegmentTable(ctx, 1)
 
     def clear(self):
         self.buffer.write(bytes(4))
-        self.count = 0
+        self.table.write(0, 1, 0)
 
     def read_count(self):
-        self.count = int(np.frombuffer(self.buffer.read(4), dtype="u4")[0])
-        return self.count
+        """The number of entries: a read back from the GPU, for inspection."""
+        return int(np.frombuffer(self.buffer.read(4), dtype="u4")[0])
 
     def segment(self):
         """Every entry, as a VoxelSegment (they follow the count)."""
-        return VoxelSegment(self.buffer, 1, self.count)
+        return VoxelSegment(self.buffer, self.table, 0)
 
     def bind(self, binding):
         self.buffer.bind_to_storage_buffer(STORAGE_BINDING[binding])
 
     def release(self):
         self.buffer.release()
+        self.table.release()
 
 
 class CellLists:
     """The covered cells of mip levels 1..log2 n in one buffer: a count per level
     (CELL_LIST_LEVELS of them), then the cells of each level in a run of its own; a stamp per
-    cell and rebuild lists each cell once (voxelize/list_cells.comp). `counts[level]` is the
-    host's copy of a level's count, read back after the pass that listed it."""
+    cell and rebuild lists each cell once (voxelize/list_cells.comp). Row `level` of `table` is
+    the level's segment, sized on the GPU after it is listed."""
 
     def __init__(self, ctx, n):
         sizes = [(n >> level) ** 3 for level in range(n.bit_length())]
         self.first = [int(sum(sizes[1:level])) for level in range(len(sizes))]  # a level's first entry after the counts
-        self.counts = [0] * len(sizes)
         self.buffer = ctx.buffer(data=bytes(4 * (CELL_LIST_LEVELS + sum(sizes[1:]))))
         self.stamps = ctx.buffer(data=bytes(4 * sum(sizes[1:])))
+        self.table = SegmentTable(ctx, len(sizes))
         self.generation = 0
 
     def segment(self, level):
-        """(first, count) of a level's cells in the buffer (counts included)."""
-        return CELL_LIST_LEVELS + self.first[level], self.counts[level]
+        """A level's cells (their first entry in the buffer, counts included)."""
+        return VoxelSegment(self.buffer, self.table, level)
+
+    def entries_first(self, level):
+        return CELL_LIST_LEVELS + self.first[level]
 
     def restart(self):
         """Empty every level for a rebuild; returns the rebuild's stamp."""
         self.buffer.write(bytes(4 * CELL_LIST_LEVELS))
         self.generation += 1
         return self.generation
-
-    def read_count(self, level):
-        self.counts[level] = int(np.frombuffer(self.buffer.read(4, offset=4 * level), dtype="u4")[0])
-        return self.counts[level]
 
     def bind(self):
         self.buffer.bind_to_storage_buffer(STORAGE_BINDING["CELLS"])
@@ -142,5 +185,5 @@ class CellLists:
         self.stamps.bind_to_storage_buffer(STORAGE_BINDING["CELL_STAMPS"])
 
     def release(self):
-        self.buffer.release()
-        self.stamps.release()
+        for resource in (self.buffer, self.stamps, self.table):
+            resource.release()

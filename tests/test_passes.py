@@ -106,3 +106,30 @@ def test_a_voxel_facing_a_wide_lit_wall_gathers_the_walls_radiance(gl):
     classes = gl["gather"].sort_classes(grid, 1)
     gathered = grid.read_level(gl["gather"].run(grid, RenderSettings().cone_uniforms(), grid.gathered[0], classes, 0))
     assert gathered[5, 8, 8, :3] == pytest.approx(np.full(3, 3.0 / np.pi), rel=0.01)
+
+
+def test_mips_rebuilt_over_one_interleave_class_equal_mips_rebuilt_everywhere(gl):
+    """Two walls meeting at an edge, lit, their face views and mips built; then one interleave
+    class relit and composed again, with level 1 rebuilt over that class's cells (and those
+    where classes meet) only, as a progressive frame does: every level equals the levels
+    rebuilt from level 0 over every cell."""
+    grid = gl["grid"]
+    albedo, normal = empty(), empty()
+    albedo[4, 2:12, 2:12], normal[4, 2:12, 2:12] = 0.7, (0.0, 0.0, 1.0)
+    albedo[4:12, 2:12, 2], normal[4:12, 2:12, 2] = 0.6, (1.0, 0.0, 0.0)
+    grid.load(albedo, normal)
+    classes = gl["gather"].sort_classes(grid, 4)
+    for intensity, segment in ((2.0, classes.segment()), (5.0, classes.segment(1))):
+        maps = lights(gl, Light("directional", np.full(3, intensity), direction=np.array([-0.5, 0.0, -1.0]), cast_shadows=False))
+        gl["inject"].run(grid, maps, gl["emitters"], gl["environment"], segment)
+        gl["faces"].compose(grid, None, segment)
+        if intensity == 2.0:
+            gl["faces"].mipmap(grid)
+            before = grid.read_level(grid.faces, 1)
+    gl["faces"].mipmap(grid, classes, 1)
+    partial = [grid.read_level(grid.faces, level) for level in range(1, grid.mip_count)]
+    gl["faces"].mipmap(grid)
+    full = [grid.read_level(grid.faces, level) for level in range(1, grid.mip_count)]
+    assert not np.array_equal(partial[0], before)
+    for level, (a, b) in enumerate(zip(partial, full), start=1):
+        assert np.array_equal(a, b), f"level {level} differs"

@@ -3,12 +3,14 @@ or the lights changed, and how the bounces converge, headless and over progressi
 import numpy as np
 
 from engine.bounces import (EVERY_VOXEL, TOUCHED_VOXELS, ClassRounds, ComposeFaces, ExtrapolateGather, Gather, Inject,
-                            LightVoxels, MeasureTotals, Mipmap, RadianceSchedule, SortClasses, class_voxels)
+                            LightVoxels, MeasureTotals, Mipmap, RadianceSchedule, ReadTotals, RequestTotals, SortClasses,
+                            class_voxels)
 from engine.voxel_grid import Epoch
 
 
 def run(plan, totals=()):
-    """The items a plan yields, answering each MeasureTotals with the next of `totals`."""
+    """The items a plan yields, answering each MeasureTotals and ReadTotals with the next of
+    `totals`."""
     totals = iter(totals)
     items, result = [], None
     while True:
@@ -16,7 +18,7 @@ def run(plan, totals=()):
             item = plan.send(result)
         except StopIteration:
             return items
-        result = np.asarray(next(totals), float) if isinstance(item, MeasureTotals) else None
+        result = np.asarray(next(totals), float) if isinstance(item, (MeasureTotals, ReadTotals)) else None
         items.append(item)
 
 
@@ -70,7 +72,8 @@ def test_converging_bounces_stop_when_an_increment_is_negligible():
 def test_progressive_frames_gather_one_class_each_until_the_cycles_converge():
     """The viewer: each frame gathers one interleave class, in turn, and composes that class's
     face views with level 1 of their mips over its cells; at the end of each cycle the totals
-    are read, and once the series closes no frame plans any work."""
+    are computed, and read back at the start of the next frame only (no frame waits for the
+    GPU's work of its own); once the series closes no frame plans any work."""
     schedule, epoch = RadianceSchedule(), Epoch()
     run(schedule.inject(True, True, 4, False, epoch))
     totals = iter(geometric_totals())
@@ -78,11 +81,16 @@ def test_progressive_frames_gather_one_class_each_until_the_cycles_converge():
     while not schedule.settled:
         frames.append(progressive_frame(schedule, epoch, totals=totals))
         assert len(frames) < 100
-    gathered = [of_type(items, Gather) for items in frames]
+    gathered = [of_type(items, Gather) for items in frames[:-1]]
     assert all(len(g) == 1 for g in gathered)
-    assert [g[0].class_index for g in gathered] == [k % 4 for k in range(len(frames))]
+    assert [g[0].class_index for g in gathered] == [k % 4 for k in range(len(frames) - 1)]
     assert frames[1][-2:] == [ComposeFaces((class_voxels(1),), 0), Mipmap(1)]
-    assert all(of_type(items, MeasureTotals) for items in frames[3::4][1:])
+    assert not any(of_type(items, MeasureTotals) for items in frames)
+    for k, items in enumerate(frames):
+        assert bool(of_type(items, ReadTotals)) == (k > 0 and bool(of_type(frames[k - 1], RequestTotals)))
+        if of_type(items, ReadTotals):
+            assert items[0] == ReadTotals()
+    assert of_type(frames[-1], ExtrapolateGather) and not of_type(frames[-1], Gather)
     assert progressive_frame(schedule, epoch, totals=totals) == []
 
 

@@ -1,11 +1,13 @@
 """Change tracking: a frame recomputes only what its inputs changed, found from the scene
 itself, and its image is the image of a frame that recomputes everything."""
+import moderngl
 import numpy as np
 import pytest
 
 import engine
 from conftest import SCENES, rel_mae
-from engine.bench import settle
+from engine.bench import FramePath, settle
+from engine.emitters import is_emissive
 from engine.constants import VOXEL_PACK_BITS
 
 SCREEN_PASSES = ["gbuffer", "lighting", "cone_trace"]
@@ -22,7 +24,7 @@ def settle_viewer(renderer, scene):
 
 def list_voxels(voxel_list):
     """The x, y and z coordinates of a VoxelList's entries (they follow its count)."""
-    entries = np.frombuffer(voxel_list.buffer.read(4 * (1 + voxel_list.count)), dtype="u4")[1:]
+    entries = np.frombuffer(voxel_list.buffer.read(4 * (1 + voxel_list.read_count())), dtype="u4")[1:]
     mask = (1 << VOXEL_PACK_BITS) - 1
     return entries & mask, (entries >> VOXEL_PACK_BITS) & mask, entries >> (2 * VOXEL_PACK_BITS)
 
@@ -99,7 +101,7 @@ def test_gather_anchors_found_again_around_a_moved_object_equal_anchors_found_an
         for r in (tracked, fresh):
             with r.ctx:
                 x, y, z = list_voxels(r.grid.covered)
-                records.append((r.grid.touched.count, r.grid.covered.count, set(zip(x, y, z)),
+                records.append((r.grid.touched.read_count(), r.grid.covered.read_count(), set(zip(x, y, z)),
                                 dict(zip(zip(x, y, z), np.frombuffer(r.gather.anchors.read(), dtype="u4")[x + 32 * (y + 32 * z)]))))
     (touched, covered, voxels, found_again), (_, _, fresh_voxels, found_anew) = records
     assert 0 < touched < covered  # a partial voxelization
@@ -233,27 +235,6 @@ def test_a_new_interleave_while_a_light_move_is_injected_relights_every_voxel():
         assert rel_mae(image, fresh.radiance()) < 0.005
 
 
-def test_face_view_mips_rebuilt_over_one_class_equal_mips_rebuilt_everywhere():
-    """A progressive frame composes the face views of one interleave class and rebuilds
-    their level 1 over the cells holding that class's voxels (and those where classes meet)
-    only: every level then equals the levels built again from level 0 over every cell."""
-    scene = engine.load_scene(SCENES / "cornell_box.json")
-    with engine.Renderer(64, 64) as r:
-        settle_viewer(r, scene)
-        grid = r.grid
-        scene.root.find("Omni Light").light.position = np.array([0.2, 0.6, -0.1])
-        with r.ctx:
-            earlier = grid.read_level(grid.faces, 1)
-        r.render(scene, grid=32)
-        with r.ctx:
-            partial = [grid.read_level(grid.faces, level) for level in range(1, grid.mip_count)]
-            r.faces.mipmap(grid)
-            full = [grid.read_level(grid.faces, level) for level in range(1, grid.mip_count)]
-    assert not np.array_equal(partial[0], earlier)
-    for level, (a, b) in enumerate(zip(partial, full), start=1):
-        assert np.array_equal(a, b), f"level {level} differs"
-
-
 def test_progressive_tracked_frames_stay_within_a_percent_of_recomputed_frames():
     """Progressive bounces (the viewer): a tracked frame stops bouncing once the radiance has
     settled, a recomputing one keeps bouncing; after each edit has had 12 frames to converge
@@ -351,3 +332,36 @@ def test_a_stage_names_the_inputs_that_changed_since_it_last_ran():
     assert stage.changed(inputs, tracking=False) == set(inputs)
     stage.forget()
     assert stage.changed(inputs) == set(inputs)
+
+
+@pytest.mark.parametrize("scene_file, kind", [("cornell_box.json", "camera"), ("cornell_box.json", "light"),
+                                              ("cornell_box.json", "object"), ("cornell_spheres.json", "emitter")])
+def test_viewer_frames_read_back_nothing_but_the_totals_of_the_frame_before(scene_file, kind, monkeypatch):
+    """Progressive frames (the viewer) while the camera, a light, an object or an emitter moves,
+    then until the radiance settles: the counts that size each pass stay on the GPU (indirect
+    dispatches), so a frame reads nothing back from it except, at the start of the frame after
+    a cycle of the bounce ends, the totals that cycle's end computed; and none waits for it
+    with glFinish."""
+    scene = engine.load_scene(SCENES / scene_file)
+    emitter = next(node for node, _ in scene.drawables() if is_emissive(node.material)) if kind == "emitter" else None
+    path = FramePath(scene, "static" if kind in ("camera", "emitter") else kind)
+    with engine.Renderer(48, 48) as r:
+        r.progressive = True
+        settings = r.settings.replace(grid=32)
+        settle(scene, r, settings)
+        reads = []
+        for cls in (moderngl.Buffer, moderngl.Texture, moderngl.Texture3D):
+            monkeypatch.setattr(cls, "read", lambda self, *a, _read=cls.read, **k: (reads.append(1), _read(self, *a, **k))[1])
+        monkeypatch.setattr(moderngl.Context, "finish", lambda self: reads.append("finish"))
+        frames = []
+        for frame in range(40):
+            if frame < 8:
+                path.apply(frame)
+                if emitter is not None:
+                    emitter.translation = emitter.translation + [0.01, 0.0, 0.0]
+            reads.clear()
+            r.render_frame(scene, settings)
+            frames.append((list(reads), "totals" in r.passes_ran))
+    assert any(requested for _, requested in frames) or kind == "camera"
+    for k, (frame_reads, _) in enumerate(frames):
+        assert len(frame_reads) <= (1 if k > 0 and frames[k - 1][1] else 0), f"frame {k}: {frame_reads}"

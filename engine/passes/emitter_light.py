@@ -11,7 +11,7 @@ class EmitterLightPass:
     def __init__(self, ctx, programs):
         self.program = programs.compute(
             "emitter_light/light_voxels.comp", writes=("IMG_EMITTER_IRRADIANCE_OUT",),
-            reads=("SSBO_VOXEL_LIST", "TEX_VOXEL_NORMAL", "TEX_VOXEL_EMISSION", "TEX_VOXEL_FACES", "SSBO_EMITTER_TRIANGLES",
+            reads=("SSBO_VOXEL_LIST", "SSBO_SEGMENTS", "TEX_VOXEL_NORMAL", "TEX_VOXEL_EMISSION", "TEX_VOXEL_FACES", "SSBO_EMITTER_TRIANGLES",
                    "SSBO_EMITTER_PATCHES"))
 
     def run(self, grid, emitters, cone_uniforms, segment):
@@ -22,8 +22,8 @@ class EmitterLightPass:
         segment.buffer.bind_to_storage_buffer(STORAGE_BINDING["VOXEL_LIST"])
         emitters.bind(self.program)
         bind_image(grid.emitter_irradiance, IMAGE_UNIT["EMITTER_IRRADIANCE_OUT"])
-        self.program.set(**grid.uniforms(), **cone_uniforms, first=segment.first, count=segment.count)
-        grid.dispatch(self.program, segment.count)
+        self.program.set(**grid.uniforms(), **cone_uniforms)
+        grid.dispatch(self.program, segment)
         return grid.emitter_irradiance
 
     def release(self):

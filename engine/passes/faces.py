@@ -11,8 +11,8 @@ class FaceViewsPass:
         self.ctx = ctx
         self.compose_program = programs.compute(
             "faces/compose_face_views.comp", writes=("IMG_FACES_OUT",),
-            reads=("SSBO_VOXEL_LIST", "TEX_VOXEL_ALBEDO", "TEX_VOXEL_NORMAL", "TEX_VOXEL_EMISSION", "TEX_VOXEL_BASE", "TEX_VOXEL_GATHERED"))
-        self.mipmap_program = programs.compute("faces/mipmap_face_views.comp", reads=("SSBO_CELLS", "TEX_VOXEL_FACES"),
+            reads=("SSBO_VOXEL_LIST", "SSBO_SEGMENTS", "TEX_VOXEL_ALBEDO", "TEX_VOXEL_NORMAL", "TEX_VOXEL_EMISSION", "TEX_VOXEL_BASE", "TEX_VOXEL_GATHERED"))
+        self.mipmap_program = programs.compute("faces/mipmap_face_views.comp", reads=("SSBO_CELLS", "SSBO_SEGMENTS", "TEX_VOXEL_FACES"),
                                                writes=("IMG_FACES_OUT",))
         self.totals_program = programs.compute("faces/sum_face_views.comp", reads=("TEX_VOXEL_FACES",), writes=("SSBO_READBACK",))
         self.totals_buffer = ctx.buffer(reserve=16 * VOXEL_FACES)
@@ -27,9 +27,8 @@ class FaceViewsPass:
             gathered.use(TEXTURE_UNIT["VOXEL_GATHERED"])
         segment.buffer.bind_to_storage_buffer(STORAGE_BINDING["VOXEL_LIST"])
         grid.bind_faces()
-        self.compose_program.set(**grid.uniforms(), first=segment.first, count=segment.count,
-                                 include_gathered=gathered is not None)
-        grid.dispatch(self.compose_program, segment.count)
+        self.compose_program.set(**grid.uniforms(), include_gathered=gathered is not None)
+        grid.dispatch(self.compose_program, segment)
         return grid.faces
 
     def mipmap(self, grid, classes=None, class_index=None):
@@ -41,25 +40,30 @@ class FaceViewsPass:
         uniforms = grid.uniforms()
         for level in range(1, grid.mip_count):
             grid.bind_faces(level)
-            if level == 1 and class_index is not None:
-                cells, segments = classes.cell_list, classes.cell_segments(class_index)
-            else:
-                cells, segments = grid.cells.buffer, [grid.cells.segment(level)]
-            cells.bind_to_storage_buffer(STORAGE_BINDING["CELLS"])
-            for first, count in segments:
-                self.mipmap_program.set(**uniforms, level=level, first=first, count=count)
-                grid.dispatch(self.mipmap_program, count)
+            segments = classes.cell_segments(class_index) if level == 1 and class_index is not None else [grid.cells.segment(level)]
+            for segment in segments:
+                segment.buffer.bind_to_storage_buffer(STORAGE_BINDING["CELLS"])
+                self.mipmap_program.set(**uniforms, level=level)
+                grid.dispatch(self.mipmap_program, segment)
         return grid.faces
 
-    def totals(self, grid):
-        """Mean premultiplied radiance (rgb) of the face views over the grid, summed over the
-        six faces (from the 1^3 levels)."""
+    def request_totals(self, grid):
+        """Compute the mean premultiplied radiance (rgb) of the face views over the grid,
+        summed over the six faces (from the 1^3 levels), into a buffer read_totals reads."""
         grid.use_faces()
         self.totals_buffer.bind_to_storage_buffer(STORAGE_BINDING["READBACK"])
         self.totals_program.set(top_level=grid.mip_count - 1)
         self.totals_program.program.run(1)
         self.ctx.memory_barrier(self.ctx.SHADER_STORAGE_BARRIER_BIT)
+
+    def read_totals(self):
+        """The totals the last request_totals computed (read back from the GPU)."""
         return np.frombuffer(self.totals_buffer.read(), dtype="f4").reshape(VOXEL_FACES, 4)[:, :3].sum(axis=0).astype(np.float64)
+
+    def totals(self, grid):
+        """The face views' totals, computed and read back now."""
+        self.request_totals(grid)
+        return self.read_totals()
 
     def release(self):
         for resource in (self.compose_program, self.mipmap_program, self.totals_program, self.totals_buffer):

@@ -8,9 +8,9 @@ then the others, and the covered level-1 cells by class, and closes the bounce s
 extrapolation."""
 import numpy as np
 
-from ..constants import CLASS_BLOCK, CLASS_FACINGS, CLASS_PARTS, IMAGE_UNIT, MAX_INTERLEAVE, STORAGE_BINDING, TEXTURE_UNIT
+from ..constants import CLASS_BLOCK, CLASS_FACINGS, CLASS_PARTS, IMAGE_UNIT, MAX_INTERLEAVE, MAX_SEGMENT_ROWS, STORAGE_BINDING, TEXTURE_UNIT
 from ..voxel_grid import bind_image
-from ..voxel_lists import ClassIndex, VoxelList
+from ..voxel_lists import ClassIndex, SegmentTable, VoxelList
 
 
 class GatherPass:
@@ -18,7 +18,7 @@ class GatherPass:
         self.ctx = ctx
         self.trace_program = programs.compute(
             "gather/trace_anchor_cones.comp", writes=("IMG_GATHERED_OUT",),
-            reads=("SSBO_CLASS_LIST", "TEX_VOXEL_NORMAL", "TEX_VOXEL_EMISSION", "TEX_VOXEL_FACES"))
+            reads=("SSBO_CLASS_LIST", "SSBO_SEGMENTS", "TEX_VOXEL_NORMAL", "TEX_VOXEL_EMISSION", "TEX_VOXEL_FACES"))
         self.mark_stale_program = programs.compute("gather/mark_stale_anchors.comp", reads=("SSBO_TOUCHED",),
                                                    writes=("SSBO_GATHER_ANCHORS", "SSBO_STALE_VOXELS"))
         self.find_anchors_program = programs.compute(
@@ -30,7 +30,8 @@ class GatherPass:
         self.sort_cells_program = programs.compute("gather/sort_class_cells.comp", reads=("SSBO_CELLS", "SSBO_CELL_CLASS_BITS"),
                                                    writes=("SSBO_CLASS_BUCKETS", "SSBO_CELLS_BY_CLASS"))
         self.fill_program = programs.compute("gather/interpolate_from_anchors.comp", writes=("IMG_GATHERED_OUT",),
-                                             reads=("SSBO_CLASS_LIST", "SSBO_GATHER_ANCHORS", "TEX_VOXEL_NORMAL"))
+                                             reads=("SSBO_CLASS_LIST", "SSBO_SEGMENTS", "SSBO_GATHER_ANCHORS", "TEX_VOXEL_NORMAL"))
+        self.scan_program = programs.compute("gather/scan_buckets.comp", writes=("SSBO_CLASS_BUCKETS", "SSBO_SEGMENTS"))
         self.extrapolate_program = programs.compute("gather/close_bounce_series.comp", reads=("SSBO_COVERED", "TEX_VOXEL_GATHERED"),
                                                     writes=("IMG_GATHERED_OUT",))
         self.anchors_epoch = None  # the epoch of the covered list self.anchors was found for
@@ -52,7 +53,9 @@ class GatherPass:
         self.class_buckets = ctx.buffer(reserve=4 * CLASS_PARTS * MAX_INTERLEAVE * max(n // CLASS_BLOCK, 1) ** 3 * CLASS_FACINGS)
         self.cell_class_bits = ctx.buffer(reserve=4 * cells)
         self.cells_by_class = ctx.buffer(reserve=4 * cells)
-        self._storage = [self.anchors, self.stale, self.class_list, self.class_buckets, self.cell_class_bits, self.cells_by_class]
+        self.voxel_rows, self.cell_rows = SegmentTable(ctx, MAX_SEGMENT_ROWS), SegmentTable(ctx, MAX_INTERLEAVE + 1)
+        self._storage = [self.anchors, self.stale, self.class_list, self.class_buckets, self.cell_class_bits, self.cells_by_class,
+                         self.voxel_rows, self.cell_rows]
         self._n, self.anchors_epoch = n, None
 
     def _release_storage(self):
@@ -63,7 +66,8 @@ class GatherPass:
     def sort_classes(self, grid, interleave):
         """Sort the covered voxels into `interleave` classes, each its anchors then the others,
         grouped by block and facing, finding the anchors first where the voxels changed, and
-        the covered level-1 cells by class. Returns the ClassIndex of the sorted lists."""
+        the covered level-1 cells by class: counting sorts whose prefix sums and segments the
+        GPU computes (gather/scan_buckets.comp). Returns the ClassIndex of the sorted lists."""
         self._ensure_storage(grid.n)
         buckets = max(grid.n // CLASS_BLOCK, 1) ** 3 * CLASS_FACINGS  # per class and part: (block, facing)
         total = interleave * CLASS_PARTS * buckets
@@ -76,38 +80,38 @@ class GatherPass:
         self.cell_class_bits.write(bytes(self.cell_class_bits.size))
         self.cell_class_bits.bind_to_storage_buffer(STORAGE_BINDING["CELL_CLASS_BITS"])
         self.sort_classes_program.set(**grid.uniforms(), interleave=interleave, scatter=False)
-        grid.dispatch(self.sort_classes_program, grid.covered.count)
-        counts = np.frombuffer(self.class_buckets.read(4 * total), dtype="u4").astype(np.int64)
-        firsts = np.concatenate([[0], np.cumsum(counts)[:-1]])
-        self.class_buckets.write(firsts.astype("u4").tobytes())
+        grid.dispatch(self.sort_classes_program, grid.covered.segment())
+        self._scan(grid, total, self.voxel_rows, ClassIndex.voxel_row_buckets(interleave, CLASS_PARTS, buckets))
         self.sort_classes_program.set(scatter=True)
-        grid.dispatch(self.sort_classes_program, grid.covered.count)
-        per_part = counts.reshape(interleave, CLASS_PARTS, buckets).sum(axis=2)
-        part_firsts = firsts[::buckets].reshape(interleave, CLASS_PARTS)
-        cell_runs, mixed_cell_run = self._sort_cells(grid, interleave)
-        return ClassIndex(
-            epoch=grid.epoch, interleave=interleave, voxel_list=self.class_list,
-            classes=tuple((int(part_firsts[c, 0]), int(per_part[c].sum())) for c in range(interleave)),
-            anchors=tuple((int(part_firsts[c, 0]), int(per_part[c, 0])) for c in range(interleave)),
-            filled=tuple((int(part_firsts[c, 1]), int(per_part[c, 1])) for c in range(interleave)),
-            every=(0, int(counts.sum())), cell_list=self.cells_by_class, cell_runs=cell_runs, mixed_cell_run=mixed_cell_run)
+        grid.dispatch(self.sort_classes_program, grid.covered.segment())
+        self._sort_cells(grid, interleave)
+        return ClassIndex(epoch=grid.epoch, interleave=interleave, voxel_list=self.class_list, voxel_rows=self.voxel_rows,
+                          cell_list=self.cells_by_class, cell_rows=self.cell_rows)
 
     def _sort_cells(self, grid, interleave):
         """Sort the covered level-1 cells by the class of their voxels (marked by the voxel
-        sort), the cells of several classes last. Returns each class's (first, count) in
-        self.cells_by_class, and the mixed cells'."""
+        sort), the cells of several classes last, into self.cells_by_class: a row of
+        self.cell_rows per class, then the mixed cells'."""
         buckets = interleave + 1
         self.class_buckets.write(bytes(4 * buckets))
         grid.cells.bind()
         self.cells_by_class.bind_to_storage_buffer(STORAGE_BINDING["CELLS_BY_CLASS"])
         self.sort_cells_program.set(**grid.uniforms(), first=grid.cells.first[1], interleave=interleave, scatter=False)
-        grid.dispatch(self.sort_cells_program, grid.cells.counts[1])
-        counts = np.frombuffer(self.class_buckets.read(4 * buckets), dtype="u4").astype(np.int64)
-        firsts = np.concatenate([[0], np.cumsum(counts)[:-1]])
-        self.class_buckets.write(firsts.astype("u4").tobytes())
+        grid.dispatch(self.sort_cells_program, grid.cells.segment(1))
+        self._scan(grid, buckets, self.cell_rows, [(c, c + 1) for c in range(buckets)])
         self.sort_cells_program.set(scatter=True)
-        grid.dispatch(self.sort_cells_program, grid.cells.counts[1])
-        return tuple((int(firsts[c]), int(counts[c])) for c in range(interleave)), (int(firsts[interleave]), int(counts[interleave]))
+        grid.dispatch(self.sort_cells_program, grid.cells.segment(1))
+
+    def _scan(self, grid, bucket_count, table, row_buckets):
+        """Each of the first `bucket_count` buckets' counts becomes its first entry, and row r
+        of `table` the segment of buckets row_buckets[r] = (first, end)."""
+        self.class_buckets.bind_to_storage_buffer(STORAGE_BINDING["CLASS_BUCKETS"])
+        table.bind()
+        rows = np.zeros((MAX_SEGMENT_ROWS, 2), "u4")
+        rows[:len(row_buckets)] = row_buckets
+        self.scan_program.set(bucket_count=bucket_count, row_count=len(row_buckets), row_buckets=rows.tobytes())
+        self.scan_program.program.run(1)
+        grid.barrier()
 
     def _find_anchors(self, grid):
         """The anchor records of the grid's voxels: again for the voxels around those the
@@ -117,17 +121,18 @@ class GatherPass:
             return
         self.anchors.bind_to_storage_buffer(STORAGE_BINDING["GATHER_ANCHORS"])
         every_voxel = not grid.epoch.follows(self.anchors_epoch)
-        count = grid.covered.count
+        voxels = grid.covered.segment()
         self.stale.bind("STALE_VOXELS")
         if not every_voxel:
             grid.touched.bind("TOUCHED")
             self.stale.clear()
             self.mark_stale_program.set(**grid.uniforms())
-            grid.dispatch(self.mark_stale_program, grid.touched.count)
-            count = self.stale.read_count()
+            grid.dispatch(self.mark_stale_program, grid.touched.segment())
+            grid.size_list(self.stale)
+            voxels = self.stale.segment()
         grid.covered.bind("COVERED")
         self.find_anchors_program.set(**grid.uniforms(), every_voxel=every_voxel)
-        grid.dispatch(self.find_anchors_program, count)
+        grid.dispatch(self.find_anchors_program, voxels)
         self.anchors_epoch = grid.epoch
 
     def run(self, grid, cone_uniforms, out, classes, class_index):
@@ -139,8 +144,8 @@ class GatherPass:
         self.class_list.bind_to_storage_buffer(STORAGE_BINDING["CLASS_LIST"])
         bind_image(out, IMAGE_UNIT["GATHERED_OUT"])
         anchors = classes.anchor_segment(class_index)
-        self.trace_program.set(**grid.uniforms(), **cone_uniforms, first=anchors.first, count=anchors.count)
-        grid.dispatch(self.trace_program, anchors.count)
+        self.trace_program.set(**grid.uniforms(), **cone_uniforms)
+        grid.dispatch(self.trace_program, anchors)
         return self.fill(grid, out, classes.filled_segment(class_index))
 
     def fill(self, grid, volume, segment):
@@ -150,8 +155,8 @@ class GatherPass:
         self.class_list.bind_to_storage_buffer(STORAGE_BINDING["CLASS_LIST"])
         bind_image(volume, IMAGE_UNIT["GATHERED_OUT"], read=True)
         self.anchors.bind_to_storage_buffer(STORAGE_BINDING["GATHER_ANCHORS"])
-        self.fill_program.set(**grid.uniforms(), first=segment.first, count=segment.count)
-        grid.dispatch(self.fill_program, segment.count)
+        self.fill_program.set(**grid.uniforms())
+        grid.dispatch(self.fill_program, segment)
         return volume
 
     def extrapolate(self, grid, latest, older, gain):
@@ -160,12 +165,12 @@ class GatherPass:
         bind_image(older, IMAGE_UNIT["GATHERED_OUT"], read=True)
         grid.covered.bind("COVERED")
         self.extrapolate_program.set(**grid.uniforms(), gain=tuple(float(g) for g in gain))
-        grid.dispatch(self.extrapolate_program, grid.covered.count)
+        grid.dispatch(self.extrapolate_program, grid.covered.segment())
         return older
 
     def release(self):
         for handle in (self.trace_program, self.mark_stale_program, self.find_anchors_program, self.sort_classes_program,
                        self.sort_cells_program, self.fill_program,
-                       self.extrapolate_program):
+                       self.extrapolate_program, self.scan_program):
             handle.release()
         self._release_storage()

@@ -10,7 +10,7 @@ class InjectPass:
     def __init__(self, ctx, programs):
         self.program = programs.compute(
             "inject/inject_direct_light.comp", writes=("IMG_BASE_OUT",),
-            reads=("SSBO_VOXEL_LIST", "TEX_VOXEL_ALBEDO", "TEX_VOXEL_NORMAL", "TEX_VOXEL_EMISSION", "TEX_VOXEL_EMITTER_IRRADIANCE",
+            reads=("SSBO_VOXEL_LIST", "SSBO_SEGMENTS", "TEX_VOXEL_ALBEDO", "TEX_VOXEL_NORMAL", "TEX_VOXEL_EMISSION", "TEX_VOXEL_EMITTER_IRRADIANCE",
                    "TEX_VOXEL_SKY_IRRADIANCE", "TEX_SHADOW_ATLAS", "UBO_LIGHTS", "UBO_SHADOW_VIEWS"))
 
     def run(self, grid, shadow_maps, emitters, environment, segment):
@@ -21,9 +21,8 @@ class InjectPass:
         segment.buffer.bind_to_storage_buffer(STORAGE_BINDING["VOXEL_LIST"])
         shadow_maps.bind(self.program)
         bind_image(grid.base, IMAGE_UNIT["BASE_OUT"])
-        self.program.set(**grid.uniforms(), voxel_emitters=emitters.count > 0, voxel_sky=environment.environment is not None,
-                         first=segment.first, count=segment.count)
-        grid.dispatch(self.program, segment.count)
+        self.program.set(**grid.uniforms(), voxel_emitters=emitters.count > 0, voxel_sky=environment.environment is not None)
+        grid.dispatch(self.program, segment)
         return grid.base
 
     def release(self):

@@ -14,7 +14,7 @@ class SkyLightPass:
     def __init__(self, ctx, programs):
         self.program = programs.compute(
             "sky_light/trace_sky_cones.comp", writes=("IMG_SKY_IRRADIANCE_OUT",),
-            reads=("SSBO_VOXEL_LIST", "TEX_VOXEL_NORMAL", "TEX_VOXEL_EMISSION", "TEX_VOXEL_FACES", "TEX_ENVIRONMENT"))
+            reads=("SSBO_VOXEL_LIST", "SSBO_SEGMENTS", "TEX_VOXEL_NORMAL", "TEX_VOXEL_EMISSION", "TEX_VOXEL_FACES", "TEX_ENVIRONMENT"))
         self.filter_program = programs.compute(
             "sky_light/filter_sky_light.comp", writes=("IMG_SKY_IRRADIANCE_OUT",),
             reads=("SSBO_COVERED", "TEX_VOXEL_NORMAL", "TEX_VOXEL_TRACED_SKY_IRRADIANCE"))
@@ -27,8 +27,8 @@ class SkyLightPass:
         segment.buffer.bind_to_storage_buffer(STORAGE_BINDING["VOXEL_LIST"])
         environment.bind(self.program)
         bind_image(grid.traced_sky_irradiance, IMAGE_UNIT["SKY_IRRADIANCE_OUT"])
-        self.program.set(**grid.uniforms(), **cone_uniforms, first=segment.first, count=segment.count)
-        grid.dispatch(self.program, segment.count)
+        self.program.set(**grid.uniforms(), **cone_uniforms)
+        grid.dispatch(self.program, segment)
         return grid.traced_sky_irradiance
 
     def filter(self, grid):
@@ -39,7 +39,7 @@ class SkyLightPass:
         grid.covered.bind("COVERED")
         bind_image(grid.sky_irradiance, IMAGE_UNIT["SKY_IRRADIANCE_OUT"])
         self.filter_program.set(**grid.uniforms())
-        grid.dispatch(self.filter_program, grid.covered.count)
+        grid.dispatch(self.filter_program, grid.covered.segment())
         return grid.sky_irradiance
 
     def release(self):

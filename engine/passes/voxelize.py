@@ -71,7 +71,7 @@ class VoxelizePass:
         if update.full:
             grid.covered.bind("COVERED")
             self.mark_covered.set(**uniforms)
-            grid.dispatch(self.mark_covered, grid.covered.count)
+            grid.dispatch(self.mark_covered, grid.covered.segment())
             reaching, box = update.added, grid.bounds()
             self._rasterize(grid, reaching, "front", touched_only=False, box=box)
         else:
@@ -96,21 +96,21 @@ class VoxelizePass:
 
     def _resolve_and_relist(self, grid):
         uniforms = grid.uniforms()
-        touched = grid.touched.read_count()
+        grid.size_list(grid.touched)
         grid.covered_next.clear()
         grid.covered_next.bind("COVERED_NEXT")
         for unit, volume in (("ALBEDO_OUT", grid.albedo), ("NORMAL_OUT", grid.normal), ("EMISSION_OUT", grid.emission),
                              ("CONE_EMISSION_OUT", grid.cone_emission), ("TOUCHED_FACES_OUT", grid.faces)):
             bind_image(volume, IMAGE_UNIT[unit], read=unit == "ALBEDO_OUT")
         self.resolve.set(**uniforms)
-        grid.dispatch(self.resolve, touched)
+        grid.dispatch(self.resolve, grid.touched.segment())
         # The previous covered list: keep the voxels still covered, empty the others.
         grid.covered.bind("COVERED")
         grid.albedo.use(TEXTURE_UNIT["VOXEL_ALBEDO"])
         grid.bind_faces()
         bind_image(grid.base, IMAGE_UNIT["BASE_OUT"])
         self.rebuild_covered.set(**uniforms)
-        grid.dispatch(self.rebuild_covered, grid.covered.count)
+        grid.dispatch(self.rebuild_covered, grid.covered.segment())
         grid.replace_covered()
         self._relist_cells(grid)
 
@@ -122,16 +122,17 @@ class VoxelizePass:
         for level in range(1, grid.mip_count):
             grid.bind_faces(level)
             self.clear_cells.set(**uniforms, level=level, first=cells.first[level])
-            grid.dispatch(self.clear_cells, cells.counts[level])
+            grid.dispatch(self.clear_cells, cells.segment(level))
         generation = cells.restart()
         grid.covered.bind("COVERED")
         cells.bind_stamps()
-        source_count = grid.covered.count
+        source = grid.covered.segment()
         for level in range(1, grid.mip_count):
             self.list_cells.set(**uniforms, level=level, source_first=cells.first[level - 1],
-                           target_first=cells.first[level], stamp_first=cells.first[level], generation=generation)
-            grid.dispatch(self.list_cells, source_count)
-            source_count = cells.read_count(level)
+                                target_first=cells.first[level], stamp_first=cells.first[level], generation=generation)
+            grid.dispatch(self.list_cells, source)
+            grid.size_cells(level)
+            source = cells.segment(level)
 
     def _release_scratch(self):
         for resource in self._scratch:

@@ -38,8 +38,8 @@ float patch_visibility(vec3 p, vec3 n, EmitterPatch e) {
 }
 
 void main() {
-    if (gl_GlobalInvocationID.x >= count) return;
-    ivec3 v = unpack_voxel(voxel_list[first + gl_GlobalInvocationID.x]);
+    if (gl_GlobalInvocationID.x >= segment_count()) return;
+    ivec3 v = unpack_voxel(voxel_list[segment_first() + gl_GlobalInvocationID.x]);
     VoxelSurface s = voxel_surface(v);
     vec3 shadowed = vec3(0.0), unshadowed = vec3(0.0);
     if (dot(s.mean_normal, s.mean_normal) > 0.0) {

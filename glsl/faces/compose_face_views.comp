@@ -19,8 +19,8 @@ layout(binding = IMG_FACES_OUT, rgba16f) uniform writeonly image3D faces_out;
 uniform bool include_gathered;  // false before the first bounce
 
 void main() {
-    if (gl_GlobalInvocationID.x >= count) return;
-    ivec3 v = unpack_voxel(voxel_list[first + gl_GlobalInvocationID.x]);
+    if (gl_GlobalInvocationID.x >= segment_count()) return;
+    ivec3 v = unpack_voxel(voxel_list[segment_first() + gl_GlobalInvocationID.x]);
     vec4 albedo = texelFetch(voxel_albedo, v, 0);
     if (albedo.a == 0.0) return;
     vec3 radiance = max(texelFetch(voxel_base, v, 0).rgb - texelFetch(voxel_emission, v, 0).rgb, vec3(0.0));

@@ -9,12 +9,12 @@
 layout(local_size_x = LIST_GROUP) in;
 layout(binding = IMG_GATHERED_OUT, rgba16f) uniform image3D gathered;
 layout(std430, binding = SSBO_CLASS_LIST) readonly buffer ClassList { uint class_list[]; };
-uniform uint first;  // the voxels of the class list that take their gather from anchors
-uniform uint count;
+// The voxels of the class list that take their gather from anchors.
+#include "lib/list_segment.glsl"
 
 void main() {
-    if (gl_GlobalInvocationID.x >= count) return;
-    ivec3 v = unpack_voxel(class_list[first + gl_GlobalInvocationID.x]);
+    if (gl_GlobalInvocationID.x >= segment_count()) return;
+    ivec3 v = unpack_voxel(class_list[segment_first() + gl_GlobalInvocationID.x]);
     uint anchors = gather_anchors[voxel_index(v)];
     vec4 result = vec4(0.0);
     if (anchors != 0u) {

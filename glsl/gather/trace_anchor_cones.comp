@@ -10,12 +10,12 @@
 layout(local_size_x = LIST_GROUP) in;
 layout(binding = IMG_GATHERED_OUT, rgba16f) uniform writeonly image3D gathered_out;
 layout(std430, binding = SSBO_CLASS_LIST) readonly buffer ClassList { uint class_list[]; };
-uniform uint first;  // the segment of the class list to gather
-uniform uint count;
+// The segment of the class list to gather.
+#include "lib/list_segment.glsl"
 
 void main() {
-    if (gl_GlobalInvocationID.x >= count) return;
-    ivec3 v = unpack_voxel(class_list[first + gl_GlobalInvocationID.x]);
+    if (gl_GlobalInvocationID.x >= segment_count()) return;
+    ivec3 v = unpack_voxel(class_list[segment_first() + gl_GlobalInvocationID.x]);
     VoxelSurface s = voxel_surface(v);
     imageStore(gathered_out, v, vec4(trace_diffuse(s.position, normalize(s.mean_normal), 1e9).rgb, 1.0));
 }

@@ -16,8 +16,8 @@ layout(binding = IMG_BASE_OUT, rgba16f) uniform writeonly image3D base_out;
 #include "lib/voxel_list.glsl"
 
 void main() {
-    if (gl_GlobalInvocationID.x >= count) return;
-    ivec3 v = unpack_voxel(voxel_list[first + gl_GlobalInvocationID.x]);
+    if (gl_GlobalInvocationID.x >= segment_count()) return;
+    ivec3 v = unpack_voxel(voxel_list[segment_first() + gl_GlobalInvocationID.x]);
     VoxelSurface s = voxel_surface(v);
     if (!s.covered) return;  // a touched voxel the voxelization emptied
     vec3 irradiance = vec3(0.0);

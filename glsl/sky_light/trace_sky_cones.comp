@@ -35,8 +35,8 @@ vec3 sky_cone(int j, vec2 jitter) {
 }
 
 void main() {
-    if (gl_GlobalInvocationID.x >= count) return;
-    ivec3 v = unpack_voxel(voxel_list[first + gl_GlobalInvocationID.x]);
+    if (gl_GlobalInvocationID.x >= segment_count()) return;
+    ivec3 v = unpack_voxel(voxel_list[segment_first() + gl_GlobalInvocationID.x]);
     VoxelSurface s = voxel_surface(v);
     vec3 irradiance = vec3(0.0);
     if (dot(s.mean_normal, s.mean_normal) > 0.0) {
