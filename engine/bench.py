@@ -146,7 +146,8 @@ def benchmark(scene, renderer, settings, grids, frames, warmup, kinds=FRAME_KIND
             record = {"scene": scene.name, "grid": grid if uses_voxels else None, "width": renderer.size[0],
                       "height": renderer.size[1], **time_frames(scene, renderer, s, kind, frames, warmup)}
             settle(scene, renderer, s)  # back to the settled scene for the next kind
-            record.update(voxel_bytes=renderer.grid.memory_bytes() if uses_voxels else 0,
+            voxel_bytes = renderer.voxel_memory_bytes() if uses_voxels else 0
+            record.update(voxel_bytes=voxel_bytes, voxel_bytes_per_voxel=voxel_bytes / grid ** 3 if uses_voxels else 0.0,
                           texture_bytes=renderer.geometry.textures.memory_bytes(), peak_rss_mb=peak_rss_mb())
             rows.append(record)
         if reference is not None and uses_voxels:  # the accuracy of this grid, converged within one frame
@@ -160,11 +161,12 @@ def benchmark(scene, renderer, settings, grids, frames, warmup, kinds=FRAME_KIND
 def format_table(rows):
     names = [n for n in PASS_ORDER if any(n in r["passes"] for r in rows)]
     has_error = any("rel_mae" in r for r in rows)
-    header = ["grid", "frame"] + names + ["total"] + (["relMAE", "lum ratio"] if has_error else [])
+    header = ["grid", "frame"] + names + ["total", "voxel B/voxel"] + (["relMAE", "lum ratio"] if has_error else [])
     lines = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
     for r in rows:
         cells = [f"{r['grid']}^3" if r["grid"] else "-", r["frame"]]
         cells += [f"{r['passes'][n]:.1f}" if n in r["passes"] else "-" for n in names] + [f"**{r['total_ms']:.1f}**"]
+        cells += [f"{r['voxel_bytes_per_voxel']:.0f} ({r['voxel_bytes'] / 2 ** 20:.0f} MiB)" if r["grid"] else "-"]
         if has_error:
             cells += [f"{r['rel_mae']:.3f}", f"{r['luminance_ratio']:.3f}"] if "rel_mae" in r else ["", ""]
         lines.append("| " + " | ".join(cells) + " |")

@@ -208,7 +208,7 @@ class Renderer:
             raise VctError(f"must be a whole number in 0..{top} for grid {self.grid.n}, got {level!r}", field="level")
         volume = self._gathered() if name == "gathered" else shown_volume(self.grid, VOXEL_VOLUMES[name])
         if level > 0:
-            volume.build_mipmaps()
+            self.grid.viewable(volume)
         return self.grid.read_level(volume, level)
 
     @_current
@@ -222,6 +222,10 @@ class Renderer:
             for stage in self.stages.values():
                 stage.forget()
         return rebuilt, errors
+
+    def voxel_memory_bytes(self):
+        """GPU bytes of the voxel grid and of the passes' storage sized by it."""
+        return self.grid.memory_bytes() + self.voxelize.memory_bytes() + self.gather.memory_bytes()
 
     @property
     def bounce_iterations(self):
@@ -269,6 +273,7 @@ class Renderer:
         if not s.shown.uses_voxels(emitters.count > 0 or frame.environment is not None):
             return direct
         self._voxels(frame, s, scene.source, emitters)
+        self.grid.hold_light_volumes(emitters=emitters.count > 0, sky=environment.environment is not None)
         work = WorkResources(shadow_maps, emitters, environment, s.cone_uniforms())
         if emitters.count:
             self._voxel_light("emitter_light", work, s, emitters=self.stages["emitters"].version)

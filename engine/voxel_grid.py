@@ -22,6 +22,7 @@ gather's anchors and class lists) belongs to that pass.
 """
 import math
 
+import moderngl
 import numpy as np
 
 from .constants import (GL_IMAGE_FORMAT, GRID_SIZES, IMAGE_UNIT, STORAGE_BINDING, TEXTURE_UNIT, VOLUME_GROUP, VOXEL_FACES,
@@ -86,12 +87,12 @@ class VoxelGrid:
         ctx = self.ctx
         self.n = n
         voxels = n ** 3
-        self.albedo, self.normal, self.base = (self._volume(mipmapped=True) for _ in range(3))
+        self._mipmapped = set()  # the volumes whose mip chain is allocated
+        self.albedo, self.normal, self.base = (self._volume() for _ in range(3))
         self.emission = self._volume()
         self.cone_emission = self._volume(mipmapped=True)
         self.gathered = [self._volume() for _ in range(2)]
-        self.emitter_irradiance = self._volume()
-        self.sky_irradiance, self.traced_sky_irradiance = self._volume(), self._volume()
+        self.emitter_irradiance = self.sky_irradiance = self.traced_sky_irradiance = None  # hold_light_volumes
         self.faces = self._volume(mipmapped=True, views=VOXEL_FACES)
         self.touched, self.covered, self.covered_next = (self._keep(VoxelList(ctx, voxels)) for _ in range(3))
         self.cells = self._keep(CellLists(ctx, n))
@@ -124,18 +125,46 @@ class VoxelGrid:
             self.cells.buffer.write(np.array([len(cells)], "u4").tobytes(), offset=4 * level)
             self.cells.table.write(level, first, len(cells))
 
+    def hold_light_volumes(self, emitters, sky):
+        """Hold the volumes of the emitters' light (`emitters`) and of the sky's (`sky`) where
+        the scene has them, zero when made, and none of those it has not."""
+        if emitters and self.emitter_irradiance is None:
+            self.emitter_irradiance = self._volume()
+        elif not emitters and self.emitter_irradiance is not None:
+            self._drop(self.emitter_irradiance)
+            self.emitter_irradiance = None
+        if sky and self.sky_irradiance is None:
+            self.sky_irradiance, self.traced_sky_irradiance = self._volume(), self._volume()
+        elif not sky and self.sky_irradiance is not None:
+            self._drop(self.sky_irradiance)
+            self._drop(self.traced_sky_irradiance)
+            self.sky_irradiance = self.traced_sky_irradiance = None
+
+    def viewable(self, volume):
+        """`volume` with its hardware mip chain built (the voxel views and Renderer.voxels read
+        coarser levels of volumes the passes read at level 0 only)."""
+        volume.build_mipmaps()
+        volume.filter = (self.ctx.LINEAR_MIPMAP_LINEAR, self.ctx.LINEAR)
+        self._mipmapped.add(volume)
+        return volume
+
     def _keep(self, resource):
         self._resources.append(resource)
         return resource
+
+    def _drop(self, resource):
+        self._resources.remove(resource)
+        self._mipmapped.discard(resource)
+        resource.release()
 
     def _volume(self, mipmapped=False, views=1):
         """An n x n x (views n) RGBA16F volume of zeros (with a full mip chain if asked)."""
         n = self.n
         volume = self.ctx.texture3d((n, n, views * n), 4, data=bytes(TEXEL_BYTES * views * n ** 3), dtype=VOXEL_FORMAT)
-        if mipmapped:
-            volume.build_mipmaps()
-        volume.filter = (self.ctx.LINEAR_MIPMAP_LINEAR if mipmapped else self.ctx.LINEAR, self.ctx.LINEAR)
+        volume.filter = (self.ctx.LINEAR, self.ctx.LINEAR)
         volume.repeat_x = volume.repeat_y = volume.repeat_z = False
+        if mipmapped:
+            self.viewable(volume)
         return self._keep(volume)
 
     @property
@@ -152,7 +181,8 @@ class VoxelGrid:
         return lo, lo + self.region.size
 
     def memory_bytes(self):
-        return voxel_memory_bytes(self.n) if self.n else 0
+        """GPU bytes the grid holds now: its volumes (their mip chains where allocated) and lists."""
+        return sum(gpu_bytes(resource, resource in self._mipmapped) for resource in self._resources)
 
     # -- binding ---------------------------------------------------------------------------
 
@@ -161,12 +191,15 @@ class VoxelGrid:
                     voxel_grid=self.n, voxel_size=self.voxel_size, voxel_max_mip=float(self.mip_count - 1))
 
     def use_surface(self):
-        """The resolved surface volumes and the emitters' and the sky's light at them."""
+        """The resolved surface volumes and the emitters' and the sky's light at them (where the
+        scene has them)."""
         self.albedo.use(TEXTURE_UNIT["VOXEL_ALBEDO"])
         self.normal.use(TEXTURE_UNIT["VOXEL_NORMAL"])
         self.emission.use(TEXTURE_UNIT["VOXEL_EMISSION"])
-        self.emitter_irradiance.use(TEXTURE_UNIT["VOXEL_EMITTER_IRRADIANCE"])
-        self.sky_irradiance.use(TEXTURE_UNIT["VOXEL_SKY_IRRADIANCE"])
+        if self.emitter_irradiance is not None:
+            self.emitter_irradiance.use(TEXTURE_UNIT["VOXEL_EMITTER_IRRADIANCE"])
+        if self.sky_irradiance is not None:
+            self.sky_irradiance.use(TEXTURE_UNIT["VOXEL_SKY_IRRADIANCE"])
 
     def use_faces(self):
         """The face views and the emission volume: what cones read."""
@@ -249,6 +282,18 @@ class VoxelGrid:
         self.region = None
         self.read_program.release()
         self.size_program.release()
+
+
+def gpu_bytes(resource, mipmapped=False):
+    """GPU bytes of a buffer, a texture (and its mip chain), or an object holding some."""
+    if hasattr(resource, "memory_bytes"):
+        return resource.memory_bytes()
+    if isinstance(resource, moderngl.Buffer):
+        return resource.size
+    if isinstance(resource, (moderngl.Texture, moderngl.Texture3D)):
+        texel = resource.components * np.dtype(resource.dtype).itemsize
+        return int(np.prod(resource.size) * texel * (MIP_CHAIN if mipmapped else 1))
+    return 0  # a framebuffer without attachments
 
 
 def pack_voxels(coords):

@@ -37,6 +37,9 @@ class SegmentTable:
         entry["range"] = (first, count, 0, 0)
         self.buffer.write(entry.tobytes(), offset=row * SEGMENT.itemsize)
 
+    def memory_bytes(self):
+        return self.buffer.size
+
     def read(self):
         """(first, count) of every row: a read back from the GPU, for inspection."""
         rows = np.frombuffer(self.buffer.read(), SEGMENT)
@@ -135,6 +138,9 @@ class VoxelList:
         self.buffer.write(bytes(4))
         self.table.write(0, 1, 0)
 
+    def memory_bytes(self):
+        return self.buffer.size + self.table.memory_bytes()
+
     def read_count(self):
         """The number of entries: a read back from the GPU, for inspection."""
         return int(np.frombuffer(self.buffer.read(4), dtype="u4")[0])
@@ -168,6 +174,9 @@ class CellLists:
     def segment(self, level):
         """A level's cells (their first entry in the buffer, counts included)."""
         return VoxelSegment(self.buffer, self.table, level)
+
+    def memory_bytes(self):
+        return self.buffer.size + self.stamps.size + self.table.memory_bytes()
 
     def entries_first(self, level):
         return CELL_LIST_LEVELS + self.first[level]

@@ -149,3 +149,23 @@ def test_moving_an_object_leaves_no_stale_voxels(renderer):
         fresh_image = fresh.render(scene, mode="gi", grid=32, bounces=1)
         assert [fresh.voxels(name).tobytes() for name in ("radiance", "normal", "albedo")] == moved
     assert np.array_equal(moved_image, fresh_image)
+
+
+def test_voxel_memory_is_what_the_grid_holds_with_light_volumes_only_where_the_scene_has_that_light():
+    """The voxel memory a renderer reports (vct bench, the viewer's overlay) is the GPU bytes its
+    grid and passes hold: a scene under a sky holds two volumes more than the Cornell box (the
+    sky's irradiance at the voxels, traced and filtered), released when the sky goes; a voxel
+    view adds its volume's mip chain."""
+    cornell = engine.load_scene(SCENES / "cornell_box.json")
+    sky = engine.load_scene(SCENES / "references" / "open_box_sky.json")
+    volume = 8 * 32 ** 3  # one RGBA16F volume of the grid
+    with engine.Renderer(16, 16) as r:
+        r.render(cornell, grid=32, bounces=1)
+        alone = r.voxel_memory_bytes()
+        r.render(sky, grid=32, bounces=1)
+        assert r.voxel_memory_bytes() - alone == 2 * volume
+        r.render(cornell, grid=32, bounces=1)
+        assert r.voxel_memory_bytes() == alone
+        r.render(cornell, grid=32, mode="voxel-albedo", voxel_mip=1)
+        assert r.voxel_memory_bytes() - alone == pytest.approx(volume / 7, abs=16)
+    assert 150 < alone / 32 ** 3 < voxel_grid.voxel_memory_bytes(32) / 32 ** 3

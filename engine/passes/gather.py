@@ -9,7 +9,7 @@ extrapolation."""
 import numpy as np
 
 from ..constants import CLASS_BLOCK, CLASS_FACINGS, CLASS_PARTS, IMAGE_UNIT, MAX_INTERLEAVE, MAX_SEGMENT_ROWS, STORAGE_BINDING, TEXTURE_UNIT
-from ..voxel_grid import bind_image
+from ..voxel_grid import bind_image, gpu_bytes
 from ..voxel_lists import ClassIndex, SegmentTable, VoxelList
 
 
@@ -57,6 +57,10 @@ class GatherPass:
         self._storage = [self.anchors, self.stale, self.class_list, self.class_buckets, self.cell_class_bits, self.cells_by_class,
                          self.voxel_rows, self.cell_rows]
         self._n, self.anchors_epoch = n, None
+
+    def memory_bytes(self):
+        """GPU bytes of the per-voxel storage for the grid's size."""
+        return sum(gpu_bytes(resource) for resource in self._storage)
 
     def _release_storage(self):
         for resource in self._storage:

@@ -23,8 +23,7 @@ class VoxelViewPass:
         self.target.resize(size)
 
     def render(self, grid, view, mip, camera):
-        volume = shown_volume(grid, view)
-        volume.build_mipmaps()  # an inspection view: the hardware mip chain of this volume
+        volume = grid.viewable(shown_volume(grid, view))  # an inspection view: the hardware mip chain of this volume
         volume.use(TEXTURE_UNIT["VOXEL_INSPECT"])
         self.program.set(**grid.uniforms(), **camera.uniforms(), show=SHOW[view], mip=float(mip),
                          viewport_size=tuple(float(x) for x in self.target.size))

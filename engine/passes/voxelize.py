@@ -13,7 +13,7 @@ import numpy as np
 
 from ..constants import GL_IMAGE_FORMAT, IMAGE_UNIT, SHADER_ENUMS, STORAGE_BINDING, TEXTURE_UNIT, VOXEL_FACES, VOXEL_SUM_CHANNELS
 from ..scene_gpu import vertex_extras
-from ..voxel_grid import bind_image
+from ..voxel_grid import bind_image, gpu_bytes
 
 
 class VoxelizePass:
@@ -133,6 +133,10 @@ class VoxelizePass:
             grid.dispatch(self.list_cells, source)
             grid.size_cells(level)
             source = cells.segment(level)
+
+    def memory_bytes(self):
+        """GPU bytes of the scratch storage for the grid's size."""
+        return sum(gpu_bytes(resource) for resource in self._scratch)
 
     def _release_scratch(self):
         for resource in self._scratch:

@@ -36,8 +36,7 @@ def overlay_lines(frames, process, renderer, vsync):
     cpu = "--" if process.cpu_percent is None else f"{process.cpu_percent:.0f}"
     lines = [(f"FPS {frames.fps:6.1f}  SPF {frames.ms_per_frame:7.1f} ms", False),
              (f"CPU {cpu:>5} %  RAM {process.ram_mb:7.0f} MB", False),
-             (f"voxels {renderer.grid.memory_bytes() / 2 ** 20:.0f} MB  "
-              f"textures {renderer.geometry.textures.memory_bytes() / 2 ** 20:.0f} MB", False),
+             (f"{voxel_memory_line(renderer)}  textures {renderer.geometry.textures.memory_bytes() / 2 ** 20:.0f} MB", False),
              (f"{renderer.size[0]}x{renderer.size[1]} {s.mode} grid {s.grid}{' vsync' if vsync else ''}", True)]
     if renderer.timings:
         lines.append(None)
@@ -48,6 +47,15 @@ def overlay_lines(frames, process, renderer, vsync):
         state = "settled" if renderer.schedule.settled else "converging"
         lines.append((f"bounces {state} ({renderer.bounce_iterations} so far)", True))
     return lines
+
+
+def voxel_memory_line(renderer):
+    """The voxel grid's GPU memory, in all and per voxel of the grid."""
+    n = renderer.grid.n
+    if not n:
+        return "voxels -"
+    total = renderer.voxel_memory_bytes()
+    return f"voxels {total / 2 ** 20:.0f} MB ({total / n ** 3:.0f} B/voxel)"
 
 
 def draw_overlay(lines, rect):
