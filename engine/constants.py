@@ -165,6 +165,9 @@ CLASS_FACINGS = 7
 # A class's two parts: the voxels that trace the gather (anchors), then those that take it
 # from them (glsl/lib/gather_anchors.glsl).
 CLASS_PARTS = 2
+# The voxelizer sums one slab of N / VOXEL_SLABS layers of the grid at a time (its sums and
+# front-layer keys are a slab's: half the grid's); a change that spans fewer layers is one slab.
+VOXEL_SLABS = 2
 # The rows a bucket scan writes at most (gather/scan_buckets.comp: 1 + 3 per class), and its
 # workgroup's size.
 MAX_SEGMENT_ROWS = 1 + 3 * MAX_INTERLEAVE

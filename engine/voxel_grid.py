@@ -26,7 +26,7 @@ import moderngl
 import numpy as np
 
 from .constants import (GL_IMAGE_FORMAT, GRID_SIZES, IMAGE_UNIT, STORAGE_BINDING, TEXTURE_UNIT, VOLUME_GROUP, VOXEL_FACES,
-                        VOXEL_FORMAT, VOXEL_MEMORY_BUDGET, VOXEL_PACK_BITS, VOXEL_SUM_CHANNELS)
+                        VOXEL_FORMAT, VOXEL_MEMORY_BUDGET, VOXEL_PACK_BITS, VOXEL_SLABS, VOXEL_SUM_CHANNELS)
 from .errors import VctError
 from .voxel_lists import SEGMENT, CellLists, Epoch, VoxelList
 
@@ -38,7 +38,7 @@ def voxel_memory_bytes(n):
     """GPU bytes a grid of n^3 needs, the passes' storage sized by it included: the voxelizer's
     sums, the volumes (surface, radiance, faces with mips) and the lists."""
     voxels = n ** 3
-    sums = 4 * len(VOXEL_SUM_CHANNELS) + 4 * VOXEL_FACES  # and the front-layer keys
+    sums = (4 * len(VOXEL_SUM_CHANNELS) + 4 * VOXEL_FACES) / VOXEL_SLABS  # and the front-layer keys, of one slab
     surface = TEXEL_BYTES * (3 * MIP_CHAIN + 1)              # albedo, normal (viewable), cone emission; emission
     radiance = TEXEL_BYTES * (MIP_CHAIN + 5)                 # base (viewable), two gathers, emitters' and sky irradiance (2)
     faces = TEXEL_BYTES * VOXEL_FACES * MIP_CHAIN

@@ -11,7 +11,8 @@ Afterwards the covered-voxel list and the covered cells of every mip level are b
 date."""
 import numpy as np
 
-from ..constants import GL_IMAGE_FORMAT, IMAGE_UNIT, SHADER_ENUMS, STORAGE_BINDING, TEXTURE_UNIT, VOXEL_FACES, VOXEL_SUM_CHANNELS
+from ..constants import (GL_IMAGE_FORMAT, IMAGE_UNIT, SHADER_ENUMS, STORAGE_BINDING, TEXTURE_UNIT, VOXEL_FACES, VOXEL_SLABS,
+                         VOXEL_SUM_CHANNELS)
 from ..scene_gpu import vertex_extras
 from ..voxel_grid import bind_image, gpu_bytes
 
@@ -42,15 +43,17 @@ class VoxelizePass:
         self._n = 0
 
     def _ensure_scratch(self, n):
-        """The sums, one storage buffer per channel (lib/voxel_sums.glsl), and the front-layer
-        keys, per voxel and facing direction (stacked like the face views), for n^3 voxels:
-        zero, and zero again after every voxelization (voxelize/resolve_sums.comp)."""
+        """For an n^3 grid's slabs of n / VOXEL_SLABS layers: the sums, one storage buffer per
+        channel (lib/voxel_sums.glsl), and the front-layer keys, per voxel and facing direction
+        (stacked like the face views): zero, and zero again after each slab's resolve
+        (voxelize/resolve_sums.comp)."""
         if n == self._n:
             return
         self._release_scratch()
-        ctx, voxels = self.ctx, n ** 3
+        ctx, depth = self.ctx, n // VOXEL_SLABS
+        voxels = n * n * depth
         self.sums = [ctx.buffer(data=bytes(4 * voxels)) for _ in VOXEL_SUM_CHANNELS]
-        self.front = ctx.texture3d((n, n, VOXEL_FACES * n), 1, data=bytes(4 * VOXEL_FACES * voxels), dtype="u4")
+        self.front = ctx.texture3d((n, n, VOXEL_FACES * depth), 1, data=bytes(4 * VOXEL_FACES * voxels), dtype="u4")
         self.framebuffer = ctx.empty_framebuffer((n, n))
         self._scratch, self._n = [*self.sums, self.front, self.framebuffer], n
 
@@ -62,54 +65,75 @@ class VoxelizePass:
     def update(self, grid, update, draws):
         """Apply a changes.VoxelUpdate to the grid; `draws` are all of the frame's draws.
         Writes the grid's surface volumes, its touched, covered and cell lists (a new epoch),
-        and zeroes the face views and base radiance of the voxels it emptied."""
+        and zeroes the face views and base radiance of the voxels it emptied. Slab after slab
+        (those the update reaches): flag the voxels to rebuild, sum their front layers, resolve."""
         self._ensure_scratch(grid.n)
         grid.touched.clear()
+        grid.covered_next.clear()
         self._bind_sums()
         grid.touched.bind("TOUCHED")
-        uniforms = grid.uniforms()
         if update.full:
-            grid.covered.bind("COVERED")
-            self.mark_covered.set(**uniforms)
-            grid.dispatch(self.mark_covered, grid.covered.segment())
-            reaching, box = update.added, grid.bounds()
-            self._rasterize(grid, reaching, "front", touched_only=False, box=box)
+            box, reaching = grid.bounds(), update.added
         else:
-            self._rasterize(grid, update.removed + update.added, "mark", touched_only=False, box=grid.bounds())
             box = update.touched_bounds(margin=grid.voxel_size)
             reaching = [d for d in draws if np.all(d.bounds[0] <= box[1]) and np.all(d.bounds[1] >= box[0])]
-            self._rasterize(grid, reaching, "front", touched_only=True, box=box)
-        self._rasterize(grid, reaching, "add", touched_only=True, box=box)
-        self._resolve_and_relist(grid)
+        for slab_first, slab_box in self._slabs(grid, box):
+            slab = dict(slab_first=slab_first, slab_depth=grid.n // VOXEL_SLABS)
+            if update.full:
+                grid.covered.bind("COVERED")
+                self.mark_covered.set(**grid.uniforms(), **slab)
+                grid.dispatch(self.mark_covered, grid.covered.segment())
+                self._rasterize(grid, reaching, "front", False, slab_box, slab)
+            else:
+                self._rasterize(grid, update.removed + update.added, "mark", False, slab_box, slab)
+                self._rasterize(grid, reaching, "front", True, slab_box, slab)
+            self._rasterize(grid, reaching, "add", True, slab_box, slab)
+            grid.size_list(grid.touched)
+            self._resolve(grid, slab)
+        self._relist_covered(grid)
 
-    def _rasterize(self, grid, draws, stage, touched_only, box):
-        """Rasterize the parts of `draws` inside the world `box` in one of the fragment stages."""
+    def _slabs(self, grid, box):
+        """(first layer, world box) of each slab that together hold the layers the world `box`
+        reaches, from its first layer on; the slab's box grown by two voxels, which the
+        voxelizer's dilation may reach past a triangle, for culling."""
+        depth, (lo, hi), size = grid.n // VOXEL_SLABS, grid.bounds(), grid.voxel_size
+        first = int(np.clip(np.floor((box[0][2] - lo[2]) / size), 0, grid.n - 1))
+        last = int(np.clip(np.floor((box[1][2] - lo[2]) / size), first, grid.n - 1))
+        for slab_first in range(first, last + 1, depth):
+            z0, z1 = lo[2] + slab_first * size, lo[2] + (slab_first + depth) * size
+            yield slab_first, (np.maximum(box[0], [lo[0], lo[1], z0 - 2 * size]), np.minimum(box[1], [hi[0], hi[1], z1 + 2 * size]))
+
+    def _rasterize(self, grid, draws, stage, touched_only, box, slab):
+        """Rasterize the parts of `draws` inside the world `box` in one of the fragment stages,
+        into the sums of the slab `slab` (its slab_first and slab_depth)."""
         self.framebuffer.use()
         self.ctx.viewport = (0, 0, grid.n, grid.n)
         self.ctx.disable(self.ctx.DEPTH_TEST | self.ctx.CULL_FACE | self.ctx.BLEND)
         for extras, program in self.programs.items():
             subset = [draw for draw in draws if vertex_extras(draw) == extras]
             if subset:
-                program.set(**grid.uniforms(), stage=SHADER_ENUMS["VOXELIZE"][stage], touched_only=touched_only)
+                program.set(**grid.uniforms(), **slab, stage=SHADER_ENUMS["VOXELIZE"][stage], touched_only=touched_only)
                 self.geometry.draw(program, subset, materials=True, box=box)
         self.ctx.memory_barrier(self.ctx.SHADER_STORAGE_BARRIER_BIT | self.ctx.SHADER_IMAGE_ACCESS_BARRIER_BIT)
 
-    def _resolve_and_relist(self, grid):
-        uniforms = grid.uniforms()
-        grid.size_list(grid.touched)
-        grid.covered_next.clear()
+    def _resolve(self, grid, slab):
+        """Resolve the sums of the voxels of the slab `slab` the update touched into the surface
+        volumes."""
         grid.covered_next.bind("COVERED_NEXT")
         for unit, volume in (("ALBEDO_OUT", grid.albedo), ("NORMAL_OUT", grid.normal), ("EMISSION_OUT", grid.emission),
                              ("CONE_EMISSION_OUT", grid.cone_emission), ("TOUCHED_FACES_OUT", grid.faces)):
             bind_image(volume, IMAGE_UNIT[unit], read=unit == "ALBEDO_OUT")
-        self.resolve.set(**uniforms)
+        self.resolve.set(**grid.uniforms(), **slab)
         grid.dispatch(self.resolve, grid.touched.segment())
-        # The previous covered list: keep the voxels still covered, empty the others.
+
+    def _relist_covered(self, grid):
+        """The covered list from the previous one (the voxels still covered kept, the others
+        emptied) and the resolve's new voxels; then the cells of every level."""
         grid.covered.bind("COVERED")
         grid.albedo.use(TEXTURE_UNIT["VOXEL_ALBEDO"])
         grid.bind_faces()
         bind_image(grid.base, IMAGE_UNIT["BASE_OUT"])
-        self.rebuild_covered.set(**uniforms)
+        self.rebuild_covered.set(**grid.uniforms())
         grid.dispatch(self.rebuild_covered, grid.covered.segment())
         grid.replace_covered()
         self._relist_cells(grid)

@@ -1,7 +1,6 @@
 #version 450 core
-// Before a full voxelization over an existing grid: flag every covered voxel and list it as
-// touched, so the resolve also empties the voxels that no surface covers any more.
-#include "lib/voxel.glsl"
+// Before a full voxelization over an existing grid: flag every covered voxel of the slab and
+// list it as touched, so the resolve also empties the voxels that no surface covers any more.
 #include "lib/voxel_sums.glsl"
 
 layout(local_size_x = LIST_GROUP) in;
@@ -11,7 +10,9 @@ layout(std430, binding = SSBO_TOUCHED) buffer TouchedVoxels { uint touched_count
 void main() {
     if (gl_GlobalInvocationID.x >= covered_count) return;
     uint entry = covered[gl_GlobalInvocationID.x];
-    uint i = voxel_index(unpack_voxel(entry));
+    ivec3 v = unpack_voxel(entry);
+    if (!in_slab(v)) return;
+    uint i = sum_index(v);
     if ((atomicOr(voxel_sums[SUM_COUNT].value[i], TOUCHED_FLAG) & TOUCHED_FLAG) == 0u)
         touched[atomicAdd(touched_count, 1u)] = entry;
 }

@@ -15,7 +15,8 @@
 // Stages: VOXELIZE_MARK flags (and lists as touched) the voxels the changed objects of a
 // partial update cover, before and after the change; VOXELIZE_FRONT, then VOXELIZE_ADD, over
 // every object reaching them, restricted to flagged voxels (`touched_only`), or over the whole
-// scene for a full voxelization, where VOXELIZE_FRONT flags and lists.
+// scene for a full voxelization, where VOXELIZE_FRONT flags and lists. Each runs over one slab
+// of the grid at a time (lib/voxel_sums.glsl).
 #include "lib/voxel.glsl"
 #include "lib/voxel_sums.glsl"
 #include "lib/material.glsl"
@@ -63,8 +64,8 @@ void main() {
     vec2 pixel = gl_FragCoord.xy;
     if (any(lessThan(pixel, gs_pixel_bounds.xy)) || any(greaterThan(pixel, gs_pixel_bounds.zw))) discard;
     ivec3 voxel = ivec3(floor(voxel_uvw(gs_position) * float(voxel_grid)));
-    if (any(lessThan(voxel, ivec3(0))) || any(greaterThanEqual(voxel, ivec3(voxel_grid)))) discard;
-    uint i = voxel_index(voxel);
+    if (any(lessThan(voxel, ivec3(0))) || any(greaterThanEqual(voxel, ivec3(voxel_grid))) || !in_slab(voxel)) discard;
+    uint i = sum_index(voxel);
 
     if (touched_only) {
         if ((voxel_sums[SUM_COUNT].value[i] & TOUCHED_FLAG) == 0u) discard;
@@ -75,12 +76,12 @@ void main() {
     }
     vec3 n = normalize(gs_normal);
     float offset = dot(gs_position - voxel_center(voxel), n) / voxel_size;  // in [-0.87, 0.87]
-    ivec3 front_texel = face_texel(voxel, facing_face(n), voxel_grid);
+    ivec3 key_texel = front_texel(voxel, facing_face(n));
     if (stage == VOXELIZE_FRONT) {
-        imageAtomicMax(front, front_texel, layer_key(offset));
+        imageAtomicMax(front, key_texel, layer_key(offset));
         return;
     }
-    if (layer_key(offset + LAYER_TOLERANCE) < imageLoad(front, front_texel).r) return;  // behind the front layer
+    if (layer_key(offset + LAYER_TOLERANCE) < imageLoad(front, key_texel).r) return;  // behind the front layer
 
     uint earlier_fragments = atomicAdd(voxel_sums[SUM_COUNT].value[i], 1u) & COUNT_MASK;
     if (earlier_fragments >= VOXEL_MAX_FRAGMENTS) return;  // headroom of the signed sums

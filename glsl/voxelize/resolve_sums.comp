@@ -1,12 +1,12 @@
 #version 450 core
-// Voxel resolve, over the voxels the last voxelization touched: divide the fixed-point sums by
+// Voxel resolve, over the voxels the last voxelization touched, those in the slab being
+// voxelized (lib/voxel_sums.glsl): divide the fixed-point sums by
 // the fragment count into the surface volumes (albedo, normal, emission with the surface offset
 // in a; a = 1 marks a covered voxel) and the emission volume specular cones read (emission,
 // a = 1 where covered), zero the sums and front-layer keys for the next update, zero the voxel's
 // six faces at level 0 of the face views (faces/compose_face_views.comp writes only the faces its new
 // surface covers), and list the voxels that were empty before and are covered now, for the new
 // covered list.
-#include "lib/voxel.glsl"
 #include "lib/voxel_sums.glsl"
 
 layout(local_size_x = LIST_GROUP) in;
@@ -30,7 +30,8 @@ float emission_sum(uint low_channel, uint carry_channel, uint i) {
 void main() {
     if (gl_GlobalInvocationID.x >= touched_count) return;
     ivec3 v = unpack_voxel(touched[gl_GlobalInvocationID.x]);
-    uint i = voxel_index(v);
+    if (!in_slab(v)) return;  // resolved with its own slab
+    uint i = sum_index(v);
     uint count = voxel_sums[SUM_COUNT].value[i] & COUNT_MASK;
     bool was_covered = imageLoad(albedo_out, v).a > 0.0;
     if (count == 0u) {  // every surface left this voxel
@@ -60,7 +61,7 @@ void main() {
     }
     for (int channel = 0; channel < VOXEL_SUM_CHANNELS; ++channel) voxel_sums[channel].value[i] = 0u;
     for (int f = 0; f < VOXEL_FACES; ++f) {
-        imageStore(front, face_texel(v, f, voxel_grid), uvec4(0u));
+        imageStore(front, front_texel(v, f), uvec4(0u));
         imageStore(faces_out, face_texel(v, f, voxel_grid), vec4(0.0));
     }
 }
