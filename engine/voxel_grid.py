@@ -35,8 +35,9 @@ MIP_CHAIN = 8 / 7  # a full mip chain adds a seventh
 
 
 def voxel_memory_bytes(n):
-    """GPU bytes a grid of n^3 needs, the passes' storage sized by it included: the voxelizer's
-    sums, the volumes (surface, radiance, faces with mips) and the lists."""
+    """GPU bytes a grid of n^3 may need, the passes' storage sized by it included: the
+    voxelizer's sums of a slab, the volumes (surface, radiance, faces with mips; the emitters'
+    and the sky's light and every inspection mip chain, as a scene may have) and the lists."""
     voxels = n ** 3
     sums = (4 * len(VOXEL_SUM_CHANNELS) + 4 * VOXEL_FACES) / VOXEL_SLABS  # and the front-layer keys, of one slab
     surface = TEXEL_BYTES * (3 * MIP_CHAIN + 1)              # albedo, normal (viewable), cone emission; emission
