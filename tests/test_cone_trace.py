@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 import engine
-from engine.constants import FACING_EXPONENT, MIN_ANCHOR_WEIGHT, diffuse_cones
+from engine.constants import diffuse_cones
 from conftest import SCENES, TEST_SCENES, luminance_ratio, rel_mae
 
 
@@ -185,50 +185,6 @@ def test_more_bounces_add_light_and_converge_without_runaway(renderer, cornell):
     assert converged == pytest.approx(means[-1], rel=0.05) and converged >= means[-1]
     gains = np.diff(means[:3])
     assert gains[1] < gains[0]  # geometric series: each bounce adds less
-
-
-def test_voxels_between_gather_anchors_take_the_facing_weighted_mean_of_theirs(renderer, cornell):
-    """The gather anchors: the voxels at even coordinates along their surface (1 in 4 of a
-    wall's) trace the 6 cones, as do the few with no like-facing anchor around them; every
-    other voxel's gather is the mean of the anchors among its 26 neighbours, weighted by a tent
-    two voxels wide and by how alike they face, max(0, n . n_u)^8 |n_u| (here in numpy)."""
-    renderer.render(cornell, grid=32, bounces=1)
-    grid = renderer.grid
-    classes = renderer.class_index
-    with renderer.ctx:
-        anchors = sum(classes.anchor_segment(c).read()[1] for c in range(classes.interleave))
-        assert 0.2 < anchors / grid.covered.read_count() < 0.35
-    normal, albedo = renderer.voxels("normal")[..., :3], renderer.voxels("albedo")
-    gathered = renderer.voxels("gathered")
-    n = grid.n
-    coords = np.stack(np.meshgrid(np.arange(n), np.arange(n), np.arange(n), indexing="ij"), axis=-1)  # (z, y, x) at [z, y, x]
-    a = np.abs(normal)  # the dominant axis (x 0, y 1, z 2; the first of equals)
-    axis = np.where(a[..., 0] >= a[..., 1], np.where(a[..., 0] >= a[..., 2], 0, 2), np.where(a[..., 1] >= a[..., 2], 1, 2))
-    xyz = coords[..., ::-1]
-    reflects = (albedo[..., 3] > 0) & np.any(albedo[..., :3] > 0, axis=-1) & (np.sum(normal ** 2, axis=-1) > 1e-6)
-    along = [(axis + 1) % 3, (axis + 2) % 3]
-    parity = [np.take_along_axis(xyz, a[..., None], axis=-1)[..., 0] & 1 for a in along]
-    lattice = reflects & (parity[0] == 0) & (parity[1] == 0)
-    coherence = np.linalg.norm(normal, axis=-1)
-    unit = normal / np.maximum(coherence, 1e-30)[..., None]
-    pad = lambda a: np.pad(a, [(1, 1)] * 3 + [(0, 0)] * (a.ndim - 3))
-    total = np.zeros((n, n, n))
-    weighted = np.zeros((n, n, n, 3))
-    for dz, dy, dx in np.ndindex(3, 3, 3):
-        if (dz, dy, dx) == (1, 1, 1):
-            continue
-        shift = lambda a: pad(a)[dz:dz + n, dy:dy + n, dx:dx + n]
-        tent = np.prod([1.0 - 0.5 * abs(d - 1) for d in (dz, dy, dx)])
-        n_u, c_u = shift(normal), shift(coherence)
-        facing = np.maximum(np.sum(unit * n_u, axis=-1) / np.maximum(c_u, 1e-30), 0.0) ** FACING_EXPONENT * c_u
-        weight = np.where(shift(lattice) & (np.sum(unit * n_u, axis=-1) > 0), tent * facing, 0.0)
-        total += weight
-        weighted += weight[..., None] * shift(gathered[..., :3])
-    filled = reflects & ~lattice & (total >= MIN_ANCHOR_WEIGHT)
-    assert filled.sum() > 0.6 * reflects.sum()
-    expected = weighted[filled] / total[filled][..., None]
-    assert np.allclose(gathered[filled][:, :3], expected, rtol=0.01, atol=1e-3)
-    assert np.all(gathered[lattice][:, 3] == 1.0) and np.all(gathered[reflects][:, 3] == 1.0)
 
 
 def test_colour_bleeds_from_the_red_and_green_walls(renderer, cornell):

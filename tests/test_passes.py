@@ -133,3 +133,30 @@ def test_mips_rebuilt_over_one_interleave_class_equal_mips_rebuilt_everywhere(gl
     assert not np.array_equal(partial[0], before)
     for level, (a, b) in enumerate(zip(partial, full), start=1):
         assert np.array_equal(a, b), f"level {level} differs"
+
+
+def test_voxels_between_anchors_take_a_gather_that_varies_linearly_along_the_wall(gl):
+    """On a flat wall the gather anchors are the voxels at even coordinates along it, 1 in 4;
+    every other voxel takes the tent-weighted mean of the anchors around it, which reproduces
+    a gather that varies linearly along the wall, and takes nothing from the anchors of a wall
+    at right angles to it, which face another way."""
+    grid = gl["grid"]
+    albedo, normal = empty(), empty()
+    albedo[5, 2:14, 2:14], normal[5, 2:14, 2:14] = 0.5, (0.0, 0.0, 1.0)   # the wall, facing +z
+    albedo[6:14, 2:14, 2], normal[6:14, 2:14, 2] = 0.5, (1.0, 0.0, 0.0)   # one along its edge, facing +x
+    grid.load(albedo, normal)
+    classes = gl["gather"].sort_classes(grid, 1)
+    assert classes.anchor_segment(0).read()[1] == 36 + 24  # even along each wall: 6 x 6 and 6 x 4
+    z, y, x = np.mgrid[0:N, 0:N, 0:N]
+    linear = (0.1 + 0.02 * x + 0.03 * y)[..., None] * np.array([1.0, 0.5, 0.25])
+    wall = (z == 5) & (x >= 2) & (y >= 2) & (x < 14) & (y < 14)
+    side = (x == 2) & (z >= 6) & (y >= 2) & (y < 14) & (z < 14)
+    wall_anchors, side_anchors = wall & (x % 2 == 0) & (y % 2 == 0), side & (y % 2 == 0) & (z % 2 == 0)
+    anchors = np.zeros((N, N, N, 4), np.float32)  # the anchors' gathers (a = 1 where traced)
+    anchors[wall_anchors] = np.concatenate([linear[wall_anchors], np.ones((wall_anchors.sum(), 1))], axis=-1)
+    anchors[side_anchors] = (10.0, 10.0, 10.0, 1.0)
+    volume = grid.gathered[0]
+    volume.write(anchors.astype("f2").tobytes())
+    filled = grid.read_level(gl["gather"].fill(grid, volume, classes.filled_segment(0)))
+    inner = (z == 5) & (x >= 3) & (y >= 3) & (x < 13) & (y < 13)
+    assert np.allclose(filled[inner][:, :3], linear[inner], rtol=2e-3)
