@@ -106,6 +106,11 @@ class VoxelGrid:
         centre. The covered list and cells follow (a new epoch); the radiance volumes are
         zero. For grids made by hand, such as the tests of single passes."""
         n = self.n
+        if not n:
+            raise VctError("no grid to load: ensure(n, region) makes one first", field="VoxelGrid.load")
+        for name, array in (("albedo", albedo), ("normal", normal), ("emission", emission)):
+            if array is not None and np.shape(array) != (n, n, n, 3):
+                raise VctError(f"must be an array of shape ({n}, {n}, {n}, 3), got {np.shape(array)}", field=name)
         normal = np.asarray(normal, np.float32)
         covered = np.any(normal != 0.0, axis=-1)
         emission = np.zeros_like(normal) if emission is None else np.asarray(emission, np.float32)
@@ -128,18 +133,23 @@ class VoxelGrid:
 
     def hold_light_volumes(self, emitters, sky):
         """Hold the volumes of the emitters' light (`emitters`) and of the sky's (`sky`) where
-        the scene has them, zero when made, and none of those it has not."""
+        the scene has them, zero when made, and none of those it has not. Returns which were
+        made now ("emitter_light", "sky_light"): their light is still to compute."""
+        made = set()
         if emitters and self.emitter_irradiance is None:
             self.emitter_irradiance = self._volume()
+            made.add("emitter_light")
         elif not emitters and self.emitter_irradiance is not None:
             self._drop(self.emitter_irradiance)
             self.emitter_irradiance = None
         if sky and self.sky_irradiance is None:
             self.sky_irradiance, self.traced_sky_irradiance = self._volume(), self._volume()
+            made.add("sky_light")
         elif not sky and self.sky_irradiance is not None:
             self._drop(self.sky_irradiance)
             self._drop(self.traced_sky_irradiance)
             self.sky_irradiance = self.traced_sky_irradiance = None
+        return made
 
     def viewable(self, volume):
         """`volume` with its hardware mip chain built (the voxel views and Renderer.voxels read

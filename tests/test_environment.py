@@ -98,6 +98,24 @@ def test_a_floor_under_a_uniform_sky_alone_receives_pi_times_its_radiance(small,
     assert image[4:12, 4:12].mean() == pytest.approx(1.0, rel=0.01)
 
 
+def test_a_sky_taken_away_and_given_back_lights_the_scene_as_before(tmp_path):
+    """The sky's light at the voxels is held only while the scene has a sky: after a frame
+    without one, the same sky lights the floor again as it did before."""
+    scene = load_scene(write(tmp_path, {
+        "camera": {"position": [0, 2, 0.01], "look_at": [0, 0, 0], "width": 16, "height": 16},
+        "materials": {"white": {"albedo": [0.5, 0.5, 0.5]}},
+        "objects": [{"type": "quad", "material": "white", "vertices": [[-1, 0, -1], [-1, 0, 1], [1, 0, 1], [1, 0, -1]]}],
+        "environment": {"radiance": [1.0, 0.8, 0.6]}}))
+    with engine.Renderer(16, 16) as r:
+        first = r.render(scene, grid=32)
+        sky, scene.environment = scene.environment, None
+        dark = r.render(scene, grid=32)
+        scene.environment = sky
+        again = r.render(scene, grid=32)
+    assert first[6:10, 6:10, 0].mean() == pytest.approx(0.5, rel=0.05) and dark.max() == 0.0
+    assert np.array_equal(first, again)
+
+
 @pytest.mark.parametrize("material, returned", [
     ({"albedo": [1, 1, 1], "specular": 0.04, "roughness": 0.1}, 1.0),
     ({"albedo": [1, 1, 1], "specular": 0.04, "roughness": 0.5}, 1.0),
