@@ -35,7 +35,7 @@ from engine.limits import MAX_DEPTH, MAX_FILE_BYTES, MAX_IMAGE_PIXELS, MAX_INCLU
 from engine.shaders import preprocess
 from conftest import interruptible
 from test_cli import CORNELL, assert_one_line_error, vct  # tests/ is on sys.path under pytest
-from test_mesh_files import PAINTING, TEXTURE, Gltf, png, textured_quad, write_model_scene, write_obj
+from test_mesh_files import PAINTING, TEXTURE, png, textured_quad, write_model_scene, write_obj
 
 ROOT = Path(__file__).resolve().parent.parent
 MODEL = 'objects[0] "Model".file'

@@ -3,7 +3,6 @@ whose inputs are known, checked against the formula it implements."""
 import numpy as np
 import pytest
 
-from engine.bounces import EVERY_VOXEL
 from engine.gl import create_headless_context
 from engine.passes.faces import FaceViewsPass
 from engine.passes.gather import GatherPass
