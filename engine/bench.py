@@ -1,9 +1,11 @@
 """`vct bench`: per-pass milliseconds of the frames a viewer renders, for each grid size.
 
-Three kinds of frame, each timed over a path after the radiance has settled (progressive
-bounces, as in the viewer; each pass timed with ctx.finish() and the wall clock, median over
-the frames):
+Kinds of frame, each timed over a path after the radiance has settled (progressive bounces,
+as in the viewer; each pass timed with ctx.finish() and the wall clock, median over the
+frames):
 - static: the camera moves along a small orbit, nothing else changes;
+- camera: the camera flies along its view at walking speed (WALKING_SPEED, ANIMATION_FPS
+          frames a second), turning back after a quarter of the scene's size;
 - light:  a light moves along a circle every frame (its shadow map, light injection, one
           bounce re-gathering one interleave class, the face views);
 - object: an object moves back and forth every frame (its voxels, every shadow map, the rest
@@ -23,8 +25,9 @@ import numpy as np
 from .emitters import scene_emits
 from .settings import MODE_TABLE
 
-FRAME_KINDS = ("static", "light", "object", "animated")
-ANIMATION_FPS = 30.0  # animation time per frame of the animated kind: 1/30 s
+FRAME_KINDS = ("static", "camera", "light", "object", "animated")
+ANIMATION_FPS = 30.0  # animation time per frame of the animated and camera kinds: 1/30 s
+WALKING_SPEED = 1.4   # m/s, the camera kind's
 PASS_ORDER = ("shadow", "gbuffer", "lighting", "emitters", "environment", "voxelize", "emission_mipmap", "emitter_light",
               "sky_light", "inject", "classes", "gather", "faces", "mipmap", "totals", "cone_trace", "voxel_view", "gbuffer_view")
 SETTLE_FRAMES = 400  # progressive frames allowed for the radiance to settle before timing
@@ -61,6 +64,7 @@ class FramePath:
         self.size = float(np.max(hi - lo)) or 1.0
         camera = scene.camera
         self.camera = (camera.position.copy(), camera.look_at.copy())
+        self.flies = kind == "camera"
         lights = [node for node, _ in scene.lights()]
         self.light = lights[0] if lights and kind == "light" else None
         self.light_position = self.light.light.position.copy() if self.light else None
@@ -71,6 +75,8 @@ class FramePath:
     def subject(self):
         if self.animations:
             return "animations " + ", ".join(f'"{name}"' for name in self.animations)
+        if self.flies:
+            return "camera, flying at walking speed"
         return self.light.name if self.light else self.object.name if self.object else "camera"
 
     def apply(self, frame):
@@ -79,6 +85,12 @@ class FramePath:
             return
         angle = 2.0 * math.pi * frame / 16.0
         position, look_at = self.camera
+        if self.flies:  # along the view, there and back: a triangle wave of the distance walked
+            reach = 0.25 * self.size
+            walked = (WALKING_SPEED * frame / ANIMATION_FPS) % (2.0 * reach)
+            offset = (look_at - position) / np.linalg.norm(look_at - position) * min(walked, 2.0 * reach - walked)
+            self.scene.camera.position, self.scene.camera.look_at = position + offset, look_at + offset
+            return
         orbit = 0.02 * self.size * np.array([math.cos(angle), math.sin(angle), 0.0])
         self.scene.camera.position = position + orbit
         self.scene.camera.look_at = look_at

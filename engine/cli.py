@@ -160,12 +160,13 @@ def build_parser():
     _add_animation_argument(view)
     _add_settings_arguments(view)
 
-    bench = commands.add_parser("bench", help="time each pass of static, light, object and animated frames",
+    bench = commands.add_parser("bench", help="time each pass of static, camera, light, object and animated frames",
                                 description="Time each render pass (median over frames after warm-up, ctx.finish() + "
                                             "wall clock) for each grid size, for the kinds of frame the viewer "
-                                            "renders once the bounces settled: static (the camera moves), light "
-                                            "(the scene's first light moves), object (its smallest object moves) and, "
-                                            "for a scene with animations, animated (they play, 1/30 s a frame).")
+                                            "renders once the bounces settled: static (the camera moves), camera "
+                                            "(it flies at walking speed), light (the scene's first light moves), "
+                                            "object (its smallest object moves) and, for a scene with animations, "
+                                            "animated (they play, 1/30 s a frame).")
     bench.add_argument("scene", help="scene file: JSON, or glTF/GLB as a whole scene")
     bench.add_argument("--frames", type=_whole_number(1, MAX_BENCH_FRAMES), default=10,
                        help=f"timed frames per kind and grid, at most {MAX_BENCH_FRAMES} (default 10)")

@@ -365,3 +365,26 @@ def test_viewer_frames_read_back_nothing_but_the_totals_of_the_frame_before(scen
     assert any(requested for _, requested in frames) or kind == "camera"
     for k, (frame_reads, _) in enumerate(frames):
         assert len(frame_reads) <= (1 if k > 0 and frames[k - 1][1] else 0), f"frame {k}: {frame_reads}"
+
+
+def test_a_camera_flying_at_walking_speed_costs_the_screen_passes_alone():
+    """vct bench's camera frames: the camera flies along its view at 1.4 m/s, 1/30 s a frame
+    (4.7 cm), and turns back after a quarter of the scene's size; with one grid over the whole
+    scene such a frame runs the G-buffer, the direct light and the cone trace, as a static one."""
+    scene = engine.load_scene(SCENES / "cornell_box.json")
+    path = FramePath(scene, "camera")
+    home = scene.camera.position.copy()
+    with engine.Renderer(32, 32) as r:
+        r.progressive = True
+        settings = r.settings.replace(grid=32)
+        settle(scene, r, settings)
+        steps = []
+        for frame in range(1, 40):
+            path.apply(frame)
+            steps.append(float(np.linalg.norm(scene.camera.position - home)))
+            r.render_frame(scene, settings)
+            assert r.passes_ran == SCREEN_PASSES
+    path.restore()
+    lo, hi = scene.bounds()
+    assert steps[0] == pytest.approx(1.4 / 30) and max(steps) <= 0.25 * float(np.max(hi - lo)) + 1e-9
+    assert np.all(np.abs(np.diff(steps)) <= 1.4 / 30 + 1e-9) and steps[-1] < max(steps)

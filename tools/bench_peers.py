@@ -4,7 +4,7 @@ machine.
 
     .venv/bin/python tools/bench_peers.py [--grid 128] [--size 256x256] [--frames 10] [--json out.json]
 
-Runs `vct bench` (static, light and object frames) and the peer's time.sh (median frame with
+Runs `vct bench` (static, camera, light and object frames) and the peer's time.sh (median frame with
 voxels baked once: the counterpart of a static frame), then prints one table."""
 import argparse
 import json
