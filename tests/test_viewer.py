@@ -416,6 +416,10 @@ def test_the_overlay_says_what_a_frame_reused(on_display, scene, mode, camera_fr
         imgui.get_io().add_key_event(imgui.Key.w, False)
         draws = viewer.renderer.geometry.draw_calls
         assert draws > 0 and f"{draws} draw calls; {camera_frame}" in work(viewer)
+        if mode == "gi":  # the voxels' GPU memory, in all and per voxel of the grid
+            grid = viewer.renderer.grid.n
+            per_voxel = viewer.renderer.voxel_memory_bytes() / grid ** 3
+            assert any(line.startswith("voxels ") and f"({per_voxel:.0f} B/voxel)" in line for line in work(viewer))
 
 
 # ---- no display needed -------------------------------------------------------------------------
