@@ -136,6 +136,19 @@ class ReadTotals:
     timer = "totals"
 
 
+def run_plan(plan, execute):
+    """Run a plan: each item it yields through `execute(item)`, whose result (what a
+    MeasureTotals or ReadTotals measured, else None) is sent back to it. Returns the items run."""
+    ran, result = [], None
+    while True:
+        try:
+            item = plan.send(result)
+        except StopIteration:
+            return ran
+        result = execute(item)
+        ran.append(item)
+
+
 class Series:
     """The grid's total radiance T_k after each bounce (or cycle of bounces). The bounces are a
     geometric series: once an increment D_k = T_k - T_(k-1) is negligible it has converged;
@@ -272,7 +285,7 @@ class RadianceSchedule:
 
     def _sort(self, epoch, interleave):
         """Sort the classes unless the class index is sorted so for the covered list as it is."""
-        if self.sorted_for is None or self.sorted_for[0] is not epoch or self.sorted_for[1] != interleave:
+        if self.sorted_for != (epoch, interleave):  # epochs compare by identity
             self.sorted_for = (epoch, interleave)
             yield SortClasses(interleave)
 

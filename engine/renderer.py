@@ -414,16 +414,11 @@ class Renderer:
 
     def _run(self, plan, work):
         """Run the work items a plan of the radiance schedule yields, each under the timer of
-        its pass, sending back what each measured; returns the items run."""
-        ran, result = [], None
-        while True:
-            try:
-                item = plan.send(result)
-            except StopIteration:
-                return ran
+        its pass; returns the items run."""
+        def execute(item):
             with self.timed(item.timer):
-                result = self._execute(item, work)
-            ran.append(item)
+                return self._execute(item, work)
+        return bounces.run_plan(plan, execute)
 
     def _gathered(self, index=None):
         """Gather volume `index` (None: the latest)."""

@@ -307,6 +307,28 @@ def gpu_bytes(resource, mipmapped=False):
     return 0  # a framebuffer without attachments
 
 
+class GridStorage:
+    """The GPU resources a pass keeps for grids of one size (n^3): released when the size
+    changes, before the pass makes them again for the new one."""
+
+    def __init__(self):
+        self.n, self.resources = 0, []
+
+    def holds(self, n):
+        return n == self.n
+
+    def hold(self, n, resources):
+        self.n, self.resources = n, list(resources)
+
+    def memory_bytes(self):
+        return sum(gpu_bytes(resource) for resource in self.resources)
+
+    def release(self):
+        for resource in self.resources:
+            resource.release()
+        self.n, self.resources = 0, []
+
+
 def pack_voxels(coords):
     """Voxel coordinates (k, 3) as x, y, z packed into one uint each (lib/voxel.glsl pack_voxel)."""
     coords = np.asarray(coords, np.uint32).reshape(-1, 3)

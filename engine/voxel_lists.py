@@ -87,10 +87,9 @@ class ClassIndex:
     """The covered voxels sorted into interleave classes for the progressive bounce
     (GatherPass.sort_classes): in `voxel_list` each class is one run, its gather anchors then
     its other voxels; in `cell_list` the covered level-1 cells one run per class, the cells of
-    several classes last. The segments are rows of `voxel_rows` and `cell_rows` (ClassIndex
-    rows). Valid for `epoch` and `interleave`."""
+    several classes last. The segments are rows of `voxel_rows` and `cell_rows`, as sorted
+    into `interleave` classes (the radiance schedule knows for which covered list)."""
 
-    epoch: Epoch
     interleave: int
     voxel_list: object
     voxel_rows: SegmentTable  # every voxel; per class its voxels; its anchors; its other voxels
@@ -105,9 +104,6 @@ class ClassIndex:
         return ([(0, interleave * span)] + [(c * span, (c + 1) * span) for c in range(interleave)]
                 + [(c * span, c * span + buckets) for c in range(interleave)]
                 + [(c * span + buckets, (c + 1) * span) for c in range(interleave)])
-
-    def sorted_for(self, epoch, interleave):
-        return self.epoch is epoch and self.interleave == interleave
 
     def segment(self, class_index=None):
         """The voxels of an interleave class (None: every covered voxel)."""

@@ -4,7 +4,7 @@ import numpy as np
 
 from engine.bounces import (EVERY_VOXEL, TOUCHED_VOXELS, ClassRounds, ComposeFaces, ExtrapolateGather, Gather, Inject,
                             LightVoxels, MeasureTotals, Mipmap, RadianceSchedule, ReadTotals, RequestTotals, SortClasses,
-                            class_voxels)
+                            class_voxels, run_plan)
 from engine.voxel_grid import Epoch
 
 
@@ -12,14 +12,7 @@ def run(plan, totals=()):
     """The items a plan yields, answering each MeasureTotals and ReadTotals with the next of
     `totals`."""
     totals = iter(totals)
-    items, result = [], None
-    while True:
-        try:
-            item = plan.send(result)
-        except StopIteration:
-            return items
-        result = np.asarray(next(totals), float) if isinstance(item, (MeasureTotals, ReadTotals)) else None
-        items.append(item)
+    return run_plan(plan, lambda item: np.asarray(next(totals), float) if isinstance(item, (MeasureTotals, ReadTotals)) else None)
 
 
 def geometric_totals(first=1.0, ratio=0.5, count=40):

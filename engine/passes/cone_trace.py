@@ -9,6 +9,7 @@ anchor stood for."""
 import numpy as np
 
 from ..constants import GL_IMAGE_FORMAT, IMAGE_UNIT, SHADER_ENUMS, STORAGE_BINDING, TEXTURE_UNIT
+from .gbuffer import GBuffer
 from .target import ScreenTarget
 
 
@@ -22,7 +23,7 @@ class ConeTracePass:
         self.programs = {(lit, sky): programs.program(
             {name: 1 for name, on in (("EMITTERS", lit), ("SKY", sky)) if on} or None,
             vertex_shader="lib/fullscreen.vert", fragment_shader="cone_trace/shade_pixels.frag",
-            reads=("TEX_GBUF_POSITION", "TEX_GBUF_NORMAL", "TEX_GBUF_ALBEDO", "TEX_GBUF_EMISSION", "TEX_DIRECT_LIGHT", "TEX_VOXEL_NORMAL", "TEX_VOXEL_FACES", "TEX_VOXEL_GATHERED",
+            reads=(*GBuffer.READS, "TEX_DIRECT_LIGHT", "TEX_VOXEL_NORMAL", "TEX_VOXEL_FACES", "TEX_VOXEL_GATHERED",
                    "TEX_VOXEL_EMITTER_IRRADIANCE", "TEX_VOXEL_SKY_IRRADIANCE", "TEX_ENVIRONMENT", "SSBO_EMITTER_TRIANGLES",
                    "SSBO_EMITTER_PATCHES", "SSBO_UNSHARED_PIXELS"),
             writes=("SSBO_CONE_PIXELS", "SSBO_SHARED_PIXELS", "IMG_DIFFUSE_IN"))
@@ -30,11 +31,11 @@ class ConeTracePass:
         # The traced pixels' programs: the cone pixels', then the unshared pixels'.
         self.traced_programs = [programs.compute(
             "cone_trace/trace_listed_pixels.comp", defines,
-            reads=("TEX_GBUF_POSITION", "TEX_GBUF_NORMAL", "TEX_GBUF_ALBEDO", "TEX_GBUF_EMISSION", "TEX_VOXEL_FACES", "TEX_VOXEL_CONE_EMISSION", "TEX_ENVIRONMENT", "SSBO_CONE_PIXELS",
+            reads=(*GBuffer.READS, "TEX_VOXEL_FACES", "TEX_VOXEL_CONE_EMISSION", "TEX_ENVIRONMENT", "SSBO_CONE_PIXELS",
                    "SSBO_SHARED_PIXELS", "SSBO_UNSHARED_PIXELS"),
             writes=("IMG_IMAGE_OUT", "IMG_DIFFUSE_IN", "IMG_SPECULAR_IN")) for defines in (None, {"TRACE_UNSHARED": 1})]
         self.shared_program = programs.compute(
-            "cone_trace/share_anchor_cones.comp", reads=("TEX_GBUF_POSITION", "TEX_GBUF_NORMAL", "TEX_GBUF_ALBEDO", "TEX_GBUF_EMISSION", "SSBO_CONE_PIXELS", "SSBO_SHARED_PIXELS", "IMG_DIFFUSE_IN",
+            "cone_trace/share_anchor_cones.comp", reads=(*GBuffer.READS, "SSBO_CONE_PIXELS", "SSBO_SHARED_PIXELS", "IMG_DIFFUSE_IN",
                                                           "IMG_SPECULAR_IN"),
             writes=("SSBO_UNSHARED_PIXELS", "IMG_IMAGE_OUT"))
         self.target = ScreenTarget(ctx, size)

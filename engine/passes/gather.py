@@ -9,7 +9,7 @@ extrapolation."""
 import numpy as np
 
 from ..constants import CLASS_BLOCK, CLASS_FACINGS, CLASS_PARTS, IMAGE_UNIT, MAX_INTERLEAVE, MAX_SEGMENT_ROWS, STORAGE_BINDING, TEXTURE_UNIT
-from ..voxel_grid import bind_image, gpu_bytes
+from ..voxel_grid import GridStorage, bind_image
 from ..voxel_lists import ClassIndex, SegmentTable, VoxelList
 
 
@@ -35,17 +35,16 @@ class GatherPass:
         self.extrapolate_program = programs.compute("gather/close_bounce_series.comp", reads=("SSBO_COVERED", "TEX_VOXEL_GATHERED"),
                                                     writes=("IMG_GATHERED_OUT",))
         self.anchors_epoch = None  # the epoch of the covered list self.anchors was found for
-        self._storage = []
-        self._n = 0
+        self._storage = GridStorage()
 
     def _ensure_storage(self, n):
         """Per voxel of an n^3 grid: its anchor record (lib/gather_anchors.glsl) and the list of
         voxels whose records to find again; the covered voxels sorted by class and the covered
         level-1 cells sorted by class (what a ClassIndex points into); the buckets of those
         counting sorts, and the classes of the voxels in each level-1 cell."""
-        if n == self._n:
+        if self._storage.holds(n):
             return
-        self._release_storage()
+        self._storage.release()
         ctx, voxels, cells = self.ctx, n ** 3, (n >> 1) ** 3
         self.anchors = ctx.buffer(reserve=4 * voxels)
         self.stale = VoxelList(ctx, voxels)
@@ -54,18 +53,13 @@ class GatherPass:
         self.cell_class_bits = ctx.buffer(reserve=4 * cells)
         self.cells_by_class = ctx.buffer(reserve=4 * cells)
         self.voxel_rows, self.cell_rows = SegmentTable(ctx, MAX_SEGMENT_ROWS), SegmentTable(ctx, MAX_INTERLEAVE + 1)
-        self._storage = [self.anchors, self.stale, self.class_list, self.class_buckets, self.cell_class_bits, self.cells_by_class,
-                         self.voxel_rows, self.cell_rows]
-        self._n, self.anchors_epoch = n, None
+        self._storage.hold(n, [self.anchors, self.stale, self.class_list, self.class_buckets, self.cell_class_bits,
+                               self.cells_by_class, self.voxel_rows, self.cell_rows])
+        self.anchors_epoch = None
 
     def memory_bytes(self):
         """GPU bytes of the per-voxel storage for the grid's size."""
-        return sum(gpu_bytes(resource) for resource in self._storage)
-
-    def _release_storage(self):
-        for resource in self._storage:
-            resource.release()
-        self._storage, self._n = [], 0
+        return self._storage.memory_bytes()
 
     def sort_classes(self, grid, interleave):
         """Sort the covered voxels into `interleave` classes, each its anchors then the others,
@@ -89,7 +83,7 @@ class GatherPass:
         self.sort_classes_program.set(scatter=True)
         grid.dispatch(self.sort_classes_program, grid.covered.segment())
         self._sort_cells(grid, interleave)
-        return ClassIndex(epoch=grid.epoch, interleave=interleave, voxel_list=self.class_list, voxel_rows=self.voxel_rows,
+        return ClassIndex(interleave=interleave, voxel_list=self.class_list, voxel_rows=self.voxel_rows,
                           cell_list=self.cells_by_class, cell_rows=self.cell_rows)
 
     def _sort_cells(self, grid, interleave):
@@ -177,4 +171,4 @@ class GatherPass:
                        self.sort_cells_program, self.fill_program,
                        self.extrapolate_program, self.scan_program):
             handle.release()
-        self._release_storage()
+        self._storage.release()

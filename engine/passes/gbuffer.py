@@ -11,6 +11,7 @@ class GBuffer:
     """The G-buffer targets; `use()` binds them where glsl/lib/gbuffer.glsl reads them."""
 
     UNITS = ("GBUF_POSITION", "GBUF_NORMAL", "GBUF_ALBEDO", "GBUF_EMISSION")
+    READS = tuple(f"TEX_{unit}" for unit in UNITS)  # what a program reading all of them declares
 
     def __init__(self, ctx, size):
         self.size = size

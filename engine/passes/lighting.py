@@ -1,12 +1,13 @@
 """Deferred direct lighting: emission plus point/spot/directional lights with shadows, from the
 G-buffer and the shadow maps into an HDR target."""
+from .gbuffer import GBuffer
 from .target import ScreenTarget
 
 
 class LightingPass:
     def __init__(self, ctx, programs, size):
         self.program = programs.program(vertex_shader="lib/fullscreen.vert", fragment_shader="lighting/shade_lights.frag",
-                                        reads=("TEX_GBUF_POSITION", "TEX_GBUF_NORMAL", "TEX_GBUF_ALBEDO", "TEX_GBUF_EMISSION", "TEX_SHADOW_ATLAS", "UBO_LIGHTS", "UBO_SHADOW_VIEWS"))
+                                        reads=(*GBuffer.READS, "TEX_SHADOW_ATLAS", "UBO_LIGHTS", "UBO_SHADOW_VIEWS"))
         self.target = ScreenTarget(ctx, size)
 
     def resize(self, size):

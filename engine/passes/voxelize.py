@@ -14,7 +14,7 @@ import numpy as np
 from ..constants import (GL_IMAGE_FORMAT, IMAGE_UNIT, SHADER_ENUMS, STORAGE_BINDING, TEXTURE_UNIT, VOXEL_FACES, VOXEL_SLABS,
                          VOXEL_SUM_CHANNELS)
 from ..scene_gpu import vertex_extras
-from ..voxel_grid import bind_image, gpu_bytes
+from ..voxel_grid import GridStorage, bind_image
 
 
 class VoxelizePass:
@@ -39,23 +39,22 @@ class VoxelizePass:
         self.list_cells = programs.compute("voxelize/list_cells.comp", reads=("SSBO_COVERED",),
                                            writes=("SSBO_CELLS", "SSBO_CELL_STAMPS"))
         self.clear_cells = programs.compute("voxelize/clear_cells.comp", reads=("SSBO_CELLS",), writes=("IMG_FACES_OUT",))
-        self._scratch = []  # for grids of self._n^3: the fixed-point sums, front-layer keys, a framebuffer
-        self._n = 0
+        self._scratch = GridStorage()  # the fixed-point sums, front-layer keys, a framebuffer
 
     def _ensure_scratch(self, n):
         """For an n^3 grid's slabs of n / VOXEL_SLABS layers: the sums, one storage buffer per
         channel (lib/voxel_sums.glsl), and the front-layer keys, per voxel and facing direction
         (stacked like the face views): zero, and zero again after each slab's resolve
         (voxelize/resolve_sums.comp)."""
-        if n == self._n:
+        if self._scratch.holds(n):
             return
-        self._release_scratch()
+        self._scratch.release()
         ctx, depth = self.ctx, n // VOXEL_SLABS
         voxels = n * n * depth
         self.sums = [ctx.buffer(data=bytes(4 * voxels)) for _ in VOXEL_SUM_CHANNELS]
         self.front = ctx.texture3d((n, n, VOXEL_FACES * depth), 1, data=bytes(4 * VOXEL_FACES * voxels), dtype="u4")
         self.framebuffer = ctx.empty_framebuffer((n, n))
-        self._scratch, self._n = [*self.sums, self.front, self.framebuffer], n
+        self._scratch.hold(n, [*self.sums, self.front, self.framebuffer])
 
     def _bind_sums(self):
         for channel, buffer in enumerate(self.sums):
@@ -160,15 +159,10 @@ class VoxelizePass:
 
     def memory_bytes(self):
         """GPU bytes of the scratch storage for the grid's size."""
-        return sum(gpu_bytes(resource) for resource in self._scratch)
-
-    def _release_scratch(self):
-        for resource in self._scratch:
-            resource.release()
-        self._scratch, self._n = [], 0
+        return self._scratch.memory_bytes()
 
     def release(self):
         for handle in (*self.programs.values(), self.mark_covered, self.resolve, self.rebuild_covered, self.list_cells, self.clear_cells):
             handle.release()
-        self._release_scratch()
+        self._scratch.release()
 
