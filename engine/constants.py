@@ -235,6 +235,12 @@ SKY_FILTER_RADIUS = 3
 # the footprint's own level the lookups take it in long before. (Measured against path-traced
 # skies through a ceiling opening and an open ceiling: docs/DESIGN.md, "Sky cones read finer".)
 SKY_CONE_LEVEL_OFFSET = 1.75
+# The diffuse cones read half a mip level below their footprint's (lookups over 2^-0.5 of the
+# cone's diameter) and step by those: at the footprint's own level the walls beside a cone cover
+# it before it reaches what lies ahead, and light reflected from a bright patch a few metres
+# away (the pool of a lamp near the floor) reached the rest of a room 14 % short at every grid
+# size; 24 narrow cones read it in full (docs/DESIGN.md, "Diffuse cones read finer").
+DIFFUSE_CONE_LEVEL_OFFSET = 0.4
 
 
 # Enumerations the host sets as uniforms and the shaders switch on, by name: GROUP_NAME in GLSL
@@ -262,6 +268,9 @@ MIN_ANCHOR_WEIGHT = 0.2  # below this total weight of its anchors a voxel traces
 # How much a voxel stands for a surface of unit normal n: max(0, n . n_v / |n_v|)^FACING_EXPONENT
 # times the coherence |n_v| of its mean normal (lib/voxel.glsl: facing_weight).
 FACING_EXPONENT = 8.0
+# Roughness below this is read as this (lib/brdf.glsl, engine/specular_lobe.py): the Blinn-Phong
+# exponent 2 / r^4 - 2 stays finite.
+MIN_ROUGHNESS = 0.05
 # What a pixel of the cone-trace list still needs (lib/cone_pixels.glsl): bit flags.
 PIXEL_DIFFUSE_CONES = 1
 PIXEL_SPECULAR_CONE = 2
@@ -307,6 +316,7 @@ def glsl_header():
         f"#define ANCHOR_STALE {ANCHOR_STALE:#x}u",
         f"#define MIN_ANCHOR_WEIGHT {MIN_ANCHOR_WEIGHT}",
         f"#define FACING_EXPONENT {FACING_EXPONENT:.1f}",
+        f"#define MIN_ROUGHNESS {MIN_ROUGHNESS}",
         f"#define PIXEL_DIFFUSE_CONES {PIXEL_DIFFUSE_CONES}u",
         f"#define PIXEL_SPECULAR_CONE {PIXEL_SPECULAR_CONE}u",
     ]
@@ -315,6 +325,7 @@ def glsl_header():
     directions, weights, half_angle = diffuse_cones()
     lines.append(f"#define DIFFUSE_CONE_COUNT {len(weights)}")
     lines.append(f"#define DIFFUSE_CONE_HALF_ANGLE {half_angle:.9f}")
+    lines.append(f"#define DIFFUSE_CONE_LEVEL_OFFSET {DIFFUSE_CONE_LEVEL_OFFSET:.2f}")
     dirs = ", ".join(f"vec3({d[0]:.9f}, {d[1]:.9f}, {d[2]:.9f})" for d in directions)
     lines.append(f"const vec3 DIFFUSE_CONE_DIRECTIONS[{len(weights)}] = vec3[]({dirs});")
     ws = ", ".join(f"{w:.9f}" for w in weights)
@@ -324,4 +335,6 @@ def glsl_header():
     lines.append(f"#define SKY_CONE_LEVEL_OFFSET {SKY_CONE_LEVEL_OFFSET:.2f}")
     lines.append(f"#define SKY_FILTER_RADIUS {SKY_FILTER_RADIUS}")
     lines.append(f"#define SPECULAR_CONE_MIN_DIAMETER {SPECULAR_CONE_MIN_DIAMETER:.1f}")
+    from .specular_lobe import glsl_tables  # it reads MIN_ROUGHNESS from here
+    lines += glsl_tables()
     return "\n".join(lines) + "\n"

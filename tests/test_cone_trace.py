@@ -152,7 +152,8 @@ def metal_floor_under_a_glowing_wall(tmp_path, emission, roughness):
 def test_mirror_reflects_what_the_specular_cone_sees(tmp_path):
     """A metal floor with roughness 0 reflects the emissive far wall exactly (F = albedo = 1)
     and nothing where the mirrored ray meets black walls; at roughness 1 the cone opens to
-    the hemisphere and blurs the reflection."""
+    the hemisphere and blurs the reflection, which Smith's masking of the rough lobe dims to
+    0.4-0.7 of what the cone gathers (its directional albedo)."""
     scene = metal_floor_under_a_glowing_wall(tmp_path, emission=[1, 0.2, 0.1], roughness=0.0)
     with engine.Renderer(64, 64) as r:
         sharp = r.render(scene, mode="specular", grid=64)
@@ -161,7 +162,7 @@ def test_mirror_reflects_what_the_specular_cone_sees(tmp_path):
     # Rows 30..48 show floor whose mirrored rays meet the far wall; rows 56.. meet the black near wall.
     assert sharp[30:48, 16:48].reshape(-1, 3) == pytest.approx(np.tile([1, 0.2, 0.1], (18 * 32, 1)), rel=0.05)
     assert sharp[56:, 16:48].max() < 0.05
-    assert 0.1 < blurred[36, 32, 0] < 0.6 and blurred[60, 32, 0] > 0.1
+    assert 0.05 < blurred[36, 32, 0] < 0.4 and blurred[60, 32, 0] > 0.05
 
 
 def test_glossy_cones_shared_between_pixels_leave_no_pattern(tmp_path):
@@ -222,8 +223,8 @@ def test_one_bounce_matches_the_path_traced_reference(renderer, cornell, referen
 
 
 def test_converged_gi_matches_the_path_traced_reference(renderer, cornell, reference):
-    """All bounces at grid 128: within 8 % (relative MAE), luminance within 5 % (measured 0.058,
-    0.958); a cone that lets half of each wall through at coarse levels reads 0.101, 0.902."""
+    """All bounces at grid 128: within 8 % (relative MAE), luminance within 5 % (measured 0.054,
+    0.999); a cone that lets half of each wall through at coarse levels reads 0.101, 0.902."""
     radiance = renderer.render(cornell, grid=128)  # default: gi, bounces to convergence
     gi = reference("gi")
     error, ratio = rel_mae(radiance, gi), luminance_ratio(radiance, gi)

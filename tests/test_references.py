@@ -37,7 +37,7 @@ def test_textured_box_direct_light_matches_its_reference():
 def test_textured_box_converged_gi_matches_its_reference():
     """The same scene with all bounces: the textures' colours bounce through the voxels, the
     glTF dielectrics' diffuse layers reflecting what their specular layers leave; within 10 %
-    (relative MAE, measured 0.064), luminance within 5 % (1.013; a diffuse layer not reduced by
+    (relative MAE, measured 0.086), luminance within 5 % (1.038; a diffuse layer not reduced by
     the specular one's share came out 23 % bright)."""
     assert_matches(render("textured_box", grid=128), reference("textured_box_gi"), 0.10, 0.05)
 
@@ -47,12 +47,12 @@ def test_textured_box_converged_gi_matches_its_reference():
 # carried their light through the diffuse cones alone (the lamp panel 0.150, the glowing box
 # 0.178 / 1.174, the spheres 0.184).
 EMISSIVE = {  # scene: (relMAE bound, luminance ratio bound) of the converged image
-    "panel_under_ceiling": (0.04, 0.03),    # measured 0.023, 0.985
-    "emissive_box_on_floor": (0.06, 0.05),  # measured 0.039, 0.971
-    "coloured_panel": (0.05, 0.03),         # measured 0.033, 0.990
+    "panel_under_ceiling": (0.04, 0.03),    # measured 0.028, 1.000
+    "emissive_box_on_floor": (0.06, 0.05),  # measured 0.037, 0.975
+    "coloured_panel": (0.05, 0.03),         # measured 0.030, 1.003
     # The panel over a gold and a plastic sphere: fails where the voxels absorbed what the
     # metal reflects (0.259, 0.771) instead of bouncing it on.
-    "cornell_spheres": (0.07, 0.03),        # measured 0.049, 0.999
+    "cornell_spheres": (0.07, 0.03),        # measured 0.059, 1.018
 }
 
 
@@ -87,8 +87,8 @@ def test_a_thin_panel_seen_from_behind_is_lit_by_its_own_cones_like_the_path_tra
     """A double-sided panel whose voxels face the light, seen from its other side, which only
     reflected light reaches: no voxel faces those pixels, so their diffuse cones are traced at
     every other pixel in x and y and shared with the pixels between. The image is within 7 %
-    of the path tracer (measured 0.050 at 128^3); the back side receives no direct light and
-    reads 9 % bright (measured 1.087: cones that start beside a one-voxel sheet lit on its other
+    of the path tracer (measured 0.057 at 128^3); the back side receives no direct light and
+    reads 8 % bright (measured 1.076: cones that start beside a one-voxel sheet lit on its other
     side read some of that light, docs/ACCURACY.md); a back side without its indirect light, or
     lit as if it faced the light, fails."""
     scene = engine.load_scene(REFERENCES / "thin_panel.json")
@@ -110,11 +110,11 @@ AS_AUTHORED = {
     # ceiling by a sky map: the sky's light through the voxels, its bounces, the map's
     # convention. With the sky's cones reading their footprint's own level the open box came
     # out at 0.67 of the path tracer's luminance, sky_room (one level below) at 0.85.
-    "open_box_sky": (0.10, 0.05),    # measured 0.054, 1.042
-    "sky_room": (0.10, 0.05),        # measured 0.093, 0.962
+    "open_box_sky": (0.10, 0.05),    # measured 0.053, 1.040
+    "sky_room": (0.10, 0.05),        # measured 0.087, 0.973
     # A glTF file as the whole scene: its camera, KHR lights, textures, texture transform,
     # vertex colours (rendered square, as its reference).
-    "gltf_room.glb": (0.10, 0.06),   # measured 0.083, 1.050
+    "gltf_room.glb": (0.10, 0.05),   # measured 0.076, 0.964
 }
 
 
@@ -135,14 +135,30 @@ def test_direct_light_of_skies_and_gltf_scenes_matches_its_reference(name):
 
 def test_gltf_dielectrics_and_metals_at_three_roughnesses_match_their_reference():
     """Six glTF spheres (white dielectric and gold at roughness 0.1, 0.4, 0.8) in the Cornell
-    box, seen from above: relMAE 0.113, luminance 0.926. The issue's 0.10 / 5 % are not met:
-    the image is mostly floor and lower walls, whose light is mostly indirect, and their
-    indirect light is read 11-16 % dark around the gold spheres, whose caustics the voxels'
-    Lambertian lobes do not carry (docs/ACCURACY.md). A renderer that added the dielectrics'
-    layers instead of splitting them would make the spheres' diffuse layers reflect 8 % more
-    per bounce; the furnaces
+    box, seen from above: within 10 % (relMAE, measured 0.091) and 5 % (0.982). Their voxels
+    pass on the layered albedo with the specular lobe's masking; without it (the lobe's albedo
+    taken as F) the rough layers pass on more than they reflect, and with the diffuse cones at
+    their footprint's level the floor's and walls' indirect light read dark (0.125, 0.892). A
+    renderer that added the dielectrics' layers instead of splitting them would make the
+    spheres' diffuse layers reflect 8 % more per bounce; the furnaces
     (tests/test_environment.py) check that split directly."""
-    assert_matches(render("gltf_spheres", grid=128), reference("gltf_spheres_gi"), 0.13, 0.09)
+    assert_matches(render("gltf_spheres", grid=128), reference("gltf_spheres_gi"), 0.10, 0.05)
+
+
+# The ceiling and the upper walls of low_lamp, above the horizon.
+UPPER_ROOM = (slice(0, 96), slice(None))
+
+
+def test_light_a_lamps_pool_on_the_floor_reflects_reaches_the_room():
+    """A lamp 0.2 m above the floor of the empty Cornell box: the pool of light under it lights
+    the ceiling and the upper walls, whose own direct light is a tenth of what it sends them.
+    Converged within 10 % (relMAE, measured 0.068) and 5 % (0.971), the upper room within 8 %
+    (0.942). The six cones reading their footprint's own level took in the walls beside them
+    before the pool (0.082, 0.926; the upper room 0.883; docs/DESIGN.md, "Diffuse cones read
+    finer")."""
+    gi, expected = render("low_lamp", grid=128), reference("low_lamp_gi")
+    assert_matches(gi, expected, 0.10, 0.05)
+    assert luminance_ratio(gi[UPPER_ROOM], expected[UPPER_ROOM]) == pytest.approx(1.0, abs=0.08)
 
 
 # The short box's turned front face, as the gold tall box of glossy_cornell reflects it.
@@ -161,10 +177,10 @@ def stripe_contrast(image):
 
 def test_a_flat_face_reflected_in_glossy_gold_shows_at_most_faint_voxel_stairs():
     """A silver floor (roughness 0.3) and a gold tall box (0.15) under a lamp panel: the image
-    within 0.10 (measured 0.091) and 6 % (0.944); in the gold box, the short box's turned face
+    within 0.10 (measured 0.085) and 5 % (0.966); in the gold box, the short box's turned face
     shows stripes of contrast 0.020 (the path tracer's 0.004; cones reading single voxels drew
     the face's voxel staircase at 0.039). The issue asks for none at all: not met."""
     gi, expected = render("glossy_cornell", grid=128), reference("glossy_cornell_gi")
-    assert_matches(gi, expected, 0.10, 0.06)
+    assert_matches(gi, expected, 0.10, 0.05)
     assert stripe_contrast(expected) < 0.01
     assert stripe_contrast(gi) <= 0.025

@@ -12,7 +12,8 @@
 //             a pixel interpolates the gathers of the voxels around p whose surfaces face its
 //             way; where none does (a thin surface seen from behind) the cones are traced at
 //             the anchors (even x and y) and shared with the pixels between where they match
-//   specular: Lo = F(w_o . n) Lv(p, w_s, a_s), w_s = 2 (w_o . n) n - w_o, traced at every
+//   specular: Lo = A(w_o) Lv(p, w_s, a_s), w_s = 2 (w_o . n) n - w_o, A the specular layer's
+//             directional albedo (lib/brdf.glsl specular_layer_albedo), traced at every
 //             other pixel in x and y and shared with the pixels between where they match
 //   AO:       1 - sum_j w_j alpha_j within ao_distance, traced per pixel
 // The cones run in cone_trace/trace_listed_pixels.comp (the anchors' and the unshared ones) and cone_trace/share_anchor_cones.comp

@@ -5,7 +5,7 @@
 // the specular cone the same roughness too):
 //   diffuse:  c_d, the pixel's own diffuse layer albedo, times the anchors' sum_j w_j Lv(p, w_j),
 //             where no voxel faces the pixel's way (a thin surface seen from behind)
-//   specular: F(w_o . n), the pixel's own, times the anchors' Lv(p, w_s, a_s)
+//   specular: A(w_o), the pixel's own specular layer albedo, times the anchors' Lv(p, w_s, a_s)
 // A term no anchor stands for is listed for cone_trace/trace_listed_pixels.comp (the pixel traces its own cones
 // there, in groups of such pixels, not beside lanes that only read anchors). The diffuse cones
 // span a hemisphere and a specular cone many pixels' worth of directions, so what they gather
@@ -68,7 +68,7 @@ void main() {
         else unshared |= PIXEL_DIFFUSE_CONES;
     }
     if (specular) {
-        if (specular_total > SHARED_WEIGHT_MIN) radiance += specular_fresnel(s) * specular_sum / specular_total;
+        if (specular_total > SHARED_WEIGHT_MIN) radiance += specular_reflectance(s) * specular_sum / specular_total;
         else unshared |= PIXEL_SPECULAR_CONE;
     }
     imageStore(image_out, pixel, imageLoad(image_out, pixel) + vec4(radiance, 0.0));

@@ -4,7 +4,7 @@
 //             no voxel around p faces its way, at
 //             the anchor pixels, whose gather is kept for the pixels between them
 //             (cone_trace/share_anchor_cones.comp)
-//   specular: F(w_o . n) Lv(p, w_s, a_s) at the anchor pixels (lib/specular_cone.glsl), whose
+//   specular: A(w_o) Lv(p, w_s, a_s) at the anchor pixels (lib/specular_cone.glsl), whose
 //             Lv is kept likewise, and at every pixel whose cone is too narrow to share
 // Built twice: over the cone pixels cone_trace/shade_pixels.frag listed, and (TRACE_UNSHARED)
 // over the pixels between anchors that no anchor stood for (cone_trace/share_anchor_cones.comp
@@ -40,7 +40,7 @@ void main() {
     if ((entry.y & PIXEL_SPECULAR_CONE) != 0u) {
         vec3 incoming = specular_incoming(s);
         if (is_anchor(pixel)) imageStore(specular_in, pixel / 2, vec4(incoming, 1.0));
-        radiance += specular_fresnel(s) * incoming;
+        radiance += specular_reflectance(s) * incoming;
     }
     imageStore(image_out, pixel, imageLoad(image_out, pixel) + vec4(radiance, 0.0));
 }

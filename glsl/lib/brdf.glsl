@@ -11,9 +11,6 @@
 // dielectric F0 of 0 means no specular layer: Lambert alone.
 #include "engine_constants.glsl"
 
-// Roughness below this is read as this: the Blinn-Phong exponent stays finite.
-#define MIN_ROUGHNESS 0.05
-
 // Blinn-Phong exponent of roughness r: s = 2 / r^4 - 2 (the lecture's mapping).
 float blinn_phong_exponent(float roughness) {
     float r4 = pow(max(roughness, MIN_ROUGHNESS), 4.0);
@@ -51,10 +48,35 @@ vec3 layer_fresnel(vec3 f0, float cos_theta) {
     return has_specular_layer(f0) ? fresnel_schlick(f0, cos_theta) : vec3(0.0);
 }
 
-// Hemispherical albedo of the specular layer: Schlick's F averaged over the cosine-weighted
-// hemisphere, E = F0 + (1 - F0) 2 int (1 - mu)^5 mu dmu = F0 + (1 - F0) / 21; none without one.
-vec3 specular_albedo(vec3 f0) {
-    return has_specular_layer(f0) ? f0 + (1.0 - f0) / 21.0 : vec3(0.0);
+// Schlick's F averaged over the cosine-weighted hemisphere, F0 + (1 - F0) 2 int (1 - mu)^5 mu dmu
+// = F0 + (1 - F0) / 21: what the diffuse layer's weight 1 - F(n.v) leaves out on average.
+vec3 mean_fresnel(vec3 f0) {
+    return f0 + (1.0 - f0) / 21.0;
+}
+
+// What the specular layer reflects of light arriving from every direction, seen from cos_view
+// to the normal: its directional albedo A = F0 scale + bias, bilinear in the table of
+// engine/specular_lobe.py over (cos_view, roughness) (Smith's masking makes it less than
+// F(n.v) for rough lobes); none without a layer.
+vec3 specular_layer_albedo(vec3 f0, float roughness, float cos_view) {
+    if (!has_specular_layer(f0)) return vec3(0.0);
+    vec2 x = clamp(vec2(cos_view, roughness), 0.0, 1.0) * float(SPECULAR_ALBEDO_SIZE - 1);
+    ivec2 i = min(ivec2(x), ivec2(SPECULAR_ALBEDO_SIZE - 2));
+    vec2 f = x - vec2(i);
+    int row = i.y * SPECULAR_ALBEDO_SIZE + i.x;
+    vec2 split = mix(mix(SPECULAR_ALBEDO[row], SPECULAR_ALBEDO[row + 1], f.x),
+                     mix(SPECULAR_ALBEDO[row + SPECULAR_ALBEDO_SIZE], SPECULAR_ALBEDO[row + SPECULAR_ALBEDO_SIZE + 1], f.x), f.y);
+    return f0 * split.x + split.y;
+}
+
+// The specular layer's directional albedo averaged over the cosine-weighted hemisphere (its
+// hemispherical albedo), linear in roughness between the table's nodes; none without a layer.
+vec3 specular_hemispherical_albedo(vec3 f0, float roughness) {
+    if (!has_specular_layer(f0)) return vec3(0.0);
+    float x = clamp(roughness, 0.0, 1.0) * float(SPECULAR_ALBEDO_SIZE - 1);
+    int i = min(int(x), SPECULAR_ALBEDO_SIZE - 2);
+    vec2 split = mix(SPECULAR_HEMISPHERICAL_ALBEDO[i], SPECULAR_HEMISPHERICAL_ALBEDO[i + 1], x - float(i));
+    return f0 * split.x + split.y;
 }
 
 // The diffuse layer's albedo seen from a direction at cos_view to the normal: c_diff (1 - F(n.v)).
@@ -63,11 +85,12 @@ vec3 diffuse_layer_albedo(vec3 albedo, float metalness, float dielectric_f0, flo
 }
 
 // Hemispherical albedo of the layered model, what a voxel passes on as a Lambertian lobe:
-// the diffuse layer's c_diff (1 - E) plus the specular layer's E (its lobe's shadowing loss
-// neglected), so rho <= 1 for every k_d <= 1.
-vec3 layered_albedo(vec3 albedo, float metalness, float dielectric_f0) {
-    vec3 e = specular_albedo(specular_f0(albedo, metalness, dielectric_f0));
-    return (1.0 - metalness) * albedo * (1.0 - e) + e;
+// the diffuse layer's c_diff (1 - mean F) plus the specular layer's hemispherical albedo, so
+// rho <= 1 for every k_d <= 1.
+vec3 layered_albedo(vec3 albedo, float roughness, float metalness, float dielectric_f0) {
+    vec3 f0 = specular_f0(albedo, metalness, dielectric_f0);
+    vec3 diffuse_weight = has_specular_layer(f0) ? 1.0 - mean_fresnel(f0) : vec3(1.0);
+    return (1.0 - metalness) * albedo * diffuse_weight + specular_hemispherical_albedo(f0, roughness);
 }
 
 // Smith's masking G1 of the Beckmann lobe of roughness alpha at cos_theta to the normal

@@ -75,9 +75,11 @@ vec4 face_lod(int face, vec3 uvw, float mip) {
 vec4 sample_faces(vec3 uvw, float mip, FaceWeights f, bool wide) {
     float nearest = round(mip);
     vec4 sum = f.weight.x * face_lod(f.face.x, uvw, mip) + f.weight.y * face_lod(f.face.y, uvw, mip)
-             + f.weight.z * face_lod(f.face.z, uvw, mip)
-             + f.back_weight.x * face_lod(f.back.x, uvw, nearest) + f.back_weight.y * face_lod(f.back.y, uvw, nearest);
-    if (wide) sum += f.back_weight.z * face_lod(f.back.z, uvw, nearest);
+             + f.weight.z * face_lod(f.face.z, uvw, mip);
+    // A back face no ray diverges to (|w_k| >= spread) is not read: most cones have one or none.
+    if (f.back_weight.x > 0.0) sum += f.back_weight.x * face_lod(f.back.x, uvw, nearest);
+    if (f.back_weight.y > 0.0) sum += f.back_weight.y * face_lod(f.back.y, uvw, nearest);
+    if (wide && f.back_weight.z > 0.0) sum += f.back_weight.z * face_lod(f.back.z, uvw, nearest);
     return sum;
 }
 
@@ -90,11 +92,15 @@ vec4 sample_faces(vec3 uvw, float mip, FaceWeights f, bool wide) {
 // nearest level: they are narrow and long, so most of their steps fall between levels 0 and 1,
 // where blending doubles the texel reads for images that hardly differ. `emitted`: add the emission of the surfaces met (the specular cones), from the
 // emission volume: its mean over the covered voxels of the cell, e.rgb / e.a, seen from every side.
-// `level_offset`: read that many levels below the footprint's and step by the narrower lookups
-// (the sky's cones: SKY_CONE_LEVEL_OFFSET); 0 for the others. `min_diameter`: the narrowest
+// `level_offset`: read that many levels below the footprint's (the sky's cones:
+// SKY_CONE_LEVEL_OFFSET; the diffuse ones: DIFFUSE_CONE_LEVEL_OFFSET; 0 for the others);
+// `narrow_steps`: step by the narrower lookups (the sky's cones) or by the footprint (the
+// diffuse ones: less than a level finer, their steps span 1.3 of their cells and the opacity
+// below counts the step's length). `min_diameter`: the narrowest
 // lookups, in voxels (1, or SPECULAR_CONE_MIN_DIAMETER for the specular cones).
-//   d = max(min_diameter voxel, 2 tan(a/2) t 2^-level_offset)   the cone's diameter at distance
-//                                                t (narrowed), at least the narrowest lookup's
+//   D = max(min_diameter voxel, 2 tan(a/2) t)    the cone's diameter at distance t, at least
+//                                                the narrowest lookup's
+//   d = max(min_diameter voxel, D 2^-level_offset)   the lookups' diameter (narrowed)
 //   mip = log2(d / voxel) - 1                    a trilinear lookup averages over a tent two
 //                                                cells wide, so cells of d/2 span d
 //   c = min(1, a 2^mip)                          a mip cell 2^mip voxels wide with mean coverage
@@ -103,17 +109,18 @@ vec4 sample_faces(vec3 uvw, float mip, FaceWeights f, bool wide) {
 //   alpha += min(c step / (2^mip voxel), 1 - alpha)  the covered fraction of a step through
 //                                                cells 2^mip voxels wide, front to back, which
 //                                                makes the result independent of the step
-//   t += step = cone_step * d
+//   t += step = cone_step * (narrow_steps ? d : D)
 vec4 trace_cone(vec3 p, vec3 n, vec3 direction, float tan_half_angle, float max_distance, bool wide,
-                bool blend_levels, bool emitted, float level_offset, float min_diameter) {
+                bool blend_levels, bool emitted, float level_offset, bool narrow_steps, float min_diameter) {
     vec3 start = p + n * (cone_offset * voxel_size);
     vec4 gathered = vec4(0.0);
     float spread = tan_half_angle / sqrt(1.0 + tan_half_angle * tan_half_angle);  // sin(half-angle)
     FaceWeights weights = face_weights(direction, spread);
     float t = voxel_size;  // start one voxel out along the cone
-    float diameter_scale = 2.0 * tan_half_angle * exp2(-level_offset);
+    float narrowing = exp2(-level_offset);
     while (gathered.a < 1.0 && t < max_distance) {
-        float diameter = max(min_diameter * voxel_size, diameter_scale * t);
+        float cone_diameter = max(min_diameter * voxel_size, 2.0 * tan_half_angle * t);
+        float diameter = max(min_diameter * voxel_size, narrowing * cone_diameter);
         float mip = min(max(log2(diameter / voxel_size) - 1.0, 0.0), voxel_max_mip);  // 1^3 spans the region
         if (!blend_levels) mip = round(mip);
         vec3 uvw = voxel_uvw(start + direction * t);
@@ -122,7 +129,7 @@ vec4 trace_cone(vec3 p, vec3 n, vec3 direction, float tan_half_angle, float max_
         float footprint = 0.25 * diameter / voxel_region_size;
         if (any(lessThan(uvw, vec3(-footprint))) || any(greaterThan(uvw, vec3(1.0 + footprint)))) break;
         vec4 s = sample_faces(uvw, mip, weights, wide);
-        float step_length = cone_step * diameter;
+        float step_length = cone_step * (narrow_steps ? diameter : cone_diameter);
         if (s.a > 0.0) {
             // Covered fraction of the cross-section added by this step, front to back.
             float coverage = min(1.0, s.a * exp2(mip)) * step_length / (exp2(mip) * voxel_size);
@@ -140,14 +147,15 @@ vec4 trace_cone(vec3 p, vec3 n, vec3 direction, float tan_half_angle, float max_
     return gathered;
 }
 
-// Diffuse gather with the lecture's 6 cones: returns sum_j w_j Lv(p, w_j) (rgb) and the
-// cosine-weighted occlusion sum_j w_j a_j (a).
+// Diffuse gather with the lecture's 6 cones, read half a level finer than their footprints
+// (DIFFUSE_CONE_LEVEL_OFFSET): returns sum_j w_j Lv(p, w_j) (rgb) and the cosine-weighted
+// occlusion sum_j w_j a_j (a).
 vec4 trace_diffuse(vec3 p, vec3 n, float max_distance) {
     mat3 frame = tangent_frame(n);
     float tan_half = tan(DIFFUSE_CONE_HALF_ANGLE);
     vec4 sum = vec4(0.0);
     for (int j = 0; j < DIFFUSE_CONE_COUNT; ++j) {
-        vec4 cone = trace_cone(p, n, frame * DIFFUSE_CONE_DIRECTIONS[j], tan_half, max_distance, false, true, false, 0.0, 1.0);
+        vec4 cone = trace_cone(p, n, frame * DIFFUSE_CONE_DIRECTIONS[j], tan_half, max_distance, false, true, false, DIFFUSE_CONE_LEVEL_OFFSET, false, 1.0);
         sum += DIFFUSE_CONE_WEIGHTS[j] * cone;
     }
     return sum;

@@ -16,13 +16,15 @@ vec3 specular_incoming(Surface s) {
     vec3 wo = to_camera(s.position);
     vec3 ws = 2.0 * max(dot(wo, s.normal), 0.0) * s.normal - wo;
     float tan_half_angle = specular_tan_half_angle(s.roughness);
-    vec4 cone = trace_cone(s.position, s.normal, ws, tan_half_angle, 1e9, true, false, true, 0.0, SPECULAR_CONE_MIN_DIAMETER);
+    vec4 cone = trace_cone(s.position, s.normal, ws, tan_half_angle, 1e9, true, false, true, 0.0, true, SPECULAR_CONE_MIN_DIAMETER);
     return cone.rgb + (1.0 - min(cone.a, 1.0)) * environment_radiance(ws, atan(tan_half_angle));
 }
 
-// Schlick's F(w_o . n) of surface s.
-vec3 specular_fresnel(Surface s) {
-    return fresnel_schlick(specular_f0(s.albedo, s.metalness, s.dielectric_f0), max(dot(to_camera(s.position), s.normal), 0.0));
+// What the specular layer of surface s reflects towards the camera of the light its cone
+// gathers: its directional albedo at w_o (lib/brdf.glsl specular_layer_albedo).
+vec3 specular_reflectance(Surface s) {
+    vec3 f0 = specular_f0(s.albedo, s.metalness, s.dielectric_f0);
+    return specular_layer_albedo(f0, s.roughness, max(dot(to_camera(s.position), s.normal), 0.0));
 }
 
 // The diffuse layer's albedo of surface s seen from the camera, (1 - m) k_d (1 - F(w_o . n)).

@@ -88,7 +88,7 @@ void main() {
     // A voxel keeps no direction, so what the specular layer reflects bounces on as a Lambertian
     // lobe: the reflectance is the layered model's hemispherical albedo (a gold sphere passes its
     // light on instead of absorbing it).
-    vec3 reflectance = layered_albedo(m.albedo, m.metalness, dielectric_f0);
+    vec3 reflectance = layered_albedo(m.albedo, m.roughness, m.metalness, dielectric_f0);
     atomicAdd(voxel_sums[SUM_ALBEDO_R].value[i], unit_fixed(reflectance.r));
     atomicAdd(voxel_sums[SUM_ALBEDO_G].value[i], unit_fixed(reflectance.g));
     atomicAdd(voxel_sums[SUM_ALBEDO_B].value[i], unit_fixed(reflectance.b));
