@@ -52,7 +52,7 @@ EMISSIVE = {  # scene: (relMAE bound, luminance ratio bound) of the converged im
     "coloured_panel": (0.05, 0.03),         # measured 0.030, 1.003
     # The panel over a gold and a plastic sphere: fails where the voxels absorbed what the
     # metal reflects (0.259, 0.771) instead of bouncing it on.
-    "cornell_spheres": (0.07, 0.03),        # measured 0.059, 1.018
+    "cornell_spheres": (0.07, 0.03),        # measured 0.064, 1.027
 }
 
 
@@ -114,7 +114,7 @@ AS_AUTHORED = {
     "sky_room": (0.10, 0.05),        # measured 0.087, 0.973
     # A glTF file as the whole scene: its camera, KHR lights, textures, texture transform,
     # vertex colours (rendered square, as its reference).
-    "gltf_room.glb": (0.10, 0.05),   # measured 0.076, 0.964
+    "gltf_room.glb": (0.10, 0.05),   # measured 0.077, 0.967
 }
 
 
@@ -135,7 +135,7 @@ def test_direct_light_of_skies_and_gltf_scenes_matches_its_reference(name):
 
 def test_gltf_dielectrics_and_metals_at_three_roughnesses_match_their_reference():
     """Six glTF spheres (white dielectric and gold at roughness 0.1, 0.4, 0.8) in the Cornell
-    box, seen from above: within 10 % (relMAE, measured 0.091) and 5 % (0.982). Their voxels
+    box, seen from above: within 10 % (relMAE, measured 0.092) and 5 % (0.986). Their voxels
     pass on the layered albedo with the specular lobe's masking; without it (the lobe's albedo
     taken as F) the rough layers pass on more than they reflect, and with the diffuse cones at
     their footprint's level the floor's and walls' indirect light read dark (0.125, 0.892). A
@@ -175,12 +175,13 @@ def stripe_contrast(image):
     return np.abs(profile - smooth).mean() / profile.mean()
 
 
-def test_a_flat_face_reflected_in_glossy_gold_shows_at_most_faint_voxel_stairs():
+def test_a_flat_face_reflected_in_glossy_gold_shows_no_voxel_stairs():
     """A silver floor (roughness 0.3) and a gold tall box (0.15) under a lamp panel: the image
-    within 0.10 (measured 0.085) and 5 % (0.966); in the gold box, the short box's turned face
-    shows stripes of contrast 0.020 (the path tracer's 0.004; cones reading single voxels drew
-    the face's voxel staircase at 0.039). The issue asks for none at all: not met."""
+    within 0.10 (measured 0.084) and 5 % (0.968); in the gold box, the short box's turned face
+    shows stripes of contrast 0.002, the path tracer's 0.004. Cones that counted the coverage
+    of the cells they cross once saw through the face's voxel staircase where they crossed one
+    voxel of it (0.020; cones reading single voxels 0.039)."""
     gi, expected = render("glossy_cornell", grid=128), reference("glossy_cornell_gi")
     assert_matches(gi, expected, 0.10, 0.05)
     assert stripe_contrast(expected) < 0.01
-    assert stripe_contrast(gi) <= 0.025
+    assert stripe_contrast(gi) <= 0.008

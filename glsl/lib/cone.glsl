@@ -98,6 +98,7 @@ vec4 sample_faces(vec3 uvw, float mip, FaceWeights f, bool wide) {
 // diffuse ones: less than a level finer, their steps span 1.3 of their cells and the opacity
 // below counts the step's length). `min_diameter`: the narrowest
 // lookups, in voxels (1, or SPECULAR_CONE_MIN_DIAMETER for the specular cones).
+// `opacity_scale` k: how many times a cell's coverage counts (1, or SPECULAR_CONE_OPACITY).
 //   D = max(min_diameter voxel, 2 tan(a/2) t)    the cone's diameter at distance t, at least
 //                                                the narrowest lookup's
 //   d = max(min_diameter voxel, D 2^-level_offset)   the lookups' diameter (narrowed)
@@ -106,12 +107,13 @@ vec4 sample_faces(vec3 uvw, float mip, FaceWeights f, bool wide) {
 //   c = min(1, a 2^mip)                          a mip cell 2^mip voxels wide with mean coverage
 //                                                a holds a 2^mip voxel layers of surface across
 //                                                the cone: a plane stays opaque at every level
-//   alpha += min(c step / (2^mip voxel), 1 - alpha)  the covered fraction of a step through
+//   alpha += min(k c step / (2^mip voxel), 1 - alpha)  the covered fraction of a step through
 //                                                cells 2^mip voxels wide, front to back, which
 //                                                makes the result independent of the step
 //   t += step = cone_step * (narrow_steps ? d : D)
 vec4 trace_cone(vec3 p, vec3 n, vec3 direction, float tan_half_angle, float max_distance, bool wide,
-                bool blend_levels, bool emitted, float level_offset, bool narrow_steps, float min_diameter) {
+                bool blend_levels, bool emitted, float level_offset, bool narrow_steps, float min_diameter,
+                float opacity_scale) {
     vec3 start = p + n * (cone_offset * voxel_size);
     vec4 gathered = vec4(0.0);
     float spread = tan_half_angle / sqrt(1.0 + tan_half_angle * tan_half_angle);  // sin(half-angle)
@@ -132,7 +134,7 @@ vec4 trace_cone(vec3 p, vec3 n, vec3 direction, float tan_half_angle, float max_
         float step_length = cone_step * (narrow_steps ? diameter : cone_diameter);
         if (s.a > 0.0) {
             // Covered fraction of the cross-section added by this step, front to back.
-            float coverage = min(1.0, s.a * exp2(mip)) * step_length / (exp2(mip) * voxel_size);
+            float coverage = opacity_scale * min(1.0, s.a * exp2(mip)) * step_length / (exp2(mip) * voxel_size);
             float alpha = min(coverage, 1.0 - gathered.a);
             vec3 radiance = s.rgb / s.a;
             if (emitted && voxel_emitters) {
@@ -155,7 +157,7 @@ vec4 trace_diffuse(vec3 p, vec3 n, float max_distance) {
     float tan_half = tan(DIFFUSE_CONE_HALF_ANGLE);
     vec4 sum = vec4(0.0);
     for (int j = 0; j < DIFFUSE_CONE_COUNT; ++j) {
-        vec4 cone = trace_cone(p, n, frame * DIFFUSE_CONE_DIRECTIONS[j], tan_half, max_distance, false, true, false, DIFFUSE_CONE_LEVEL_OFFSET, false, 1.0);
+        vec4 cone = trace_cone(p, n, frame * DIFFUSE_CONE_DIRECTIONS[j], tan_half, max_distance, false, true, false, DIFFUSE_CONE_LEVEL_OFFSET, false, 1.0, 1.0);
         sum += DIFFUSE_CONE_WEIGHTS[j] * cone;
     }
     return sum;
