@@ -6,6 +6,7 @@ binding point, a fixed-point scale or a cone table can never differ between Pyth
 Binding budgets are those of the least generous OpenGL 4.5 drivers: at most 8 image units
 (NVIDIA's limit) and at most 16 storage blocks per shader stage.
 """
+import functools
 import math
 
 import numpy as np
@@ -241,11 +242,12 @@ SKY_FILTER_RADIUS = 3
 # the footprint's own level the lookups take it in long before. (Measured against path-traced
 # skies through a ceiling opening and an open ceiling: docs/DESIGN.md, "Sky cones read finer".)
 SKY_CONE_LEVEL_OFFSET = 1.75
-# The diffuse cones read half a mip level below their footprint's (lookups over 2^-0.5 of the
-# cone's diameter) and step by those: at the footprint's own level the walls beside a cone cover
-# it before it reaches what lies ahead, and light reflected from a bright patch a few metres
-# away (the pool of a lamp near the floor) reached the rest of a room 14 % short at every grid
-# size; 24 narrow cones read it in full (docs/DESIGN.md, "Diffuse cones read finer").
+# The diffuse cones read 0.4 mip levels below their footprint's (lookups over 2^-0.4 of the
+# cone's diameter) and still step by the footprint: at the footprint's own level the walls
+# beside a cone cover it before it reaches what lies ahead, and light reflected from a bright
+# patch a few metres away (the pool of a lamp near the floor) reached the rest of a room 14 %
+# short at every grid size; 24 narrow cones read it in full (docs/DESIGN.md, "Diffuse cones
+# read finer").
 DIFFUSE_CONE_LEVEL_OFFSET = 0.4
 
 
@@ -288,8 +290,10 @@ def struct_dtype(name):
     return np.dtype([(field, kinds[kind][0], (kinds[kind][1],)) for kind, field in GLSL_STRUCTS[name]])
 
 
+@functools.lru_cache(maxsize=None)
 def glsl_header():
-    """GLSL source of the virtual include "engine_constants.glsl"."""
+    """GLSL source of the virtual include "engine_constants.glsl" (made once: every program
+    includes it, and the cones' centroids and the specular table take a few tens of ms)."""
     lines = ["// Generated from engine/constants.py: edit there, not here."]
     for group, prefix in ((TEXTURE_UNIT, "TEX_"), (IMAGE_UNIT, "IMG_"), (STORAGE_BINDING, "SSBO_"), (UNIFORM_BLOCK, "UBO_")):
         lines += [f"#define {prefix}{name} {value}" for name, value in group.items()]

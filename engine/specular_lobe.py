@@ -16,8 +16,6 @@ specular cone by A at the camera's direction, and voxels pass on the layered alb
 hemispherical mean (2 int A(mu) mu dmu). By reciprocity A is also what the layer reflects of
 light arriving from v.
 """
-import functools
-
 import numpy as np
 
 from .constants import MIN_ROUGHNESS
@@ -68,7 +66,6 @@ def hemispherical_albedo(roughness):
     return (weights * mus) @ directional_albedo(mus, roughness)  # 2 * (1/2 sum w_i mu_i A_i)
 
 
-@functools.lru_cache(maxsize=None)
 def tables():
     """(directional, hemispherical): (SIZE, SIZE, 2) over [roughness][cos_view] and (SIZE, 2)
     over roughness, at the nodes i / (SIZE - 1)."""

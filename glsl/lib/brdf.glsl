@@ -49,9 +49,10 @@ vec3 layer_fresnel(vec3 f0, float cos_theta) {
 }
 
 // Schlick's F averaged over the cosine-weighted hemisphere, F0 + (1 - F0) 2 int (1 - mu)^5 mu dmu
-// = F0 + (1 - F0) / 21: what the diffuse layer's weight 1 - F(n.v) leaves out on average.
+// = F0 + (1 - F0) / 21: what the diffuse layer's weight 1 - F(n.v) leaves out on average; zero
+// without a specular layer.
 vec3 mean_fresnel(vec3 f0) {
-    return f0 + (1.0 - f0) / 21.0;
+    return has_specular_layer(f0) ? f0 + (1.0 - f0) / 21.0 : vec3(0.0);
 }
 
 // What the specular layer reflects of light arriving from every direction, seen from cos_view
@@ -89,8 +90,7 @@ vec3 diffuse_layer_albedo(vec3 albedo, float metalness, float dielectric_f0, flo
 // rho <= 1 for every k_d <= 1.
 vec3 layered_albedo(vec3 albedo, float roughness, float metalness, float dielectric_f0) {
     vec3 f0 = specular_f0(albedo, metalness, dielectric_f0);
-    vec3 diffuse_weight = has_specular_layer(f0) ? 1.0 - mean_fresnel(f0) : vec3(1.0);
-    return (1.0 - metalness) * albedo * diffuse_weight + specular_hemispherical_albedo(f0, roughness);
+    return (1.0 - metalness) * albedo * (1.0 - mean_fresnel(f0)) + specular_hemispherical_albedo(f0, roughness);
 }
 
 // Smith's masking G1 of the Beckmann lobe of roughness alpha at cos_theta to the normal

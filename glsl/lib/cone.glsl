@@ -149,7 +149,7 @@ vec4 trace_cone(vec3 p, vec3 n, vec3 direction, float tan_half_angle, float max_
     return gathered;
 }
 
-// Diffuse gather with the lecture's 6 cones, read half a level finer than their footprints
+// Diffuse gather with the lecture's 6 cones, read 0.4 levels finer than their footprints
 // (DIFFUSE_CONE_LEVEL_OFFSET): returns sum_j w_j Lv(p, w_j) (rgb) and the cosine-weighted
 // occlusion sum_j w_j a_j (a).
 vec4 trace_diffuse(vec3 p, vec3 n, float max_distance) {
