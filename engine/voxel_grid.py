@@ -17,21 +17,31 @@ Volumes (n^3 RGBA16F, made for one size and region by `ensure`):
   view f at z in [f n, (f + 1) n)), with their mip chain.
 
 Lists (voxel_lists.py): `covered` (surface voxels), `touched` (by the last voxelization) and
-the covered `cells` of every mip level. Scratch storage of one pass (the voxelizer's sums, the
-gather's anchors and class lists) belongs to that pass.
+the covered `cells` of every mip level. The voxel lists have room for `list_room` covered
+voxels (the touched list twice that: the voxels covered before and after an update):
+NEW_GRID_ROOM n^2 in a new grid, or LIST_HEADROOM of what a voxelization needed when it last
+grew. A voxelization
+that needs more room makes the grid anew with more (`list_need`, `grow_lists`). Scratch
+storage of one pass (the voxelizer's sums, the gather's anchors and class lists) belongs to
+that pass.
 """
 import math
 
 import moderngl
 import numpy as np
 
-from .constants import (GL_IMAGE_FORMAT, GRID_SIZES, IMAGE_UNIT, STORAGE_BINDING, TEXTURE_UNIT, VOLUME_GROUP, VOXEL_FACES,
+from .constants import (GL_IMAGE_FORMAT, GRID_SIZES, IMAGE_UNIT, LIST_GROUP, STORAGE_BINDING, TEXTURE_UNIT, VOLUME_GROUP, VOXEL_FACES,
                         VOXEL_FORMAT, VOXEL_MEMORY_BUDGET, VOXEL_PACK_BITS, VOXEL_SLABS, VOXEL_SUM_CHANNELS)
 from .errors import VctError
 from .voxel_lists import SEGMENT, CellLists, Epoch, VoxelList
 
 TEXEL_BYTES = 8  # RGBA16F
 MIP_CHAIN = 8 / 7  # a full mip chain adds a seventh
+# The list room of a new n^3 grid, per n^2: a closed box or Sponza covers 6.4-6.7 n^2 voxels,
+# and the room left over takes the bound of a moved object's voxels (engine/voxel_room.py), so
+# that moving one reads nothing back.
+NEW_GRID_ROOM = 16
+LIST_HEADROOM = 5 / 4  # a grown list's room over what it needed
 
 
 def voxel_memory_bytes(n):
@@ -43,9 +53,20 @@ def voxel_memory_bytes(n):
     surface = TEXEL_BYTES * (3 * MIP_CHAIN + 1)              # albedo, normal (viewable), cone emission; emission
     radiance = TEXEL_BYTES * (MIP_CHAIN + 5)                 # base (viewable), two gathers, emitters' and sky irradiance (2)
     faces = TEXEL_BYTES * VOXEL_FACES * MIP_CHAIN
-    lists = 6 * 4 + 2 * 4 / 7 + 2 * 4 / 8                    # touched, covered x2, stale, classes, anchors; cells, stamps;
-                                                             # level-1 cells' classes, cells by class
-    return int(voxels * (sums + surface + radiance + faces + lists))
+    lists = 4 + 2 * 4 / 7 + 2 * 4 / 8                        # anchors; cells, stamps; level-1 cells' classes, cells by class
+    listed = 4 * 7 * new_grid_room(n)                         # touched x2, covered x2, stale x2, classes
+    return int(voxels * (sums + surface + radiance + faces + lists) + listed)
+
+
+def new_grid_room(n):
+    """The list room of a new n^3 grid (VoxelGrid.list_room)."""
+    return min(NEW_GRID_ROOM * n * n, n ** 3)
+
+
+def list_room(needed, n):
+    """Room for `needed` covered voxels of an n^3 grid and LIST_HEADROOM more, in whole
+    dispatch groups, at most every voxel."""
+    return min(-(-int(needed * LIST_HEADROOM) // LIST_GROUP) * LIST_GROUP, n ** 3)
 
 
 def check_grid(ctx, n, source=None):
@@ -66,6 +87,7 @@ class VoxelGrid:
         self.ctx = ctx
         self.n = 0
         self.region = None
+        self.list_room = 0
         self._resources = []
         self.epoch = Epoch()  # of the covered list: a new one whenever it is rebuilt (replace_covered)
         self.read_program = programs.compute("voxel_grid/read_level.comp", reads=("TEX_VOXEL_INSPECT",),
@@ -79,15 +101,28 @@ class VoxelGrid:
         if n == self.n and self.region is not None and _same_region(region, self.region):
             return False
         check_grid(self.ctx, n, source)
+        room = new_grid_room(n)
+        if self.n:  # the room the last grid grew to, scaled to the new size: surfaces cover n^2
+            room = min(max(room, self.list_room * n * n // (self.n * self.n)), n ** 3)
         self._release_resources()
-        self._allocate(n)
+        self._allocate(n, room)
         self.region = region
         return True
 
-    def _allocate(self, n):
+    def list_need(self):
+        """After a voxelization: (the covered voxels its lists needed room for, the covered
+        count), read back from the GPU. The touched list has room for twice the covered."""
+        covered = self.covered.read_count()
+        return max(covered, -(-self.touched.read_count() // 2)), covered
+
+    def grow_lists(self, needed):
+        """Make the grid anew, empty, with list room for `needed` covered voxels (list_room)."""
+        self._release_resources()
+        self._allocate(self.n, list_room(needed, self.n))
+
+    def _allocate(self, n, room):
         ctx = self.ctx
-        self.n = n
-        voxels = n ** 3
+        self.n, self.list_room = n, room
         self._mipmapped = set()  # the volumes whose mip chain is allocated
         self.albedo, self.normal, self.base = (self._volume() for _ in range(3))
         self.emission = self._volume()
@@ -95,7 +130,8 @@ class VoxelGrid:
         self.gathered = [self._volume() for _ in range(2)]
         self.emitter_irradiance = self.sky_irradiance = self.traced_sky_irradiance = None  # hold_light_volumes
         self.faces = self._volume(mipmapped=True, views=VOXEL_FACES)
-        self.touched, self.covered, self.covered_next = (self._keep(VoxelList(ctx, voxels)) for _ in range(3))
+        self.touched = self._keep(VoxelList(ctx, self.touched_room))
+        self.covered, self.covered_next = (self._keep(VoxelList(ctx, room)) for _ in range(2))
         self.cells = self._keep(CellLists(ctx, n))
         self.epoch = Epoch()  # a new grid: nothing was computed from its lists yet
 
@@ -115,7 +151,7 @@ class VoxelGrid:
         covered = np.any(normal != 0.0, axis=-1)
         emission = np.zeros_like(normal) if emission is None else np.asarray(emission, np.float32)
         self._release_resources()
-        self._allocate(n)
+        self._allocate(n, max(new_grid_room(n), list_room(np.count_nonzero(covered), n)))
         flag = covered[..., None].astype(np.float32)
         for volume, rgb, a in ((self.albedo, albedo, flag), (self.normal, normal, flag), (self.emission, emission, 0.0 * flag),
                                (self.cone_emission, emission, flag)):
@@ -177,6 +213,11 @@ class VoxelGrid:
         if mipmapped:
             self.viewable(volume)
         return self._keep(volume)
+
+    @property
+    def touched_room(self):
+        """The touched list's room: the voxels covered before and after an update."""
+        return min(2 * self.list_room, self.n ** 3)
 
     @property
     def mip_count(self):
@@ -308,17 +349,17 @@ def gpu_bytes(resource, mipmapped=False):
 
 
 class GridStorage:
-    """The GPU resources a pass keeps for grids of one size (n^3): released when the size
-    changes, before the pass makes them again for the new one."""
+    """The GPU resources a pass keeps for grids of one kind (a size n^3, or a size and list
+    room): released when the kind changes, before the pass makes them again for the new one."""
 
     def __init__(self):
-        self.n, self.resources = 0, []
+        self.kind, self.resources = None, []
 
-    def holds(self, n):
-        return n == self.n
+    def holds(self, kind):
+        return kind == self.kind
 
-    def hold(self, n, resources):
-        self.n, self.resources = n, list(resources)
+    def hold(self, kind, resources):
+        self.kind, self.resources = kind, list(resources)
 
     def memory_bytes(self):
         return sum(gpu_bytes(resource) for resource in self.resources)
@@ -326,7 +367,7 @@ class GridStorage:
     def release(self):
         for resource in self.resources:
             resource.release()
-        self.n, self.resources = 0, []
+        self.kind, self.resources = None, []
 
 
 def pack_voxels(coords):

@@ -19,7 +19,7 @@ class GatherPass:
         self.trace_program = programs.compute(
             "gather/trace_anchor_cones.comp", writes=("IMG_GATHERED_OUT",),
             reads=("SSBO_CLASS_LIST", "SSBO_SEGMENTS", "TEX_VOXEL_NORMAL", "TEX_VOXEL_EMISSION", "TEX_VOXEL_FACES"))
-        self.mark_stale_program = programs.compute("gather/mark_stale_anchors.comp", reads=("SSBO_TOUCHED",),
+        self.mark_stale_program = programs.compute("gather/mark_stale_anchors.comp", reads=("SSBO_TOUCHED", "TEX_VOXEL_ALBEDO"),
                                                    writes=("SSBO_GATHER_ANCHORS", "SSBO_STALE_VOXELS"))
         self.find_anchors_program = programs.compute(
             "gather/find_anchors.comp", writes=("SSBO_GATHER_ANCHORS",),
@@ -37,23 +37,25 @@ class GatherPass:
         self.anchors_epoch = None  # the epoch of the covered list self.anchors was found for
         self._storage = GridStorage()
 
-    def _ensure_storage(self, n):
-        """Per voxel of an n^3 grid: its anchor record (lib/gather_anchors.glsl) and the list of
-        voxels whose records to find again; the covered voxels sorted by class and the covered
-        level-1 cells sorted by class (what a ClassIndex points into); the buckets of those
-        counting sorts, and the classes of the voxels in each level-1 cell."""
-        if self._storage.holds(n):
+    def _ensure_storage(self, grid):
+        """Per voxel of the grid (n^3): its anchor record (lib/gather_anchors.glsl); the list of
+        voxels whose records to find again (covered before or after an update: the touched
+        list's room); the covered voxels sorted by class and the covered level-1 cells sorted by
+        class (what a ClassIndex points into); the buckets of those counting sorts, and the
+        classes of the voxels in each level-1 cell."""
+        n = grid.n
+        if self._storage.holds((n, grid.list_room)):
             return
         self._storage.release()
         ctx, voxels, cells = self.ctx, n ** 3, (n >> 1) ** 3
         self.anchors = ctx.buffer(reserve=4 * voxels)
-        self.stale = VoxelList(ctx, voxels)
-        self.class_list = ctx.buffer(reserve=4 * voxels)
+        self.stale = VoxelList(ctx, grid.touched_room)
+        self.class_list = ctx.buffer(reserve=4 * grid.list_room)
         self.class_buckets = ctx.buffer(reserve=4 * CLASS_PARTS * MAX_INTERLEAVE * max(n // CLASS_BLOCK, 1) ** 3 * CLASS_FACINGS)
         self.cell_class_bits = ctx.buffer(reserve=4 * cells)
         self.cells_by_class = ctx.buffer(reserve=4 * cells)
         self.voxel_rows, self.cell_rows = SegmentTable(ctx, MAX_SEGMENT_ROWS), SegmentTable(ctx, MAX_INTERLEAVE + 1)
-        self._storage.hold(n, [self.anchors, self.stale, self.class_list, self.class_buckets, self.cell_class_bits,
+        self._storage.hold((n, grid.list_room), [self.anchors, self.stale, self.class_list, self.class_buckets, self.cell_class_bits,
                                self.cells_by_class, self.voxel_rows, self.cell_rows])
         self.anchors_epoch = None
 
@@ -66,7 +68,7 @@ class GatherPass:
         grouped by block and facing, finding the anchors first where the voxels changed, and
         the covered level-1 cells by class: counting sorts whose prefix sums and segments the
         GPU computes (gather/scan_buckets.comp). Returns the ClassIndex of the sorted lists."""
-        self._ensure_storage(grid.n)
+        self._ensure_storage(grid)
         buckets = max(grid.n // CLASS_BLOCK, 1) ** 3 * CLASS_FACINGS  # per class and part: (block, facing)
         total = interleave * CLASS_PARTS * buckets
         grid.use_surface()

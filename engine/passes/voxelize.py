@@ -8,13 +8,17 @@ An update touches only the voxels of the draws that changed: it flags the voxels
 covered before and cover now, rebuilds just those voxels from every draw that reaches them, and
 leaves the rest as it was. Integer sums make the result the same bits as a full voxelization.
 Afterwards the covered-voxel list and the covered cells of every mip level are brought up to
-date."""
+date. Where the grid's lists had no room for the voxels an update listed, the grid grows its
+lists (made anew, empty) and the whole scene is voxelized into it. Whether they had room is
+read back from the GPU only where the host cannot bound it (engine/voxel_room.py)."""
 import numpy as np
 
 from ..constants import (GL_IMAGE_FORMAT, IMAGE_UNIT, SHADER_ENUMS, STORAGE_BINDING, TEXTURE_UNIT, VOXEL_FACES, VOXEL_SLABS,
                          VOXEL_SUM_CHANNELS)
+from ..changes import VoxelUpdate
 from ..scene_gpu import vertex_extras
 from ..voxel_grid import GridStorage, bind_image
+from ..voxel_room import CoveredBound
 
 
 class VoxelizePass:
@@ -40,6 +44,7 @@ class VoxelizePass:
                                            writes=("SSBO_CELLS", "SSBO_CELL_STAMPS"))
         self.clear_cells = programs.compute("voxelize/clear_cells.comp", reads=("SSBO_CELLS",), writes=("IMG_FACES_OUT",))
         self._scratch = GridStorage()  # the fixed-point sums, front-layer keys, a framebuffer
+        self.room = CoveredBound()     # what is known of the grid's covered count
 
     def _ensure_scratch(self, n):
         """For an n^3 grid's slabs of n / VOXEL_SLABS layers: the sums, one storage buffer per
@@ -64,8 +69,24 @@ class VoxelizePass:
     def update(self, grid, update, draws):
         """Apply a changes.VoxelUpdate to the grid; `draws` are all of the frame's draws.
         Writes the grid's surface volumes, its touched, covered and cell lists (a new epoch),
-        and zeroes the face views and base radiance of the voxels it emptied. Slab after slab
-        (those the update reaches): flag the voxels to rebuild, sum their front layers, resolve."""
+        and zeroes the face views and base radiance of the voxels it emptied; where the lists
+        were short of room, grows them and voxelizes every draw instead."""
+        bound = self.room.needed(grid, update, draws)
+        self._apply(grid, update, draws)
+        if bound is not None and bound <= grid.list_room:  # room enough for certain: nothing read back
+            self.room.voxelized(grid, draws)
+            return
+        needed, covered = grid.list_need()
+        while needed > grid.list_room:
+            grid.grow_lists(needed)
+            self._scratch.release()  # the voxels left off the touched list are still flagged
+            self._apply(grid, VoxelUpdate(True, [], list(draws)), draws)
+            needed, covered = grid.list_need()
+        self.room.voxelized(grid, draws, covered)
+
+    def _apply(self, grid, update, draws):
+        """The update, slab after slab (those it reaches): flag the voxels to rebuild, sum their
+        front layers, resolve."""
         self._ensure_scratch(grid.n)
         grid.touched.clear()
         grid.covered_next.clear()

@@ -4,6 +4,7 @@
 // (none where it reflects no light). Runs when the voxels change: over the voxels whose
 // records were marked stale (gather/mark_stale_anchors.comp), or over every covered voxel.
 #include "lib/gather_anchors.glsl"
+#include "lib/list_append.glsl"
 
 layout(local_size_x = LIST_GROUP) in;
 #include "lib/covered_voxels.glsl"
@@ -12,7 +13,7 @@ uniform bool every_voxel;  // false: the stale voxels
 
 void main() {
     uint k = gl_GlobalInvocationID.x;
-    if (k >= (every_voxel ? covered_count : stale_count)) return;
+    if (k >= (every_voxel ? covered_count : LISTED(stale_count, stale))) return;
     ivec3 v = unpack_voxel(every_voxel ? covered[k] : stale[k]);
     uint record = 0u;
     vec3 n = texelFetch(voxel_normal, v, 0).xyz;

@@ -2,6 +2,7 @@
 // Before a full voxelization over an existing grid: flag every covered voxel of the slab and
 // list it as touched, so the resolve also empties the voxels that no surface covers any more.
 #include "lib/voxel_sums.glsl"
+#include "lib/list_append.glsl"
 
 layout(local_size_x = LIST_GROUP) in;
 #include "lib/covered_voxels.glsl"
@@ -14,5 +15,5 @@ void main() {
     if (!in_slab(v)) return;
     uint i = sum_index(v);
     if ((atomicOr(voxel_sums[SUM_COUNT].value[i], TOUCHED_FLAG) & TOUCHED_FLAG) == 0u)
-        touched[atomicAdd(touched_count, 1u)] = entry;
+        APPEND(touched_count, touched, entry);
 }

@@ -21,6 +21,7 @@
 #include "lib/voxel_sums.glsl"
 #include "lib/material.glsl"
 #include "lib/brdf.glsl"
+#include "lib/list_append.glsl"
 
 #define LAYER_TOLERANCE 0.125  // voxels
 
@@ -71,7 +72,7 @@ void main() {
         if ((voxel_sums[SUM_COUNT].value[i] & TOUCHED_FLAG) == 0u) discard;
     } else {
         uint flags = atomicOr(voxel_sums[SUM_COUNT].value[i], TOUCHED_FLAG);
-        if ((flags & TOUCHED_FLAG) == 0u) touched[atomicAdd(touched_count, 1u)] = pack_voxel(voxel);
+        if ((flags & TOUCHED_FLAG) == 0u) APPEND(touched_count, touched, pack_voxel(voxel));
         if (stage == VOXELIZE_MARK) return;
     }
     vec3 n = normalize(gs_normal);

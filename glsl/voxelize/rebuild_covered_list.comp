@@ -3,6 +3,7 @@
 // voxels left empty get zero radiance (level 0 of the face views and the base radiance), so
 // every empty voxel stays zero without touching the whole grid.
 #include "lib/voxel.glsl"
+#include "lib/list_append.glsl"
 
 layout(local_size_x = LIST_GROUP) in;
 layout(binding = TEX_VOXEL_ALBEDO) uniform sampler3D voxel_albedo;
@@ -16,7 +17,7 @@ void main() {
     uint entry = covered[gl_GlobalInvocationID.x];
     ivec3 v = unpack_voxel(entry);
     if (texelFetch(voxel_albedo, v, 0).a > 0.0) {
-        next_covered[atomicAdd(next_count, 1u)] = entry;
+        APPEND(next_count, next_covered, entry);
         return;
     }
     imageStore(base_out, v, vec4(0.0));

@@ -8,6 +8,7 @@
 // surface covers), and list the voxels that were empty before and are covered now, for the new
 // covered list.
 #include "lib/voxel_sums.glsl"
+#include "lib/list_append.glsl"
 
 layout(local_size_x = LIST_GROUP) in;
 layout(binding = IMG_ALBEDO_OUT, rgba16f) uniform image3D albedo_out;
@@ -28,7 +29,7 @@ float emission_sum(uint low_channel, uint carry_channel, uint i) {
 }
 
 void main() {
-    if (gl_GlobalInvocationID.x >= touched_count) return;
+    if (gl_GlobalInvocationID.x >= LISTED(touched_count, touched)) return;
     ivec3 v = unpack_voxel(touched[gl_GlobalInvocationID.x]);
     if (!in_slab(v)) return;  // resolved with its own slab
     uint i = sum_index(v);
@@ -57,7 +58,7 @@ void main() {
         imageStore(normal_out, v, vec4(normal, 1.0));
         imageStore(emission_out, v, vec4(emission, surface_offset));
         imageStore(cone_emission_out, v, vec4(emission, 1.0));
-        if (!was_covered) next_covered[atomicAdd(next_count, 1u)] = pack_voxel(v);
+        if (!was_covered) APPEND(next_count, next_covered, pack_voxel(v));
     }
     for (int channel = 0; channel < VOXEL_SUM_CHANNELS; ++channel) voxel_sums[channel].value[i] = 0u;
     for (int f = 0; f < VOXEL_FACES; ++f) {
