@@ -51,16 +51,14 @@ IMAGE_UNIT = {
     "CONE_EMISSION_OUT": 4,
     "EMITTER_IRRADIANCE_OUT": 5,
     "SKY_IRRADIANCE_OUT": 5,     # the sky's light pass binds no other image at 5
-    "FRONT": 3,             # the voxelizer's front-layer keys, per voxel and facing direction
     "INSPECT_OUT": 0,
     "IMAGE_OUT": 0,         # a screen target a compute pass adds to
     "SPECULAR_IN": 1,       # the specular cones' incoming radiance at the anchor pixels (half resolution)
     "DIFFUSE_IN": 2,        # the diffuse cones' gather at the anchor pixels that traced them (a = 1; half resolution)
 }
 
-# Per-voxel fixed-point sums the voxelizer accumulates with atomics: one storage block per
-# channel (channel-major, one uint per voxel), so a 256^3 channel (64 MiB) stays under the
-# smallest allowed storage-block size. Normal and offset sums are signed (two's complement).
+# Per-voxel fixed-point sums the voxelizer accumulates with atomics, a record of these channels
+# per touched voxel (lib/voxel_sums.glsl). Normal and offset sums are signed (two's complement).
 # Emission is summed in 64 bits: the low word, and a carry word incremented on overflow.
 VOXEL_SUM_CHANNELS = ("COUNT", "ALBEDO_R", "ALBEDO_G", "ALBEDO_B", "NORMAL_X", "NORMAL_Y", "NORMAL_Z", "OFFSET",
                       "EMISSION_R", "EMISSION_G", "EMISSION_B", "EMISSION_CARRY_R", "EMISSION_CARRY_G",
@@ -68,7 +66,9 @@ VOXEL_SUM_CHANNELS = ("COUNT", "ALBEDO_R", "ALBEDO_G", "ALBEDO_B", "NORMAL_X", "
 
 # Shader storage buffer bindings.
 STORAGE_BINDING = {
-    "VOXEL_SUMS": 0,        # len(VOXEL_SUM_CHANNELS) consecutive bindings
+    "VOXEL_SUMS": 0,        # the voxelizer's sums of the touched voxels, a record per slot (lib/voxel_sums.glsl)
+    "FRONT_KEYS": 1,        # their front-layer keys, per slot and facing direction
+    "VOXEL_SLOTS": 2,       # per voxel: its place on the touched list + 1 while an update runs
     "TOUCHED": 14,          # voxels the current voxelization touched (count, then packed coordinates)
     "COVERED": 15,          # voxels holding surface
     "COVERED_NEXT": 16,     # the covered list being rebuilt
@@ -166,9 +166,6 @@ CLASS_FACINGS = 7
 # A class's two parts: the voxels that trace the gather (anchors), then those that take it
 # from them (glsl/lib/gather_anchors.glsl).
 CLASS_PARTS = 2
-# The voxelizer sums one slab of N / VOXEL_SLABS layers of the grid at a time (its sums and
-# front-layer keys are a slab's: half the grid's); a change that spans fewer layers is one slab.
-VOXEL_SLABS = 2
 # The rows a bucket scan writes at most (gather/scan_buckets.comp: 1 + 3 per class), and its
 # workgroup's size.
 MAX_SEGMENT_ROWS = 1 + 3 * MAX_INTERLEAVE
@@ -264,10 +261,8 @@ SHADER_ENUMS = {
 
 # Voxel coordinates packed into one uint for the voxel lists: x | y << 10 | z << 20 (N <= 1024).
 VOXEL_PACK_BITS = 10
-# The voxelizer's fragment count per voxel (lib/voxel_sums.glsl) carries a flag in its top bit:
-# the voxel was touched by the voxelization under way.
-TOUCHED_FLAG = 0x80000000
-COUNT_MASK = 0x7FFFFFFF
+# A voxel an update touched when the touched list had no room left (lib/voxel_sums.glsl).
+UNLISTED_VOXEL = 0xFFFFFFFF
 # A voxel's gather-anchor record (lib/gather_anchors.glsl): ANCHOR_SELF where it traces its own
 # gather, ANCHOR_STALE where a voxelization touched it; else a bit per anchor neighbour (0..25).
 ANCHOR_SELF = 1 << 26
@@ -320,8 +315,7 @@ def glsl_header():
         f"#define VOXEL_MAX_EMISSION {VOXEL_MAX_EMISSION:.1f}",
         "#define PI 3.14159265358979",
         f"#define VOXEL_PACK_BITS {VOXEL_PACK_BITS}",
-        f"#define TOUCHED_FLAG {TOUCHED_FLAG:#x}u",
-        f"#define COUNT_MASK {COUNT_MASK:#x}u",
+        f"#define UNLISTED_VOXEL {UNLISTED_VOXEL:#x}u",
         f"#define ANCHOR_SELF {ANCHOR_SELF:#x}u",
         f"#define ANCHOR_STALE {ANCHOR_STALE:#x}u",
         f"#define MIN_ANCHOR_WEIGHT {MIN_ANCHOR_WEIGHT}",

@@ -31,7 +31,7 @@ import moderngl
 import numpy as np
 
 from .constants import (GL_IMAGE_FORMAT, GRID_SIZES, IMAGE_UNIT, LIST_GROUP, STORAGE_BINDING, TEXTURE_UNIT, VOLUME_GROUP, VOXEL_FACES,
-                        VOXEL_FORMAT, VOXEL_MEMORY_BUDGET, VOXEL_PACK_BITS, VOXEL_SLABS, VOXEL_SUM_CHANNELS)
+                        VOXEL_FORMAT, VOXEL_MEMORY_BUDGET, VOXEL_PACK_BITS, VOXEL_SUM_CHANNELS)
 from .errors import VctError
 from .voxel_lists import SEGMENT, CellLists, Epoch, VoxelList
 
@@ -42,25 +42,34 @@ MIP_CHAIN = 8 / 7  # a full mip chain adds a seventh
 # that moving one reads nothing back.
 NEW_GRID_ROOM = 16
 LIST_HEADROOM = 5 / 4  # a grown list's room over what it needed
+# The voxels of the touched list the voxelizer's sums hold at once (a chunk), per n^2: a full
+# voxelization of a closed box (6.5 n^2) is one chunk.
+SUM_ROOM = 8
 
 
 def voxel_memory_bytes(n):
     """GPU bytes a grid of n^3 may need, the passes' storage sized by it included: the
-    voxelizer's sums of a slab, the volumes (surface, radiance, faces with mips; the emitters'
+    voxelizer's sums of a chunk and the voxels' slots, the volumes (surface, radiance, faces with mips; the emitters'
     and the sky's light and every inspection mip chain, as a scene may have) and the lists."""
     voxels = n ** 3
-    sums = (4 * len(VOXEL_SUM_CHANNELS) + 4 * VOXEL_FACES) / VOXEL_SLABS  # and the front-layer keys, of one slab
+    slots = 4
     surface = TEXEL_BYTES * (3 * MIP_CHAIN + 1)              # albedo, normal (viewable), cone emission; emission
     radiance = TEXEL_BYTES * (MIP_CHAIN + 5)                 # base (viewable), two gathers, emitters' and sky irradiance (2)
     faces = TEXEL_BYTES * VOXEL_FACES * MIP_CHAIN
     lists = 4 + 2 * 4 / 7 + 2 * 4 / 8                        # anchors; cells, stamps; level-1 cells' classes, cells by class
     listed = 4 * 7 * new_grid_room(n)                         # touched x2, covered x2, stale x2, classes
-    return int(voxels * (sums + surface + radiance + faces + lists) + listed)
+    sums = 4 * (len(VOXEL_SUM_CHANNELS) + VOXEL_FACES) * sum_room(n)  # and the front-layer keys
+    return int(voxels * (slots + surface + radiance + faces + lists) + listed + sums)
 
 
 def new_grid_room(n):
     """The list room of a new n^3 grid (VoxelGrid.list_room)."""
     return min(NEW_GRID_ROOM * n * n, n ** 3)
+
+
+def sum_room(n):
+    """The voxels of the touched list the voxelizer's sums of an n^3 grid hold at once."""
+    return min(SUM_ROOM * n * n, n ** 3)
 
 
 def list_room(needed, n):

@@ -9,6 +9,8 @@ update lie in those covered when they were last counted by the draws that have n
 since, or in those the changed draws cover now: at most the count plus the changed draws'
 bounds. An update lists as touched the voxels its removed draws covered and its added draws
 cover: at most their bounds."""
+from dataclasses import dataclass
+
 import numpy as np
 
 from . import transforms
@@ -31,6 +33,17 @@ def fragment_bound(draw, lo, voxel_size, n):
     return int(min(projections.max(axis=1).sum(), np.prod(box)))
 
 
+@dataclass(frozen=True)
+class ListBound:
+    """At most how many voxels an update leaves covered and how many it touches."""
+    covered: int
+    touched: int
+
+    def needed(self):
+        """The list room (in covered voxels) that holds them: the touched list has twice it."""
+        return max(self.covered, -(-self.touched // 2))
+
+
 class CoveredBound:
     """What is known of a grid's covered count: the count last read back, the draws it was
     read for, and the epoch of the covered list the voxelizer left after it (an epoch that is
@@ -42,16 +55,14 @@ class CoveredBound:
         self.draws = {}
         self._bounds = {}  # (positions, indices, world, grid) -> (positions, indices, bound)
 
-    def needed(self, grid, update, draws):
-        """At most how many covered voxels the grid's lists need room for after `update`
-        (a changes.VoxelUpdate to `draws`): the covered voxels, or half the touched ones (the
-        touched list has twice the room); None where nothing is known."""
+    def bound(self, grid, update, draws):
+        """The ListBound of `update` (a changes.VoxelUpdate to `draws`) to the grid; None
+        where nothing is known."""
         if update.full or self.epoch is not grid.epoch:
             return None
         changed = [d for d in draws if self.draws.get(d.key) != d]
-        covered = self.covered + sum(self._bound(d, grid) for d in changed)
-        touched = sum(self._bound(d, grid) for d in update.removed + update.added)
-        return max(covered, -(-touched // 2))
+        return ListBound(covered=self.covered + sum(self._bound(d, grid) for d in changed),
+                         touched=sum(self._bound(d, grid) for d in update.removed + update.added))
 
     def _bound(self, draw, grid):
         positions, indices = draw.mesh_arrays[0], draw.mesh_arrays[2]

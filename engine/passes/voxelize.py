@@ -13,11 +13,10 @@ lists (made anew, empty) and the whole scene is voxelized into it. Whether they 
 read back from the GPU only where the host cannot bound it (engine/voxel_room.py)."""
 import numpy as np
 
-from ..constants import (GL_IMAGE_FORMAT, IMAGE_UNIT, SHADER_ENUMS, STORAGE_BINDING, TEXTURE_UNIT, VOXEL_FACES, VOXEL_SLABS,
-                         VOXEL_SUM_CHANNELS)
+from ..constants import IMAGE_UNIT, SHADER_ENUMS, STORAGE_BINDING, TEXTURE_UNIT, VOXEL_FACES, VOXEL_SUM_CHANNELS
 from ..changes import VoxelUpdate
 from ..scene_gpu import vertex_extras
-from ..voxel_grid import GridStorage, bind_image
+from ..voxel_grid import GridStorage, bind_image, sum_room
 from ..voxel_room import CoveredBound
 
 
@@ -30,52 +29,52 @@ class VoxelizePass:
         self.programs = {extras: programs.program({"VERTEX_EXTRAS": 1} if extras else None, vertex_shader="voxelize/rasterize.vert",
                                                   geometry_shader="voxelize/rasterize.geom", fragment_shader="voxelize/rasterize.frag",
                                                   reads=("TEX_BASE_COLOR_MAP", "TEX_METAL_ROUGH_MAP", "TEX_EMISSIVE_MAP"),
-                                                  writes=("SSBO_VOXEL_SUMS", "IMG_FRONT", "SSBO_TOUCHED"))
+                                                  writes=("SSBO_VOXEL_SUMS", "SSBO_FRONT_KEYS", "SSBO_VOXEL_SLOTS", "SSBO_TOUCHED"))
                          for extras in (False, True)}
         self.mark_covered = programs.compute("voxelize/mark_covered.comp", reads=("SSBO_COVERED",),
-                                             writes=("SSBO_TOUCHED", "SSBO_VOXEL_SUMS"))
+                                             writes=("SSBO_TOUCHED", "SSBO_VOXEL_SLOTS"))
         self.resolve = programs.compute(
             "voxelize/resolve_sums.comp", reads=("SSBO_TOUCHED",),
-            writes=("SSBO_VOXEL_SUMS", "IMG_FRONT", "IMG_ALBEDO_OUT", "IMG_NORMAL_OUT", "IMG_EMISSION_OUT", "IMG_CONE_EMISSION_OUT",
+            writes=("SSBO_VOXEL_SUMS", "SSBO_FRONT_KEYS", "SSBO_VOXEL_SLOTS", "IMG_ALBEDO_OUT", "IMG_NORMAL_OUT", "IMG_EMISSION_OUT", "IMG_CONE_EMISSION_OUT",
                     "IMG_TOUCHED_FACES_OUT", "SSBO_COVERED_NEXT"))
         self.rebuild_covered = programs.compute("voxelize/rebuild_covered_list.comp", reads=("SSBO_COVERED", "TEX_VOXEL_ALBEDO"),
                                                 writes=("SSBO_COVERED_NEXT", "IMG_BASE_OUT", "IMG_FACES_OUT"))
         self.list_cells = programs.compute("voxelize/list_cells.comp", reads=("SSBO_COVERED",),
                                            writes=("SSBO_CELLS", "SSBO_CELL_STAMPS"))
         self.clear_cells = programs.compute("voxelize/clear_cells.comp", reads=("SSBO_CELLS",), writes=("IMG_FACES_OUT",))
-        self._scratch = GridStorage()  # the fixed-point sums, front-layer keys, a framebuffer
+        self._scratch = GridStorage()  # the fixed-point sums, front-layer keys, voxel slots, a framebuffer
         self.room = CoveredBound()     # what is known of the grid's covered count
 
     def _ensure_scratch(self, n):
-        """For an n^3 grid's slabs of n / VOXEL_SLABS layers: the sums, one storage buffer per
-        channel (lib/voxel_sums.glsl), and the front-layer keys, per voxel and facing direction
-        (stacked like the face views): zero, and zero again after each slab's resolve
+        """For an n^3 grid: the sums of a chunk of the touched list (sum_room voxels, a record
+        of VOXEL_SUM_CHANNELS each) and their front-layer keys (VOXEL_FACES each), and the slot
+        of every voxel (lib/voxel_sums.glsl): zero, and zero again after each chunk's resolve
         (voxelize/resolve_sums.comp)."""
         if self._scratch.holds(n):
             return
         self._scratch.release()
-        ctx, depth = self.ctx, n // VOXEL_SLABS
-        voxels = n * n * depth
-        self.sums = [ctx.buffer(data=bytes(4 * voxels)) for _ in VOXEL_SUM_CHANNELS]
-        self.front = ctx.texture3d((n, n, VOXEL_FACES * depth), 1, data=bytes(4 * VOXEL_FACES * voxels), dtype="u4")
+        ctx, room = self.ctx, sum_room(n)
+        self.sums = ctx.buffer(data=bytes(4 * len(VOXEL_SUM_CHANNELS) * room))
+        self.front_keys = ctx.buffer(data=bytes(4 * VOXEL_FACES * room))
+        self.slots = ctx.buffer(data=bytes(4 * n ** 3))
         self.framebuffer = ctx.empty_framebuffer((n, n))
-        self._scratch.hold(n, [*self.sums, self.front, self.framebuffer])
+        self._scratch.hold(n, [self.sums, self.front_keys, self.slots, self.framebuffer])
 
-    def _bind_sums(self):
-        for channel, buffer in enumerate(self.sums):
-            buffer.bind_to_storage_buffer(STORAGE_BINDING["VOXEL_SUMS"] + channel)
-        self.front.bind_to_image(IMAGE_UNIT["FRONT"], read=True, write=True, format=GL_IMAGE_FORMAT["r32ui"])
+    def _bind_scratch(self):
+        for name, buffer in (("VOXEL_SUMS", self.sums), ("FRONT_KEYS", self.front_keys), ("VOXEL_SLOTS", self.slots)):
+            buffer.bind_to_storage_buffer(STORAGE_BINDING[name])
 
     def update(self, grid, update, draws):
         """Apply a changes.VoxelUpdate to the grid; `draws` are all of the frame's draws.
         Writes the grid's surface volumes, its touched, covered and cell lists (a new epoch),
         and zeroes the face views and base radiance of the voxels it emptied; where the lists
         were short of room, grows them and voxelizes every draw instead."""
-        bound = self.room.needed(grid, update, draws)
-        self._apply(grid, update, draws)
-        if bound is not None and bound <= grid.list_room:  # room enough for certain: nothing read back
+        bound = self.room.bound(grid, update, draws)
+        if bound is not None and bound.needed() <= grid.list_room:  # room enough for certain: nothing read back
+            self._apply(grid, update, draws, bound.touched)
             self.room.voxelized(grid, draws)
             return
+        self._apply(grid, update, draws)
         needed, covered = grid.list_need()
         while needed > grid.list_room:
             grid.grow_lists(needed)
@@ -84,66 +83,53 @@ class VoxelizePass:
             needed, covered = grid.list_need()
         self.room.voxelized(grid, draws, covered)
 
-    def _apply(self, grid, update, draws):
-        """The update, slab after slab (those it reaches): flag the voxels to rebuild, sum their
-        front layers, resolve."""
+    def _apply(self, grid, update, draws, touched=None):
+        """The update: flag and list the voxels to rebuild, then chunk after chunk of them sum
+        their front layers and resolve. `touched`: at most how many voxels it touches, where the
+        host knows (else the count is read back)."""
         self._ensure_scratch(grid.n)
         grid.touched.clear()
         grid.covered_next.clear()
-        self._bind_sums()
+        self._bind_scratch()
         grid.touched.bind("TOUCHED")
         if update.full:
-            box, reaching = grid.bounds(), update.added
+            box, marked = grid.bounds(), update.added
+            grid.covered.bind("COVERED")
+            self.mark_covered.set(**grid.uniforms())
+            grid.dispatch(self.mark_covered, grid.covered.segment())
         else:
-            box = update.touched_bounds(margin=grid.voxel_size)
-            reaching = [d for d in draws if np.all(d.bounds[0] <= box[1]) and np.all(d.bounds[1] >= box[0])]
-        for slab_first, slab_box in self._slabs(grid, box):
-            slab = dict(slab_first=slab_first, slab_depth=grid.n // VOXEL_SLABS)
-            if update.full:
-                grid.covered.bind("COVERED")
-                self.mark_covered.set(**grid.uniforms(), **slab)
-                grid.dispatch(self.mark_covered, grid.covered.segment())
-                self._rasterize(grid, reaching, "front", False, slab_box, slab)
-            else:
-                self._rasterize(grid, update.removed + update.added, "mark", False, slab_box, slab)
-                self._rasterize(grid, reaching, "front", True, slab_box, slab)
-            self._rasterize(grid, reaching, "add", True, slab_box, slab)
-            grid.size_list(grid.touched)
-            self._resolve(grid, slab)
+            box, marked = update.touched_bounds(margin=grid.voxel_size), update.removed + update.added
+        reaching = [d for d in draws if np.all(d.bounds[0] <= box[1]) and np.all(d.bounds[1] >= box[0])]
+        self._rasterize(grid, marked, "mark", box, 0)
+        grid.size_list(grid.touched)
+        listed = min(grid.touched.read_count() if touched is None else touched, grid.touched_room)
+        for chunk_first in range(0, max(listed, 1), sum_room(grid.n)):
+            self._rasterize(grid, reaching, "front", box, chunk_first)
+            self._rasterize(grid, reaching, "add", box, chunk_first)
+            self._resolve(grid, chunk_first)
         self._relist_covered(grid)
 
-    def _slabs(self, grid, box):
-        """(first layer, world box) of each slab that together hold the layers the world `box`
-        reaches, from its first layer on; the slab's box grown by two voxels, which the
-        voxelizer's dilation may reach past a triangle, for culling."""
-        depth, (lo, hi), size = grid.n // VOXEL_SLABS, grid.bounds(), grid.voxel_size
-        first = int(np.clip(np.floor((box[0][2] - lo[2]) / size), 0, grid.n - 1))
-        last = int(np.clip(np.floor((box[1][2] - lo[2]) / size), first, grid.n - 1))
-        for slab_first in range(first, last + 1, depth):
-            z0, z1 = lo[2] + slab_first * size, lo[2] + (slab_first + depth) * size
-            yield slab_first, (np.maximum(box[0], [lo[0], lo[1], z0 - 2 * size]), np.minimum(box[1], [hi[0], hi[1], z1 + 2 * size]))
-
-    def _rasterize(self, grid, draws, stage, touched_only, box, slab):
+    def _rasterize(self, grid, draws, stage, box, chunk_first):
         """Rasterize the parts of `draws` inside the world `box` in one of the fragment stages,
-        into the sums of the slab `slab` (its slab_first and slab_depth)."""
+        into the sums of the chunk of the touched list from `chunk_first`."""
         self.framebuffer.use()
         self.ctx.viewport = (0, 0, grid.n, grid.n)
         self.ctx.disable(self.ctx.DEPTH_TEST | self.ctx.CULL_FACE | self.ctx.BLEND)
         for extras, program in self.programs.items():
             subset = [draw for draw in draws if vertex_extras(draw) == extras]
             if subset:
-                program.set(**grid.uniforms(), **slab, stage=SHADER_ENUMS["VOXELIZE"][stage], touched_only=touched_only)
+                program.set(**grid.uniforms(), stage=SHADER_ENUMS["VOXELIZE"][stage], chunk_first=chunk_first)
                 self.geometry.draw(program, subset, materials=True, box=box)
         self.ctx.memory_barrier(self.ctx.SHADER_STORAGE_BARRIER_BIT | self.ctx.SHADER_IMAGE_ACCESS_BARRIER_BIT)
 
-    def _resolve(self, grid, slab):
-        """Resolve the sums of the voxels of the slab `slab` the update touched into the surface
+    def _resolve(self, grid, chunk_first):
+        """Resolve the sums of the chunk of touched voxels from `chunk_first` into the surface
         volumes."""
         grid.covered_next.bind("COVERED_NEXT")
         for unit, volume in (("ALBEDO_OUT", grid.albedo), ("NORMAL_OUT", grid.normal), ("EMISSION_OUT", grid.emission),
                              ("CONE_EMISSION_OUT", grid.cone_emission), ("TOUCHED_FACES_OUT", grid.faces)):
             bind_image(volume, IMAGE_UNIT[unit], read=unit == "ALBEDO_OUT")
-        self.resolve.set(**grid.uniforms(), **slab)
+        self.resolve.set(**grid.uniforms(), chunk_first=chunk_first)
         grid.dispatch(self.resolve, grid.touched.segment())
 
     def _relist_covered(self, grid):

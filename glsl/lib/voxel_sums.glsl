@@ -1,25 +1,36 @@
-// The voxelizer's per-voxel fixed-point sums (engine/constants.py VOXEL_SUM_CHANNELS): one
-// storage block per channel, one uint per voxel of the slab being voxelized (the grid's layers
-// slab_first .. slab_first + slab_depth - 1 along z), and the front-layer keys of those voxels.
-// Integer sums make the average of a voxel's fragments independent of their order, so a voxel
-// resolves to the same bits however often and in whatever order it is rebuilt. The top bit of
-// the count marks the voxels the current update touched.
-#include "lib/voxel.glsl"
+// The voxelizer's fixed-point sums (engine/constants.py VOXEL_SUM_CHANNELS) and front-layer
+// keys (one per facing direction) of the voxels an update touched, a record per voxel at its
+// slot (lib/voxel_slots.glsl). The sums have room for a chunk of the touched list (sum_room);
+// an update touching more voxels sums them chunk after chunk. Integer sums make the average of
+// a voxel's fragments independent of their order, so a voxel resolves to the same bits however
+// often and in whatever order it is rebuilt.
+#include "lib/voxel_slots.glsl"
 
-layout(std430, binding = SSBO_VOXEL_SUMS) buffer VoxelSum { uint value[]; } voxel_sums[VOXEL_SUM_CHANNELS];
-uniform int slab_first;
-uniform int slab_depth;
+layout(std430, binding = SSBO_VOXEL_SUMS) buffer VoxelSums { uint voxel_sums[]; };  // VOXEL_SUM_CHANNELS per slot
+layout(std430, binding = SSBO_FRONT_KEYS) buffer FrontKeys { uint front_keys[]; };  // VOXEL_FACES per slot
+uniform uint chunk_first;
 
-bool in_slab(ivec3 v) {
-    return v.z >= slab_first && v.z < slab_first + slab_depth;
+uint sum_room() {
+    return uint(voxel_sums.length()) / uint(VOXEL_SUM_CHANNELS);
 }
 
-// Index of voxel v (in the slab) in the sums.
-uint sum_index(ivec3 v) {
-    return grid_index(v - ivec3(0, 0, slab_first), voxel_grid);
+// The slot of a place on the touched list in this chunk's sums; -1 where it lies in another.
+int chunk_slot(uint place) {
+    uint slot = place - chunk_first;  // wraps past sum_room() below chunk_first
+    return slot < sum_room() ? int(slot) : -1;
 }
 
-// Texel of voxel v's front-layer key for `face` in the slab's keys (stacked like the face views).
-ivec3 front_texel(ivec3 v, int face) {
-    return face_texel(v - ivec3(0, 0, slab_first), face, slab_depth);
+// The slot of voxel v's sums in this chunk; -1 where the update did not touch it (or it lies
+// in another chunk, or off the touched list).
+int sum_slot(ivec3 v) {
+    uint place = voxel_slots[voxel_index(v)];
+    return place == 0u || place == UNLISTED_VOXEL ? -1 : chunk_slot(place - 1u);
+}
+
+uint sum_entry(int slot, int channel) {
+    return uint(slot) * uint(VOXEL_SUM_CHANNELS) + uint(channel);
+}
+
+uint key_entry(int slot, int face) {
+    return uint(slot) * uint(VOXEL_FACES) + uint(face);
 }

@@ -12,16 +12,14 @@
 // (atomicMax, order-independent), VOXELIZE_ADD adds the fragments within LAYER_TOLERANCE of it
 // (a plane has one offset in a voxel; a curved surface, about one).
 //
-// Stages: VOXELIZE_MARK flags (and lists as touched) the voxels the changed objects of a
-// partial update cover, before and after the change; VOXELIZE_FRONT, then VOXELIZE_ADD, over
-// every object reaching them, restricted to flagged voxels (`touched_only`), or over the whole
-// scene for a full voxelization, where VOXELIZE_FRONT flags and lists. Each runs over one slab
-// of the grid at a time (lib/voxel_sums.glsl).
+// Stages: VOXELIZE_MARK flags and lists as touched the voxels the changed objects cover (a
+// partial update's before and after the change; every object for a full voxelization);
+// VOXELIZE_FRONT, then VOXELIZE_ADD, over every object reaching them, at the touched voxels of
+// the chunk being summed (lib/voxel_sums.glsl).
 #include "lib/voxel.glsl"
 #include "lib/voxel_sums.glsl"
 #include "lib/material.glsl"
 #include "lib/brdf.glsl"
-#include "lib/list_append.glsl"
 
 #define LAYER_TOLERANCE 0.125  // voxels
 
@@ -37,9 +35,6 @@ const vec2 gs_texcoord1 = vec2(0.0);
 #endif
 flat in vec4 gs_pixel_bounds;
 uniform int stage;
-uniform bool touched_only;
-layout(std430, binding = SSBO_TOUCHED) buffer TouchedVoxels { uint touched_count; uint touched[]; };
-layout(binding = IMG_FRONT, r32ui) uniform coherent uimage3D front;  // per voxel and facing: the front layer's key
 
 // The offset of a surface along its normal from the voxel centre, in voxels, as an ordered key.
 uint layer_key(float offset) {
@@ -51,53 +46,55 @@ uint unit_fixed(float x) {  // two's complement of round(x * VOXEL_UNIT_SCALE), 
 }
 
 // Adds emission to a 64-bit sum: the low word, and its carry word when the low word wraps.
-void add_emission(uint i, uint low_channel, uint carry_channel, float radiance) {
+void add_emission(int slot, int low_channel, int carry_channel, float radiance) {
     uint x = uint(clamp(radiance, 0.0, VOXEL_MAX_EMISSION) * VOXEL_EMISSION_SCALE + 0.5);
     if (x == 0u) return;
-    uint before = atomicAdd(voxel_sums[low_channel].value[i], x);
-    if (before + x < before) atomicAdd(voxel_sums[carry_channel].value[i], 1u);
+    uint before = atomicAdd(voxel_sums[sum_entry(slot, low_channel)], x);
+    if (before + x < before) atomicAdd(voxel_sums[sum_entry(slot, carry_channel)], 1u);
 }
 
 void main() {
-    MaterialSample m = sample_material(gs_texcoord, gs_texcoord1, gs_color);  // before any discard: derivatives need the neighbours
-    if (cut_out(m.alpha)) discard;
+    // Marking needs the material only where it cuts out (uniform control flow: the derivatives
+    // of the lookups before any discard still have their neighbours).
+    MaterialSample m;
+    if (stage != VOXELIZE_MARK || alpha_cutoff >= 0.0) {
+        m = sample_material(gs_texcoord, gs_texcoord1, gs_color);
+        if (cut_out(m.alpha)) discard;
+    }
     // Dilation grows the triangle at acute corners; clip it to its own bounding box.
     vec2 pixel = gl_FragCoord.xy;
     if (any(lessThan(pixel, gs_pixel_bounds.xy)) || any(greaterThan(pixel, gs_pixel_bounds.zw))) discard;
     ivec3 voxel = ivec3(floor(voxel_uvw(gs_position) * float(voxel_grid)));
-    if (any(lessThan(voxel, ivec3(0))) || any(greaterThanEqual(voxel, ivec3(voxel_grid))) || !in_slab(voxel)) discard;
-    uint i = sum_index(voxel);
-
-    if (touched_only) {
-        if ((voxel_sums[SUM_COUNT].value[i] & TOUCHED_FLAG) == 0u) discard;
-    } else {
-        uint flags = atomicOr(voxel_sums[SUM_COUNT].value[i], TOUCHED_FLAG);
-        if ((flags & TOUCHED_FLAG) == 0u) APPEND(touched_count, touched, pack_voxel(voxel));
-        if (stage == VOXELIZE_MARK) return;
-    }
-    vec3 n = normalize(gs_normal);
-    float offset = dot(gs_position - voxel_center(voxel), n) / voxel_size;  // in [-0.87, 0.87]
-    ivec3 key_texel = front_texel(voxel, facing_face(n));
-    if (stage == VOXELIZE_FRONT) {
-        imageAtomicMax(front, key_texel, layer_key(offset));
+    if (any(lessThan(voxel, ivec3(0))) || any(greaterThanEqual(voxel, ivec3(voxel_grid)))) discard;
+    if (stage == VOXELIZE_MARK) {
+        touch_voxel(voxel);
         return;
     }
-    if (layer_key(offset + LAYER_TOLERANCE) < imageLoad(front, key_texel).r) return;  // behind the front layer
+    int slot = sum_slot(voxel);
+    if (slot < 0) discard;
+    vec3 n = normalize(gs_normal);
+    float offset = dot(gs_position - voxel_center(voxel), n) / voxel_size;  // in [-0.87, 0.87]
+    uint key = key_entry(slot, facing_face(n));
+    if (stage == VOXELIZE_FRONT) {
+        atomicMax(front_keys[key], layer_key(offset));
+        return;
+    }
+    if (layer_key(offset + LAYER_TOLERANCE) < front_keys[key]) return;  // behind the front layer
 
-    uint earlier_fragments = atomicAdd(voxel_sums[SUM_COUNT].value[i], 1u) & COUNT_MASK;
+    uint earlier_fragments = atomicAdd(voxel_sums[sum_entry(slot, SUM_COUNT)], 1u);
     if (earlier_fragments >= VOXEL_MAX_FRAGMENTS) return;  // headroom of the signed sums
     // A voxel keeps no direction, so what the specular layer reflects bounces on as a Lambertian
     // lobe: the reflectance is the layered model's hemispherical albedo (a gold sphere passes its
     // light on instead of absorbing it).
     vec3 reflectance = layered_albedo(m.albedo, m.roughness, m.metalness, dielectric_f0);
-    atomicAdd(voxel_sums[SUM_ALBEDO_R].value[i], unit_fixed(reflectance.r));
-    atomicAdd(voxel_sums[SUM_ALBEDO_G].value[i], unit_fixed(reflectance.g));
-    atomicAdd(voxel_sums[SUM_ALBEDO_B].value[i], unit_fixed(reflectance.b));
-    atomicAdd(voxel_sums[SUM_NORMAL_X].value[i], unit_fixed(n.x));
-    atomicAdd(voxel_sums[SUM_NORMAL_Y].value[i], unit_fixed(n.y));
-    atomicAdd(voxel_sums[SUM_NORMAL_Z].value[i], unit_fixed(n.z));
-    atomicAdd(voxel_sums[SUM_OFFSET].value[i], unit_fixed(offset));
-    add_emission(i, SUM_EMISSION_R, SUM_EMISSION_CARRY_R, m.emission.r);
-    add_emission(i, SUM_EMISSION_G, SUM_EMISSION_CARRY_G, m.emission.g);
-    add_emission(i, SUM_EMISSION_B, SUM_EMISSION_CARRY_B, m.emission.b);
+    atomicAdd(voxel_sums[sum_entry(slot, SUM_ALBEDO_R)], unit_fixed(reflectance.r));
+    atomicAdd(voxel_sums[sum_entry(slot, SUM_ALBEDO_G)], unit_fixed(reflectance.g));
+    atomicAdd(voxel_sums[sum_entry(slot, SUM_ALBEDO_B)], unit_fixed(reflectance.b));
+    atomicAdd(voxel_sums[sum_entry(slot, SUM_NORMAL_X)], unit_fixed(n.x));
+    atomicAdd(voxel_sums[sum_entry(slot, SUM_NORMAL_Y)], unit_fixed(n.y));
+    atomicAdd(voxel_sums[sum_entry(slot, SUM_NORMAL_Z)], unit_fixed(n.z));
+    atomicAdd(voxel_sums[sum_entry(slot, SUM_OFFSET)], unit_fixed(offset));
+    add_emission(slot, SUM_EMISSION_R, SUM_EMISSION_CARRY_R, m.emission.r);
+    add_emission(slot, SUM_EMISSION_G, SUM_EMISSION_CARRY_G, m.emission.g);
+    add_emission(slot, SUM_EMISSION_B, SUM_EMISSION_CARRY_B, m.emission.b);
 }
