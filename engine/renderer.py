@@ -353,6 +353,9 @@ class Renderer:
         stage = self.stages["voxels"]
         if self.grid.ensure(s.grid, frame.region, source):
             stage.forget()
+        if self.grid.hold_cone_emission(emitters.count > 0):  # the first emitter of a grid holding voxels
+            with self.timed("voxelize"):
+                self.voxelize.fill_cone_emission(self.grid)
         inputs = dict(grid=s.grid, region=_bytes((frame.region.center, frame.region.size)), draws=tuple(frame.draws))
         if stage.changed(inputs, self.track_changes):
             held = stage.last("draws") if self.track_changes else None

@@ -6,7 +6,8 @@ at each rebuild (`replace_covered`).
 
 Volumes (n^3 RGBA16F, made for one size and region by `ensure`):
 - the resolved surface of each voxel: `albedo`, mean `normal`, `emission` (a: the surface
-  offset), and `cone_emission` (emission, a = 1 where covered) with a mip chain: the emission
+  offset), and, where surfaces emit, `cone_emission` (emission, a = 1 where covered) with a
+  mip chain: the emission
   the specular cones see;
 - the light arriving at each voxel's surface: `emitter_irradiance`, the emitters' shadowed
   irradiance (a: the fraction of it that arrives); `sky_irradiance`, the environment's through
@@ -125,9 +126,13 @@ class VoxelGrid:
         return max(covered, -(-self.touched.read_count() // 2)), covered
 
     def grow_lists(self, needed):
-        """Make the grid anew, empty, with list room for `needed` covered voxels (list_room)."""
+        """Make the grid anew, empty, with list room for `needed` covered voxels (list_room),
+        holding a cone emission volume if it held one (the voxelization that follows fills it;
+        the light volumes are made again with their light: hold_light_volumes)."""
+        emits = self.cone_emission is not None
         self._release_resources()
         self._allocate(self.n, list_room(needed, self.n))
+        self.hold_cone_emission(emits)
 
     def _allocate(self, n, room):
         ctx = self.ctx
@@ -135,7 +140,7 @@ class VoxelGrid:
         self._mipmapped = set()  # the volumes whose mip chain is allocated
         self.albedo, self.normal, self.base = (self._volume() for _ in range(3))
         self.emission = self._volume()
-        self.cone_emission = self._volume(mipmapped=True)
+        self.cone_emission = None  # hold_cone_emission
         self.gathered = [self._volume() for _ in range(2)]
         self.emitter_irradiance = self.sky_irradiance = self.traced_sky_irradiance = None  # hold_light_volumes
         self.faces = self._volume(mipmapped=True, views=VOXEL_FACES)
@@ -162,9 +167,11 @@ class VoxelGrid:
         self._release_resources()
         self._allocate(n, max(new_grid_room(n), list_room(np.count_nonzero(covered), n)))
         flag = covered[..., None].astype(np.float32)
+        self.hold_cone_emission(np.any(emission != 0.0))
         for volume, rgb, a in ((self.albedo, albedo, flag), (self.normal, normal, flag), (self.emission, emission, 0.0 * flag),
                                (self.cone_emission, emission, flag)):
-            volume.write(np.concatenate([np.asarray(rgb, np.float32) * flag, a], axis=-1).astype(VOXEL_FORMAT).tobytes())
+            if volume is not None:
+                volume.write(np.concatenate([np.asarray(rgb, np.float32) * flag, a], axis=-1).astype(VOXEL_FORMAT).tobytes())
         z, y, x = np.nonzero(covered)
         coords = np.stack([x, y, z], axis=-1)
         self.covered.buffer.write(np.concatenate([[len(coords)], pack_voxels(coords)]).astype("u4").tobytes())
@@ -175,6 +182,18 @@ class VoxelGrid:
             self.cells.buffer.write(pack_voxels(cells).astype("u4").tobytes(), offset=4 * first)
             self.cells.buffer.write(np.array([len(cells)], "u4").tobytes(), offset=4 * level)
             self.cells.table.write(level, first, len(cells))
+
+    def hold_cone_emission(self, emits):
+        """Hold the emission volume the specular cones read where surfaces emit (`emits`), and
+        none where none does. True when made now: zero, its covered voxels still to fill
+        (VoxelizePass.fill_cone_emission)."""
+        if emits and self.cone_emission is None:
+            self.cone_emission = self._volume(mipmapped=True)
+            return True
+        if not emits and self.cone_emission is not None:
+            self._drop(self.cone_emission)
+            self.cone_emission = None
+        return False
 
     def hold_light_volumes(self, emitters, sky):
         """Hold the volumes of the emitters' light (`emitters`) and of the sky's (`sky`) where
@@ -265,7 +284,8 @@ class VoxelGrid:
     def use_faces(self):
         """The face views and the emission volume: what cones read."""
         self.faces.use(TEXTURE_UNIT["VOXEL_FACES"])
-        self.cone_emission.use(TEXTURE_UNIT["VOXEL_CONE_EMISSION"])
+        if self.cone_emission is not None:
+            self.cone_emission.use(TEXTURE_UNIT["VOXEL_CONE_EMISSION"])
 
     def replace_covered(self):
         """Make `covered_next` (which a voxelization filled) the covered list, the old one the

@@ -224,3 +224,25 @@ def test_a_draw_covers_no_more_voxels_than_its_fragment_bound():
             covered = np.count_nonzero(r.voxels("albedo")[..., 3])
             bound = fragment_bound(draw, r.grid.bounds()[0], r.grid.voxel_size, r.grid.n)
             assert 0 < covered <= bound < 16 * covered, draw.node.name
+
+
+def test_a_surface_that_starts_to_emit_lights_the_scene_as_if_it_always_had():
+    """The emission volume the specular cones read is held only while some surface emits: the
+    spheres' box with its lamps dark holds one volume less; lit again, its image is the one a
+    fresh renderer makes, bit for bit (the volume is filled from the voxels already held)."""
+    scene = engine.load_scene(SCENES / "cornell_spheres.json")
+    lamps = [node.material for node, _ in scene.drawables() if np.any(node.material.emission > 0)]
+    glow = [material.emission.copy() for material in lamps]
+    with engine.Renderer(64, 64) as r:
+        r.render(scene, grid=32, bounces=1)
+        lit = r.voxel_memory_bytes()
+        for material in lamps:
+            material.emission = np.zeros(3)
+        r.render(scene, grid=32, bounces=1)
+        assert lit - r.voxel_memory_bytes() >= 8 * 32 ** 3
+        for material, emission in zip(lamps, glow):
+            material.emission = emission
+        image = r.render(scene, grid=32, bounces=1)
+        assert r.voxel_memory_bytes() == lit
+    with engine.Renderer(64, 64) as fresh:
+        assert np.array_equal(image, fresh.render(scene, grid=32, bounces=1))

@@ -41,6 +41,8 @@ class VoxelizePass:
                                                 writes=("SSBO_COVERED_NEXT", "IMG_BASE_OUT", "IMG_FACES_OUT"))
         self.list_cells = programs.compute("voxelize/list_cells.comp", reads=("SSBO_COVERED",),
                                            writes=("SSBO_CELLS", "SSBO_CELL_STAMPS"))
+        self.fill_emission = programs.compute("voxelize/fill_cone_emission.comp", reads=("SSBO_COVERED", "TEX_VOXEL_EMISSION"),
+                                              writes=("IMG_CONE_EMISSION_OUT",))
         self.clear_cells = programs.compute("voxelize/clear_cells.comp", reads=("SSBO_CELLS",), writes=("IMG_FACES_OUT",))
         self._scratch = GridStorage()  # the fixed-point sums, front-layer keys, voxel slots, a framebuffer
         self.room = CoveredBound()     # what is known of the grid's covered count
@@ -128,9 +130,18 @@ class VoxelizePass:
         grid.covered_next.bind("COVERED_NEXT")
         for unit, volume in (("ALBEDO_OUT", grid.albedo), ("NORMAL_OUT", grid.normal), ("EMISSION_OUT", grid.emission),
                              ("CONE_EMISSION_OUT", grid.cone_emission), ("TOUCHED_FACES_OUT", grid.faces)):
-            bind_image(volume, IMAGE_UNIT[unit], read=unit == "ALBEDO_OUT")
-        self.resolve.set(**grid.uniforms(), chunk_first=chunk_first)
+            if volume is not None:
+                bind_image(volume, IMAGE_UNIT[unit], read=unit == "ALBEDO_OUT")
+        self.resolve.set(**grid.uniforms(), chunk_first=chunk_first, voxel_emitters=grid.cone_emission is not None)
         grid.dispatch(self.resolve, grid.touched.segment())
+
+    def fill_cone_emission(self, grid):
+        """The grid's cone emission volume (made zero) at every covered voxel, from its emission."""
+        grid.use_surface()
+        grid.covered.bind("COVERED")
+        bind_image(grid.cone_emission, IMAGE_UNIT["CONE_EMISSION_OUT"])
+        self.fill_emission.set(**grid.uniforms())
+        grid.dispatch(self.fill_emission, grid.covered.segment())
 
     def _relist_covered(self, grid):
         """The covered list from the previous one (the voxels still covered kept, the others
@@ -169,7 +180,8 @@ class VoxelizePass:
         return self._scratch.memory_bytes()
 
     def release(self):
-        for handle in (*self.programs.values(), self.mark_covered, self.resolve, self.rebuild_covered, self.list_cells, self.clear_cells):
+        for handle in (*self.programs.values(), self.mark_covered, self.resolve, self.rebuild_covered, self.list_cells, self.fill_emission,
+                       self.clear_cells):
             handle.release()
         self._scratch.release()
 

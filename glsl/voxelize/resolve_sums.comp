@@ -2,8 +2,8 @@
 // Voxel resolve, over the voxels the last voxelization touched, those of the chunk being
 // summed (lib/voxel_sums.glsl): divide the fixed-point sums by
 // the fragment count into the surface volumes (albedo, normal, emission with the surface offset
-// in a; a = 1 marks a covered voxel) and the emission volume specular cones read (emission,
-// a = 1 where covered), zero the sums, front-layer keys and slot for the next update, zero the voxel's
+// in a; a = 1 marks a covered voxel) and, where surfaces emit, the emission volume specular
+// cones read (emission, a = 1 where covered), zero the sums, front-layer keys and slot for the next update, zero the voxel's
 // six faces at level 0 of the face views (faces/compose_face_views.comp writes only the faces its new
 // surface covers), and list the voxels that were empty before and are covered now, for the new
 // covered list.
@@ -37,7 +37,7 @@ void main() {
         imageStore(albedo_out, v, vec4(0.0));
         imageStore(normal_out, v, vec4(0.0));
         imageStore(emission_out, v, vec4(0.0));
-        imageStore(cone_emission_out, v, vec4(0.0));
+        if (voxel_emitters) imageStore(cone_emission_out, v, vec4(0.0));
     } else {
         float samples = float(min(count, VOXEL_MAX_FRAGMENTS));
         float to_unit = 1.0 / (samples * VOXEL_UNIT_SCALE);
@@ -55,7 +55,7 @@ void main() {
         imageStore(albedo_out, v, vec4(albedo, 1.0));
         imageStore(normal_out, v, vec4(normal, 1.0));
         imageStore(emission_out, v, vec4(emission, surface_offset));
-        imageStore(cone_emission_out, v, vec4(emission, 1.0));
+        if (voxel_emitters) imageStore(cone_emission_out, v, vec4(emission, 1.0));
         if (!was_covered) APPEND(next_count, next_covered, pack_voxel(v));
     }
     for (int channel = 0; channel < VOXEL_SUM_CHANNELS; ++channel) voxel_sums[sum_entry(i, channel)] = 0u;

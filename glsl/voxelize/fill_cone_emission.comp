@@ -1,0 +1,15 @@
+#version 450 core
+// A cone emission volume made for a grid that already holds voxels (the first surface of the
+// scene to emit): every covered voxel's emission (rgb) and coverage (a = 1), as the resolve
+// writes them (voxelize/resolve_sums.comp).
+#include "lib/voxel_surface.glsl"
+
+layout(local_size_x = LIST_GROUP) in;
+layout(binding = IMG_CONE_EMISSION_OUT, rgba16f) uniform writeonly image3D cone_emission_out;
+#include "lib/covered_voxels.glsl"
+
+void main() {
+    if (gl_GlobalInvocationID.x >= covered_count) return;
+    ivec3 v = unpack_voxel(covered[gl_GlobalInvocationID.x]);
+    imageStore(cone_emission_out, v, vec4(texelFetch(voxel_emission, v, 0).rgb, 1.0));
+}
