@@ -19,8 +19,8 @@ TEXTURE_UNIT = {
     "GBUF_EMISSION": 3,
     "SHADOW_ATLAS": 4,
     "VOXEL_ALBEDO": 5,      # resolved per-voxel surface: reflectance, a = 1 where covered
-    "VOXEL_NORMAL": 6,      # xyz: mean normal (its length the coherence), w: surface offset in voxels
-    "VOXEL_EMISSION": 7,
+    "VOXEL_NORMAL": 6,      # xyz: mean normal (its length the coherence), w = 1 where covered
+    "VOXEL_EMISSION": 7,    # rgb, a: the surface offset along the normal, in voxels
     "VOXEL_BASE": 8,        # emission + injected direct light
     "VOXEL_GATHERED": 9,    # the diffuse gather sum_j w_j L(p, w_j) of each voxel
     "VOXEL_GATHERED_PREVIOUS": 10,

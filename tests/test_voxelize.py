@@ -246,3 +246,22 @@ def test_a_surface_that_starts_to_emit_lights_the_scene_as_if_it_always_had():
         assert r.voxel_memory_bytes() == lit
     with engine.Renderer(64, 64) as fresh:
         assert np.array_equal(image, fresh.render(scene, grid=32, bounces=1))
+
+
+def test_voxels_summed_in_chunks_are_the_voxels_summed_at_once(monkeypatch):
+    """The voxelizer's sums hold a chunk of the touched voxels at a time; the shelved box at
+    32^3 touches more than two chunks' worth. Summed chunk after chunk, or all at once with
+    room enough, the grid and the image are the same bits."""
+    scene = shelved(engine.load_scene(SCENES / "cornell_box.json"), np.linspace(-0.9, 0.9, 15))
+    chunk = voxel_grid.sum_room(32)
+    results = []
+    for room in (voxel_grid.SUM_ROOM, 32):
+        monkeypatch.setattr(voxel_grid, "SUM_ROOM", room)
+        with engine.Renderer(64, 64) as r:
+            image = r.render(scene, mode="gi", grid=32, bounces=1)
+            with r.ctx:
+                touched = r.grid.touched.read_count()
+            results.append(([r.voxels(name).tobytes() for name in ("radiance", "normal", "albedo")], image, touched))
+    (chunked, chunked_image, touched), (whole, whole_image, _) = results
+    assert touched > 2 * chunk and voxel_grid.sum_room(32) == 32 ** 3
+    assert chunked == whole and np.array_equal(chunked_image, whole_image)
