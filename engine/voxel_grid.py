@@ -7,8 +7,7 @@ at each rebuild (`replace_covered`).
 Volumes (n^3 RGBA16F, made for one size and region by `ensure`):
 - the resolved surface of each voxel: `albedo`, mean `normal`, `emission` (a: the surface
   offset), and, where surfaces emit, `cone_emission` (emission, a = 1 where covered) with a
-  mip chain: the emission
-  the specular cones see;
+  mip chain: the emission the specular cones see;
 - the light arriving at each voxel's surface: `emitter_irradiance`, the emitters' shadowed
   irradiance (a: the fraction of it that arrives); `sky_irradiance`, the environment's through
   the voxels, and `traced_sky_irradiance`, the same as the anchors' cones brought it;
@@ -21,10 +20,9 @@ Lists (voxel_lists.py): `covered` (surface voxels), `touched` (by the last voxel
 the covered `cells` of every mip level. The voxel lists have room for `list_room` covered
 voxels (the touched list twice that: the voxels covered before and after an update):
 NEW_GRID_ROOM n^2 in a new grid, or LIST_HEADROOM of what a voxelization needed when it last
-grew. A voxelization
-that needs more room makes the grid anew with more (`list_need`, `grow_lists`). Scratch
-storage of one pass (the voxelizer's sums, the gather's anchors and class lists) belongs to
-that pass.
+grew. A voxelization that needs more room makes the grid anew with more (`list_counts`,
+`grow_lists`). Scratch storage of one pass (the voxelizer's sums, the gather's anchors and
+class lists) belongs to that pass.
 """
 import math
 
@@ -35,6 +33,7 @@ from .constants import (GL_IMAGE_FORMAT, GRID_SIZES, IMAGE_UNIT, LIST_GROUP, STO
                         VOXEL_FORMAT, VOXEL_MEMORY_BUDGET, VOXEL_PACK_BITS, VOXEL_SUM_CHANNELS)
 from .errors import VctError
 from .voxel_lists import SEGMENT, CellLists, Epoch, VoxelList
+from .voxel_room import ListBound
 
 TEXEL_BYTES = 8  # RGBA16F
 MIP_CHAIN = 8 / 7  # a full mip chain adds a seventh
@@ -50,8 +49,9 @@ SUM_ROOM = 8
 
 def voxel_memory_bytes(n):
     """GPU bytes a grid of n^3 may need, the passes' storage sized by it included: the
-    voxelizer's sums of a chunk and the voxels' slots, the volumes (surface, radiance, faces with mips; the emitters'
-    and the sky's light and every inspection mip chain, as a scene may have) and the lists."""
+    voxelizer's sums of a chunk and the voxels' slots, the volumes (surface, radiance, faces
+    with mips; the emitters' and the sky's light and every inspection mip chain, as a scene may
+    have) and the lists."""
     voxels = n ** 3
     slots = 4
     surface = TEXEL_BYTES * (3 * MIP_CHAIN + 1)              # albedo, normal (viewable), cone emission; emission
@@ -119,11 +119,10 @@ class VoxelGrid:
         self.region = region
         return True
 
-    def list_need(self):
-        """After a voxelization: (the covered voxels its lists needed room for, the covered
-        count), read back from the GPU. The touched list has room for twice the covered."""
-        covered = self.covered.read_count()
-        return max(covered, -(-self.touched.read_count() // 2)), covered
+    def list_counts(self):
+        """After a voxelization: its covered and touched counts as a ListBound, read back from
+        the GPU (its `needed()` the list room they take)."""
+        return ListBound(covered=self.covered.read_count(), touched=self.touched.read_count())
 
     def grow_lists(self, needed):
         """Make the grid anew, empty, with list room for `needed` covered voxels (list_room),

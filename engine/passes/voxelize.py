@@ -77,13 +77,13 @@ class VoxelizePass:
             self.room.voxelized(grid, draws)
             return
         self._apply(grid, update, draws)
-        needed, covered = grid.list_need()
-        while needed > grid.list_room:
-            grid.grow_lists(needed)
+        counts = grid.list_counts()
+        while counts.needed() > grid.list_room:
+            grid.grow_lists(counts.needed())
             self._scratch.release()  # the voxels left off the touched list are still flagged
             self._apply(grid, VoxelUpdate(True, [], list(draws)), draws)
-            needed, covered = grid.list_need()
-        self.room.voxelized(grid, draws, covered)
+            counts = grid.list_counts()
+        self.room.voxelized(grid, draws, counts.covered)
 
     def _apply(self, grid, update, draws, touched=None):
         """The update: flag and list the voxels to rebuild, then chunk after chunk of them sum
