@@ -18,21 +18,12 @@ TEXTURE_UNIT = {
     "GBUF_ALBEDO": 2,
     "GBUF_EMISSION": 3,
     "SHADOW_ATLAS": 4,
-    "VOXEL_ALBEDO": 5,      # resolved per-voxel surface: reflectance, a = 1 where covered
-    "VOXEL_NORMAL": 6,      # xyz: mean normal (its length the coherence), w = 1 where covered
-    "VOXEL_EMISSION": 7,    # rgb, a: the surface offset along the normal, in voxels
-    "VOXEL_BASE": 8,        # emission + injected direct light
-    "VOXEL_GATHERED": 9,    # the diffuse gather sum_j w_j L(p, w_j) of each voxel
-    "VOXEL_GATHERED_PREVIOUS": 10,
     "VOXEL_FACES": 11,      # the face views cones read (+x, -x, +y, -y, +z, -z), stacked along z
     "HDR_INPUT": 12,
     "DIRECT_LIGHT": 13,
     "VOXEL_INSPECT": 14,    # the volume a voxel view or a readback reads
     "VOXEL_CONE_EMISSION": 15,    # emission (rgb) and coverage (a) of every voxel, mipmapped: what specular cones add
-    "VOXEL_EMITTER_IRRADIANCE": 16,  # the emitters' shadowed irradiance per voxel (rgb), its visible fraction (a)
     "ENVIRONMENT": 17,      # the sky's radiance, equirectangular, mipmapped (glsl/lib/environment.glsl)
-    "VOXEL_SKY_IRRADIANCE": 18,  # the sky's irradiance per voxel, through the voxels (rgb), filtered
-    "VOXEL_TRACED_SKY_IRRADIANCE": 19, # the same as the anchors' cones traced it and the others interpolated it
     "BASE_COLOR_MAP": 20,   # the textures of the material being drawn (glsl/lib/material.glsl)
     "METAL_ROUGH_MAP": 21,
     "EMISSIVE_MAP": 22,
@@ -42,16 +33,9 @@ TEXTURE_UNIT = {
 # Image units. Each program binds at most 8 images, at units 0..7.
 IMAGE_UNIT = {
     "FACES_OUT": 0,
-    "BASE_OUT": 6,
     "TOUCHED_FACES_OUT": 6, # level 0 of the face views, zeroed where a voxelization touched (resolve)
-    "GATHERED_OUT": 7,
-    "ALBEDO_OUT": 0,
-    "NORMAL_OUT": 1,
-    "EMISSION_OUT": 2,
     "CONE_EMISSION_OUT": 4,
-    "EMITTER_IRRADIANCE_OUT": 5,
-    "SKY_IRRADIANCE_OUT": 5,     # the sky's light pass binds no other image at 5
-    "INSPECT_OUT": 0,
+    "INSPECT_OUT": 0,       # a dense volume made from a record array, for inspection
     "IMAGE_OUT": 0,         # a screen target a compute pass adds to
     "SPECULAR_IN": 1,       # the specular cones' incoming radiance at the anchor pixels (half resolution)
     "DIFFUSE_IN": 2,        # the diffuse cones' gather at the anchor pixels that traced them (a = 1; half resolution)
@@ -89,6 +73,21 @@ STORAGE_BINDING = {
     "UNSHARED_PIXELS": 31,    # pixels between anchors that no anchor stood for: they trace their own cones
     "SEGMENTS": 32,           # rows of list segments the GPU counted (GLSL_STRUCTS["ListSegment"])
     "COUNTED": 33,            # a list whose count a segment row is sized from (voxel_grid/size_segment.comp)
+    # Per-voxel data of the covered voxels, a record each (engine/voxel_records.py,
+    # glsl/lib/voxel_records.glsl): each voxel's record, the free records, and the arrays of
+    # RGBA16F values (two halves per uint) indexed by record.
+    "VOXEL_RECORD": 34,       # per voxel: its record + 1, or 0 (no surface covers it)
+    "RECORD_POOL": 35,        # the records no voxel holds
+    "VOXEL_ALBEDO": 36,       # resolved surface: reflectance, a = 1
+    "VOXEL_NORMAL": 37,       # xyz: mean normal (its length the coherence), w = 1
+    "VOXEL_EMISSION": 38,     # rgb, a: the surface offset along the normal, in voxels
+    "VOXEL_BASE": 39,         # emission + injected direct light
+    "VOXEL_GATHERED": 40,     # the diffuse gather sum_j w_j L(p, w_j) of each voxel (the latest)
+    "GATHERED_OUT": 41,       # a gather being written (or the sky's traced light, interpolated alike)
+    "VOXEL_EMITTER_IRRADIANCE": 42,  # the emitters' shadowed irradiance (rgb), its visible fraction (a)
+    "VOXEL_SKY_IRRADIANCE": 43,      # the sky's irradiance through the voxels (rgb), filtered
+    "VOXEL_TRACED_SKY_IRRADIANCE": 44,  # the same as the anchors' cones traced it and the others interpolated it
+    "INSPECT_VALUES": 45,     # an array of values made a volume for inspection (voxel_grid/scatter_values.comp)
 }
 
 # Struct layouts shared with GLSL (vec4 and mat4 fields, so std140 and std430 lay them out
@@ -264,9 +263,12 @@ VOXEL_PACK_BITS = 10
 # A voxel an update touched when the touched list had no room left (lib/voxel_sums.glsl).
 UNLISTED_VOXEL = 0xFFFFFFFF
 # A voxel's gather-anchor record (lib/gather_anchors.glsl): ANCHOR_SELF where it traces its own
-# gather, ANCHOR_STALE where a voxelization touched it; else a bit per anchor neighbour (0..25).
+# gather, ANCHOR_STALE where a voxelization touched it; else a bit per anchor neighbour (0..25);
+# and a covered voxel's facing (0..CLASS_FACINGS - 1) from bit ANCHOR_FACING_SHIFT.
 ANCHOR_SELF = 1 << 26
 ANCHOR_STALE = 1 << 27
+ANCHOR_NEIGHBOURS = (1 << 26) - 1
+ANCHOR_FACING_SHIFT = 28
 MIN_ANCHOR_WEIGHT = 0.2  # below this total weight of its anchors a voxel traces its own gather
 # How much a voxel stands for a surface of unit normal n: max(0, n . n_v / |n_v|)^FACING_EXPONENT
 # times the coherence |n_v| of its mean normal (lib/voxel.glsl: facing_weight).
@@ -318,6 +320,8 @@ def glsl_header():
         f"#define UNLISTED_VOXEL {UNLISTED_VOXEL:#x}u",
         f"#define ANCHOR_SELF {ANCHOR_SELF:#x}u",
         f"#define ANCHOR_STALE {ANCHOR_STALE:#x}u",
+        f"#define ANCHOR_NEIGHBOURS {ANCHOR_NEIGHBOURS:#x}u",
+        f"#define ANCHOR_FACING_SHIFT {ANCHOR_FACING_SHIFT}",
         f"#define MIN_ANCHOR_WEIGHT {MIN_ANCHOR_WEIGHT}",
         f"#define FACING_EXPONENT {FACING_EXPONENT:.1f}",
         f"#define MIN_ROUGHNESS {MIN_ROUGHNESS}",

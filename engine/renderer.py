@@ -34,7 +34,7 @@ from .passes.lighting import LightingPass
 from .passes.shadow import ShadowPass
 from .passes.sky_light import SkyLightPass
 from .passes.tonemap import TonemapPass
-from .passes.voxel_view import VoxelViewPass, shown_volume
+from .passes.voxel_view import VoxelViewPass, shown_values
 from .passes.voxelize import VoxelizePass
 from .scene import Scene
 from .scene_gpu import EmitterBuffers, EnvironmentMap, SceneGeometry
@@ -206,10 +206,8 @@ class Renderer:
         top = self.grid.n.bit_length() - 1
         if not isinstance(level, numbers.Integral) or isinstance(level, bool) or not 0 <= level <= top:
             raise VctError(f"must be a whole number in 0..{top} for grid {self.grid.n}, got {level!r}", field="level")
-        volume = self._gathered() if name == "gathered" else shown_volume(self.grid, VOXEL_VOLUMES[name])
-        if level > 0:
-            self.grid.viewable(volume)
-        return self.grid.read_level(volume, level)
+        values = self._gathered() if name == "gathered" else shown_values(self.grid, VOXEL_VOLUMES[name])
+        return self.grid.read_level(self.grid.dense(values), level)
 
     @_current
     def reload_shaders(self):
@@ -424,7 +422,7 @@ class Renderer:
         return bounces.run_plan(plan, execute)
 
     def _gathered(self, index=None):
-        """Gather volume `index` (None: the latest)."""
+        """Gather array `index` (None: the latest)."""
         return self.grid.gathered[self.schedule.latest if index is None else index]
 
     def _voxel_segment(self, voxels):

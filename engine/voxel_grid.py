@@ -1,20 +1,24 @@
 """The voxel grid: the N^3 grid over a region of the scene and what it holds, owned by the
 renderer and passed to the passes that read and write it. Its owner keeps these invariants:
 every volume starts zero and every empty voxel stays zero (passes touch only listed voxels);
+a voxel holds a record exactly while some surface covers it, and a record's values start zero;
 the covered list holds the voxels some surface covers, and its state is an `Epoch`, a new one
 at each rebuild (`replace_covered`).
 
-Volumes (n^3 RGBA16F, made for one size and region by `ensure`):
+Per covered voxel, arrays of RGBA16F values indexed by the voxel's record (`records`,
+engine/voxel_records.py; an empty voxel reads zero):
 - the resolved surface of each voxel: `albedo`, mean `normal`, `emission` (a: the surface
-  offset), and, where surfaces emit, `cone_emission` (emission, a = 1 where covered) with a
-  mip chain: the emission the specular cones see;
+  offset);
 - the light arriving at each voxel's surface: `emitter_irradiance`, the emitters' shadowed
   irradiance (a: the fraction of it that arrives); `sky_irradiance`, the environment's through
   the voxels, and `traced_sky_irradiance`, the same as the anchors' cones brought it;
-- the radiance: `base` (emission + injected direct light), the diffuse light `gathered` by each
-  voxel (two volumes, the latest and the one before, for closing the bounce series), and the
-  six one-sided face views cones read, stacked along z in one volume `faces` (n x n x 6n,
-  view f at z in [f n, (f + 1) n)), with their mip chain.
+- the radiance: `base` (emission + injected direct light) and the diffuse light `gathered` by
+  each voxel (two arrays, the latest and the one before, for closing the bounce series).
+
+Volumes (n^3 RGBA16F with their mip chains, what cones read): the six one-sided face views,
+stacked along z in one volume `faces` (n x n x 6n, view f at z in [f n, (f + 1) n)), and, where
+surfaces emit, `cone_emission` (emission, a = 1 where covered): the emission the specular cones
+see. The voxel views and `read_level` see an array as a volume made from it (`dense`).
 
 Lists (voxel_lists.py): `covered` (surface voxels), `touched` (by the last voxelization) and
 the covered `cells` of every mip level. The voxel lists have room for `list_room` covered
@@ -33,6 +37,7 @@ from .constants import (GL_IMAGE_FORMAT, GRID_SIZES, IMAGE_UNIT, LIST_GROUP, STO
                         VOXEL_FORMAT, VOXEL_MEMORY_BUDGET, VOXEL_PACK_BITS, VOXEL_SUM_CHANNELS)
 from .errors import VctError
 from .voxel_lists import SEGMENT, CellLists, Epoch, VoxelList
+from .voxel_records import VALUE_BYTES, VoxelRecords
 from .voxel_room import ListBound
 
 TEXEL_BYTES = 8  # RGBA16F
@@ -45,22 +50,25 @@ LIST_HEADROOM = 5 / 4  # a grown list's room over what it needed
 # The voxels of the touched list the voxelizer's sums hold at once (a chunk), per n^2: a full
 # voxelization of a closed box (6.5 n^2) is one chunk.
 SUM_ROOM = 8
+# The arrays of values a grid may hold per record (see the module's docstring).
+RECORD_ARRAYS = ("albedo", "normal", "emission", "base", "gathered", "gathered_previous", "emitter_irradiance",
+                 "sky_irradiance", "traced_sky_irradiance")
 
 
 def voxel_memory_bytes(n):
     """GPU bytes a grid of n^3 may need, the passes' storage sized by it included: the
-    voxelizer's sums of a chunk and the voxels' slots, the volumes (surface, radiance, faces
-    with mips; the emitters' and the sky's light and every inspection mip chain, as a scene may
-    have) and the lists."""
+    voxelizer's sums of a chunk and the voxels' slots, the records (with the emitters' and the
+    sky's light, as a scene may have), the volumes (faces and cone emission with their mips, an
+    inspection volume) and the lists."""
     voxels = n ** 3
-    slots = 4
-    surface = TEXEL_BYTES * (3 * MIP_CHAIN + 1)              # albedo, normal (viewable), cone emission; emission
-    radiance = TEXEL_BYTES * (MIP_CHAIN + 5)                 # base (viewable), two gathers, emitters' and sky irradiance (2)
-    faces = TEXEL_BYTES * VOXEL_FACES * MIP_CHAIN
+    per_voxel = 4 + 4                                        # slots, records' index
+    volumes = TEXEL_BYTES * (VOXEL_FACES + 2) * MIP_CHAIN     # faces, cone emission, an inspection volume
     lists = 4 + 2 * 4 / 7 + 2 * 4 / 8                        # anchors; cells, stamps; level-1 cells' classes, cells by class
-    listed = 4 * 7 * new_grid_room(n)                         # touched x2, covered x2, stale x2, classes
+    room = new_grid_room(n)
+    listed = 4 * 7 * room                                     # touched x2, covered x2, stale x2, classes
+    records = (VALUE_BYTES * len(RECORD_ARRAYS) + 4) * room   # the arrays and the pool
     sums = 4 * (len(VOXEL_SUM_CHANNELS) + VOXEL_FACES) * sum_room(n)  # and the front-layer keys
-    return int(voxels * (slots + surface + radiance + faces + lists) + listed + sums)
+    return int(voxels * (per_voxel + volumes + lists) + listed + records + sums)
 
 
 def new_grid_room(n):
@@ -102,6 +110,8 @@ class VoxelGrid:
         self.epoch = Epoch()  # of the covered list: a new one whenever it is rebuilt (replace_covered)
         self.read_program = programs.compute("voxel_grid/read_level.comp", reads=("TEX_VOXEL_INSPECT",),
                                              writes=("SSBO_READBACK",))
+        self.scatter_program = programs.compute("voxel_grid/scatter_values.comp", reads=("SSBO_COVERED", "SSBO_VOXEL_RECORD",
+                                                "SSBO_INSPECT_VALUES"), writes=("IMG_INSPECT_OUT",))
         self.size_program = programs.compute("voxel_grid/size_segment.comp", reads=("SSBO_COUNTED",), writes=("SSBO_SEGMENTS",))
 
     # -- allocation ----------------------------------------------------------------------
@@ -121,8 +131,9 @@ class VoxelGrid:
 
     def list_counts(self):
         """After a voxelization: its covered and touched counts as a ListBound, read back from
-        the GPU (its `needed()` the list room they take)."""
-        return ListBound(covered=self.covered.read_count(), touched=self.touched.read_count())
+        the GPU (its `needed()` the list room they take), and the records the pool was short."""
+        return ListBound(covered=self.covered.read_count(), touched=self.touched.read_count(),
+                         records_short=self.records.read_short())
 
     def grow_lists(self, needed):
         """Make the grid anew, empty, with list room for `needed` covered voxels (list_room),
@@ -137,11 +148,12 @@ class VoxelGrid:
         ctx = self.ctx
         self.n, self.list_room = n, room
         self._mipmapped = set()  # the volumes whose mip chain is allocated
-        self.albedo, self.normal, self.base = (self._volume() for _ in range(3))
-        self.emission = self._volume()
-        self.cone_emission = None  # hold_cone_emission
-        self.gathered = [self._volume() for _ in range(2)]
+        self._inspection = None  # the volume `dense` makes
+        self.records = self._keep(VoxelRecords(ctx, n, room))
+        self.albedo, self.normal, self.emission, self.base = (self._values() for _ in range(4))
+        self.gathered = [self._values() for _ in range(2)]
         self.emitter_irradiance = self.sky_irradiance = self.traced_sky_irradiance = None  # hold_light_volumes
+        self.cone_emission = None  # hold_cone_emission
         self.faces = self._volume(mipmapped=True, views=VOXEL_FACES)
         self.touched = self._keep(VoxelList(ctx, self.touched_room))
         self.covered, self.covered_next = (self._keep(VoxelList(ctx, room)) for _ in range(2))
@@ -166,13 +178,15 @@ class VoxelGrid:
         self._release_resources()
         self._allocate(n, max(new_grid_room(n), list_room(np.count_nonzero(covered), n)))
         flag = covered[..., None].astype(np.float32)
-        self.hold_cone_emission(np.any(emission != 0.0))
-        for volume, rgb, a in ((self.albedo, albedo, flag), (self.normal, normal, flag), (self.emission, emission, 0.0 * flag),
-                               (self.cone_emission, emission, flag)):
-            if volume is not None:
-                volume.write(np.concatenate([np.asarray(rgb, np.float32) * flag, a], axis=-1).astype(VOXEL_FORMAT).tobytes())
         z, y, x = np.nonzero(covered)
         coords = np.stack([x, y, z], axis=-1)
+        self.records.hold(coords)
+        self.hold_cone_emission(np.any(emission != 0.0))
+        for array, rgb, a in ((self.albedo, albedo, flag), (self.normal, normal, flag), (self.emission, emission, 0.0 * flag)):
+            values = np.concatenate([np.asarray(rgb, np.float32), a], axis=-1)[z, y, x]
+            array.write(values.astype(VOXEL_FORMAT).tobytes())
+        if self.cone_emission is not None:
+            self.cone_emission.write(np.concatenate([emission * flag, flag], axis=-1).astype(VOXEL_FORMAT).tobytes())
         self.covered.buffer.write(np.concatenate([[len(coords)], pack_voxels(coords)]).astype("u4").tobytes())
         self.covered.table.write(0, 1, len(coords))
         for level in range(1, self.mip_count):
@@ -181,6 +195,18 @@ class VoxelGrid:
             self.cells.buffer.write(pack_voxels(cells).astype("u4").tobytes(), offset=4 * first)
             self.cells.buffer.write(np.array([len(cells)], "u4").tobytes(), offset=4 * level)
             self.cells.table.write(level, first, len(cells))
+
+    def write_values(self, values, volume):
+        """Set an array of values from a volume given per voxel: float (n, n, n, 4) indexed
+        [z, y, x], taken at the covered voxels (for grids made by hand, as `load`)."""
+        n = self.n
+        if np.shape(volume) != (n, n, n, 4):
+            raise VctError(f"must be an array of shape ({n}, {n}, {n}, 4), got {np.shape(volume)}", field="volume")
+        index = np.frombuffer(self.records.index.read(), "u4").reshape(n, n, n)
+        held = index > 0
+        data = np.zeros((self.records.room, 4), VOXEL_FORMAT)
+        data[index[held] - 1] = np.asarray(volume, np.float32)[held]
+        values.write(data.tobytes())
 
     def hold_cone_emission(self, emits):
         """Hold the emission volume the specular cones read where surfaces emit (`emits`), and
@@ -195,18 +221,18 @@ class VoxelGrid:
         return False
 
     def hold_light_volumes(self, emitters, sky):
-        """Hold the volumes of the emitters' light (`emitters`) and of the sky's (`sky`) where
+        """Hold the arrays of the emitters' light (`emitters`) and of the sky's (`sky`) where
         the scene has them, zero when made, and none of those it has not. Returns which were
         made now ("emitter_light", "sky_light"): their light is still to compute."""
         made = set()
         if emitters and self.emitter_irradiance is None:
-            self.emitter_irradiance = self._volume()
+            self.emitter_irradiance = self._values()
             made.add("emitter_light")
         elif not emitters and self.emitter_irradiance is not None:
             self._drop(self.emitter_irradiance)
             self.emitter_irradiance = None
         if sky and self.sky_irradiance is None:
-            self.sky_irradiance, self.traced_sky_irradiance = self._volume(), self._volume()
+            self.sky_irradiance, self.traced_sky_irradiance = self._values(), self._values()
             made.add("sky_light")
         elif not sky and self.sky_irradiance is not None:
             self._drop(self.sky_irradiance)
@@ -215,12 +241,27 @@ class VoxelGrid:
         return made
 
     def viewable(self, volume):
-        """`volume` with its hardware mip chain built (the voxel views and Renderer.voxels read
-        coarser levels of volumes the passes read at level 0 only)."""
+        """`volume` with its hardware mip chain built."""
         volume.build_mipmaps()
         volume.filter = (self.ctx.LINEAR_MIPMAP_LINEAR, self.ctx.LINEAR)
         self._mipmapped.add(volume)
         return volume
+
+    def dense(self, values):
+        """An array of values as an n^3 volume (zero where no surface covers a voxel) with its
+        hardware mip chain, for the voxel views and Renderer.voxels: one volume, made again at
+        each call."""
+        if self._inspection is None:
+            self._inspection = self._volume(mipmapped=True)
+        volume = self._inspection
+        volume.write(bytes(TEXEL_BYTES * self.n ** 3))
+        self.records.bind()
+        values.bind_to_storage_buffer(STORAGE_BINDING["INSPECT_VALUES"])
+        self.covered.bind("COVERED")
+        bind_image(volume, IMAGE_UNIT["INSPECT_OUT"])
+        self.scatter_program.set(**self.uniforms())
+        self.dispatch(self.scatter_program, self.covered.segment())
+        return self.viewable(volume)
 
     def _keep(self, resource):
         self._resources.append(resource)
@@ -230,6 +271,10 @@ class VoxelGrid:
         self._resources.remove(resource)
         self._mipmapped.discard(resource)
         resource.release()
+
+    def _values(self):
+        """An array of values per record, zero."""
+        return self._keep(self.records.array())
 
     def _volume(self, mipmapped=False, views=1):
         """An n x n x (views n) RGBA16F volume of zeros (with a full mip chain if asked)."""
@@ -270,15 +315,13 @@ class VoxelGrid:
                     voxel_grid=self.n, voxel_size=self.voxel_size, voxel_max_mip=float(self.mip_count - 1))
 
     def use_surface(self):
-        """The resolved surface volumes and the emitters' and the sky's light at them (where the
-        scene has them)."""
-        self.albedo.use(TEXTURE_UNIT["VOXEL_ALBEDO"])
-        self.normal.use(TEXTURE_UNIT["VOXEL_NORMAL"])
-        self.emission.use(TEXTURE_UNIT["VOXEL_EMISSION"])
-        if self.emitter_irradiance is not None:
-            self.emitter_irradiance.use(TEXTURE_UNIT["VOXEL_EMITTER_IRRADIANCE"])
-        if self.sky_irradiance is not None:
-            self.sky_irradiance.use(TEXTURE_UNIT["VOXEL_SKY_IRRADIANCE"])
+        """The voxels' records, their resolved surface and the emitters' and the sky's light at
+        them (where the scene has them)."""
+        self.records.bind()
+        for name, values in (("VOXEL_ALBEDO", self.albedo), ("VOXEL_NORMAL", self.normal), ("VOXEL_EMISSION", self.emission),
+                             ("VOXEL_EMITTER_IRRADIANCE", self.emitter_irradiance), ("VOXEL_SKY_IRRADIANCE", self.sky_irradiance)):
+            if values is not None:
+                bind_values(values, name)
 
     def use_faces(self):
         """The face views and the emission volume: what cones read."""
@@ -334,8 +377,11 @@ class VoxelGrid:
     # -- inspection --------------------------------------------------------------------------
 
     def read_level(self, volume, level=0):
-        """One mip level of a volume as float32 (depth, n, n, 4), indexed [z, y, x] (the
-        face views' depth holds their six views one after the other)."""
+        """One mip level of a volume (or of an array of values, made `dense`) as float32
+        (depth, n, n, 4), indexed [z, y, x] (the face views' depth holds their six views one
+        after the other)."""
+        if isinstance(volume, moderngl.Buffer):
+            volume = self.dense(volume)
         width, height, depth = (max(1, side >> level) for side in volume.size)
         shape = (depth, height, width, 4)
         if level == 0:
@@ -361,6 +407,7 @@ class VoxelGrid:
         self.n = 0
         self.region = None
         self.read_program.release()
+        self.scatter_program.release()
         self.size_program.release()
 
 
@@ -402,6 +449,11 @@ def pack_voxels(coords):
     """Voxel coordinates (k, 3) as x, y, z packed into one uint each (lib/voxel.glsl pack_voxel)."""
     coords = np.asarray(coords, np.uint32).reshape(-1, 3)
     return coords[:, 0] | (coords[:, 1] << VOXEL_PACK_BITS) | (coords[:, 2] << (2 * VOXEL_PACK_BITS))
+
+
+def bind_values(values, name):
+    """An array of values at the storage binding `name`."""
+    values.bind_to_storage_buffer(STORAGE_BINDING[name])
 
 
 def bind_image(volume, unit, level=0, read=False):

@@ -35,13 +35,20 @@ def fragment_bound(draw, lo, voxel_size, n):
 
 @dataclass(frozen=True)
 class ListBound:
-    """At most how many voxels an update leaves covered and how many it touches."""
+    """At most how many voxels an update leaves covered and how many it touches; read back
+    after it, also how many records the grid's pool was short (engine/voxel_records.py)."""
     covered: int
     touched: int
+    records_short: int = 0
 
     def needed(self):
         """The list room (in covered voxels) that holds them: the touched list has twice it."""
         return max(self.covered, -(-self.touched // 2))
+
+    def fits(self, room):
+        """Whether a grid with list room `room` held the update: its lists, and records for
+        its voxels."""
+        return self.needed() <= room and not self.records_short
 
 
 class CoveredBound:

@@ -154,8 +154,8 @@ def test_voxels_between_anchors_take_a_gather_that_varies_linearly_along_the_wal
     anchors = np.zeros((N, N, N, 4), np.float32)  # the anchors' gathers (a = 1 where traced)
     anchors[wall_anchors] = np.concatenate([linear[wall_anchors], np.ones((wall_anchors.sum(), 1))], axis=-1)
     anchors[side_anchors] = (10.0, 10.0, 10.0, 1.0)
-    volume = grid.gathered[0]
-    volume.write(anchors.astype("f2").tobytes())
-    filled = grid.read_level(gl["gather"].fill(grid, volume, classes.filled_segment(0)))
+    values = grid.gathered[0]
+    grid.write_values(values, anchors)
+    filled = grid.read_level(gl["gather"].fill(grid, values, classes.filled_segment(0)))
     inner = (z == 5) & (x >= 3) & (y >= 3) & (x < 13) & (y < 13)
     assert np.allclose(filled[inner][:, :3], linear[inner], rtol=2e-3)

@@ -151,23 +151,24 @@ def test_moving_an_object_leaves_no_stale_voxels(renderer):
     assert np.array_equal(moved_image, fresh_image)
 
 
-def test_voxel_memory_is_what_the_grid_holds_with_light_volumes_only_where_the_scene_has_that_light():
+def test_voxel_memory_is_what_the_grid_holds_with_light_arrays_only_where_the_scene_has_that_light():
     """The voxel memory a renderer reports (vct bench, the viewer's overlay) is the GPU bytes its
-    grid and passes hold: a scene under a sky holds two volumes more than the Cornell box (the
-    sky's irradiance at the voxels, traced and filtered), released when the sky goes; a voxel
-    view adds its volume's mip chain."""
+    grid and passes hold: a scene under a sky holds two arrays of values more than the Cornell
+    box (the sky's irradiance at the voxels, traced and filtered: an RGBA16F value for each
+    covered voxel the lists have room for), released when the sky goes; a voxel view adds an
+    n^3 volume with its mip chain."""
     cornell = engine.load_scene(SCENES / "cornell_box.json")
     sky = engine.load_scene(SCENES / "references" / "open_box_sky.json")
-    volume = 8 * 32 ** 3  # one RGBA16F volume of the grid
     with engine.Renderer(16, 16) as r:
         r.render(cornell, grid=32, bounces=1)
         alone = r.voxel_memory_bytes()
+        values = 8 * r.grid.list_room
         r.render(sky, grid=32, bounces=1)
-        assert r.voxel_memory_bytes() - alone == 2 * volume
+        assert r.voxel_memory_bytes() - alone == 2 * values
         r.render(cornell, grid=32, bounces=1)
         assert r.voxel_memory_bytes() == alone
         r.render(cornell, grid=32, mode="voxel-albedo", voxel_mip=1)
-        assert r.voxel_memory_bytes() - alone == pytest.approx(volume / 7, abs=16)
+        assert r.voxel_memory_bytes() - alone == pytest.approx(8 * 32 ** 3 * 8 / 7, abs=16)
     assert alone < voxel_grid.voxel_memory_bytes(32)
 
 
@@ -265,3 +266,35 @@ def test_voxels_summed_in_chunks_are_the_voxels_summed_at_once(monkeypatch):
     (chunked, chunked_image, touched), (whole, whole_image, _) = results
     assert touched > 2 * chunk and voxel_grid.sum_room(32) == 32 ** 3
     assert chunked == whole and np.array_equal(chunked_image, whole_image)
+
+
+@pytest.mark.parametrize("sum_room", [voxel_grid.SUM_ROOM, 1])
+def test_every_covered_voxel_holds_a_record_of_its_own_and_an_emptied_voxel_gives_it_back(monkeypatch, sum_room):
+    """Per-voxel values live in records (engine/voxel_records.py): as the short box moves about,
+    its updates summed at once or in chunks of 1024 voxels, each covered voxel holds one record
+    no other voxel holds, no empty voxel holds one, and every other record is free in the pool."""
+    monkeypatch.setattr(voxel_grid, "SUM_ROOM", sum_room)
+    scene = engine.load_scene(SCENES / "cornell_box.json")
+    box = scene.root.find("Short Box")
+    with engine.Renderer(32, 32) as renderer:
+        renderer.render(scene, mode="gi", grid=32, bounces=1)
+        for step in ((0.3, 0.0, 0.0), (0.0, 0.2, -0.3), (-0.3, -0.2, 0.3)):
+            box.translation += step
+            renderer.render(scene, mode="gi", grid=32, bounces=1)
+            check_records(renderer)
+
+
+def check_records(renderer):
+    """The record invariants of the renderer's grid (see the test above)."""
+    with renderer.ctx:
+        grid = renderer.grid
+        index = np.frombuffer(grid.records.index.read(), "u4")
+        pool = np.frombuffer(grid.records.pool.read(), "i4")
+        covered = np.frombuffer(grid.covered.buffer.read(4 * (1 + grid.covered.read_count())), "u4")[1:]
+    x, y, z = (covered & 1023, (covered >> 10) & 1023, covered >> 20)
+    held = index[x + grid.n * (y + grid.n * z)]
+    assert np.all(held > 0) and np.count_nonzero(index) == len(covered)
+    free_count, short = pool[0], pool[1]
+    assert short == 0 and free_count == grid.records.room - len(covered)
+    free = pool[2:2 + free_count]
+    assert sorted(np.concatenate([held - 1, free]).tolist()) == list(range(grid.records.room))

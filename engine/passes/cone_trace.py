@@ -9,6 +9,7 @@ anchor stood for."""
 import numpy as np
 
 from ..constants import GL_IMAGE_FORMAT, IMAGE_UNIT, SHADER_ENUMS, STORAGE_BINDING, TEXTURE_UNIT
+from ..voxel_grid import bind_values
 from .gbuffer import GBuffer
 from .target import ScreenTarget
 
@@ -23,8 +24,8 @@ class ConeTracePass:
         self.programs = {(lit, sky): programs.program(
             {name: 1 for name, on in (("EMITTERS", lit), ("SKY", sky)) if on} or None,
             vertex_shader="lib/fullscreen.vert", fragment_shader="cone_trace/shade_pixels.frag",
-            reads=(*GBuffer.READS, "TEX_DIRECT_LIGHT", "TEX_VOXEL_NORMAL", "TEX_VOXEL_FACES", "TEX_VOXEL_GATHERED",
-                   "TEX_VOXEL_EMITTER_IRRADIANCE", "TEX_VOXEL_SKY_IRRADIANCE", "TEX_ENVIRONMENT", "SSBO_EMITTER_TRIANGLES",
+            reads=(*GBuffer.READS, "TEX_DIRECT_LIGHT", "SSBO_VOXEL_RECORD", "SSBO_VOXEL_ALBEDO", "SSBO_VOXEL_NORMAL", "SSBO_VOXEL_EMISSION", "TEX_VOXEL_FACES", "SSBO_VOXEL_GATHERED",
+                   "SSBO_VOXEL_EMITTER_IRRADIANCE", "SSBO_VOXEL_SKY_IRRADIANCE", "TEX_ENVIRONMENT", "SSBO_EMITTER_TRIANGLES",
                    "SSBO_EMITTER_PATCHES", "SSBO_UNSHARED_PIXELS"),
             writes=("SSBO_CONE_PIXELS", "SSBO_SHARED_PIXELS", "IMG_DIFFUSE_IN"))
             for lit in (False, True) for sky in (False, True)}
@@ -65,7 +66,7 @@ class ConeTracePass:
             environment.bind(handle)
         grid.use_surface()
         grid.use_faces()
-        gathered.use(TEXTURE_UNIT["VOXEL_GATHERED"])
+        bind_values(gathered, "VOXEL_GATHERED")
         direct.texture.use(TEXTURE_UNIT["DIRECT_LIGHT"])
         grid_uniforms = dict(grid.uniforms(), voxel_emitters=emitters.count > 0)
         program.set(**grid_uniforms, **cone_uniforms, output_kind=SHADER_ENUMS["OUTPUT"]["ao" if terms.ao else "radiance"], include_direct=terms.direct,

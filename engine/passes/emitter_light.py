@@ -3,15 +3,14 @@ triangle at its surface point (Lambert's polygon formula), shadowed by one cone 
 through the face views (which must hold the grid's current coverage), and the fraction of it
 that arrives, which the image interpolates per pixel. Runs over a segment of the grid's class
 list when the voxels or the emitters change; light injection adds it to the base radiance."""
-from ..constants import IMAGE_UNIT, STORAGE_BINDING
-from ..voxel_grid import bind_image
+from ..constants import STORAGE_BINDING
 
 
 class EmitterLightPass:
     def __init__(self, ctx, programs):
         self.program = programs.compute(
-            "emitter_light/light_voxels.comp", writes=("IMG_EMITTER_IRRADIANCE_OUT",),
-            reads=("SSBO_VOXEL_LIST", "SSBO_SEGMENTS", "TEX_VOXEL_NORMAL", "TEX_VOXEL_EMISSION", "TEX_VOXEL_FACES", "SSBO_EMITTER_TRIANGLES",
+            "emitter_light/light_voxels.comp", writes=("SSBO_VOXEL_EMITTER_IRRADIANCE",),
+            reads=("SSBO_VOXEL_LIST", "SSBO_SEGMENTS", "SSBO_VOXEL_RECORD", "SSBO_VOXEL_ALBEDO", "SSBO_VOXEL_NORMAL", "SSBO_VOXEL_EMISSION", "TEX_VOXEL_FACES", "SSBO_EMITTER_TRIANGLES",
                    "SSBO_EMITTER_PATCHES"))
 
     def run(self, grid, emitters, cone_uniforms, segment):
@@ -21,7 +20,6 @@ class EmitterLightPass:
         grid.use_faces()
         segment.buffer.bind_to_storage_buffer(STORAGE_BINDING["VOXEL_LIST"])
         emitters.bind(self.program)
-        bind_image(grid.emitter_irradiance, IMAGE_UNIT["EMITTER_IRRADIANCE_OUT"])
         self.program.set(**grid.uniforms(), **cone_uniforms)
         grid.dispatch(self.program, segment)
         return grid.emitter_irradiance

@@ -3,7 +3,8 @@ it gathered, L = L_base + rho G (rho: its reflectance), times the coverage of ea
 direction; then their mip levels, built over the covered cells of each level only."""
 import numpy as np
 
-from ..constants import STORAGE_BINDING, TEXTURE_UNIT, VOXEL_FACES
+from ..constants import STORAGE_BINDING, VOXEL_FACES
+from ..voxel_grid import bind_values
 
 
 class FaceViewsPass:
@@ -11,20 +12,20 @@ class FaceViewsPass:
         self.ctx = ctx
         self.compose_program = programs.compute(
             "faces/compose_face_views.comp", writes=("IMG_FACES_OUT",),
-            reads=("SSBO_VOXEL_LIST", "SSBO_SEGMENTS", "TEX_VOXEL_ALBEDO", "TEX_VOXEL_NORMAL", "TEX_VOXEL_EMISSION", "TEX_VOXEL_BASE", "TEX_VOXEL_GATHERED"))
+            reads=("SSBO_VOXEL_LIST", "SSBO_SEGMENTS", "SSBO_VOXEL_RECORD", "SSBO_VOXEL_ALBEDO", "SSBO_VOXEL_NORMAL", "SSBO_VOXEL_EMISSION", "SSBO_VOXEL_BASE", "SSBO_VOXEL_GATHERED"))
         self.mipmap_program = programs.compute("faces/mipmap_face_views.comp", reads=("SSBO_CELLS", "SSBO_SEGMENTS", "TEX_VOXEL_FACES"),
                                                writes=("IMG_FACES_OUT",))
         self.totals_program = programs.compute("faces/sum_face_views.comp", reads=("TEX_VOXEL_FACES",), writes=("SSBO_READBACK",))
         self.totals_buffer = ctx.buffer(reserve=16 * VOXEL_FACES)
 
     def compose(self, grid, gathered, segment):
-        """Level 0 of the face views from the base radiance plus rho times `gathered` (a
-        volume of the grid, or None before the first bounce), for the voxels of `segment` (a
+        """Level 0 of the face views from the base radiance plus rho times `gathered` (an
+        array of the grid, or None before the first bounce), for the voxels of `segment` (a
         VoxelSegment). Returns the face views (grid.faces)."""
         grid.use_surface()
-        grid.base.use(TEXTURE_UNIT["VOXEL_BASE"])
+        bind_values(grid.base, "VOXEL_BASE")
         if gathered is not None:
-            gathered.use(TEXTURE_UNIT["VOXEL_GATHERED"])
+            bind_values(gathered, "VOXEL_GATHERED")
         segment.buffer.bind_to_storage_buffer(STORAGE_BINDING["VOXEL_LIST"])
         grid.bind_faces()
         self.compose_program.set(**grid.uniforms(), include_gathered=gathered is not None)

@@ -8,8 +8,8 @@ then the others, and the covered level-1 cells by class, and closes the bounce s
 extrapolation."""
 import numpy as np
 
-from ..constants import CLASS_BLOCK, CLASS_FACINGS, CLASS_PARTS, IMAGE_UNIT, MAX_INTERLEAVE, MAX_SEGMENT_ROWS, STORAGE_BINDING, TEXTURE_UNIT
-from ..voxel_grid import GridStorage, bind_image
+from ..constants import CLASS_BLOCK, CLASS_FACINGS, CLASS_PARTS, MAX_INTERLEAVE, MAX_SEGMENT_ROWS, STORAGE_BINDING
+from ..voxel_grid import GridStorage, bind_values
 from ..voxel_lists import ClassIndex, SegmentTable, VoxelList
 
 
@@ -17,23 +17,23 @@ class GatherPass:
     def __init__(self, ctx, programs):
         self.ctx = ctx
         self.trace_program = programs.compute(
-            "gather/trace_anchor_cones.comp", writes=("IMG_GATHERED_OUT",),
-            reads=("SSBO_CLASS_LIST", "SSBO_SEGMENTS", "TEX_VOXEL_NORMAL", "TEX_VOXEL_EMISSION", "TEX_VOXEL_FACES"))
-        self.mark_stale_program = programs.compute("gather/mark_stale_anchors.comp", reads=("SSBO_TOUCHED", "TEX_VOXEL_ALBEDO"),
+            "gather/trace_anchor_cones.comp", writes=("SSBO_GATHERED_OUT",),
+            reads=("SSBO_CLASS_LIST", "SSBO_SEGMENTS", "SSBO_VOXEL_RECORD", "SSBO_VOXEL_ALBEDO", "SSBO_VOXEL_NORMAL", "SSBO_VOXEL_EMISSION", "TEX_VOXEL_FACES"))
+        self.mark_stale_program = programs.compute("gather/mark_stale_anchors.comp", reads=("SSBO_TOUCHED", "SSBO_VOXEL_RECORD", "SSBO_VOXEL_ALBEDO", "SSBO_VOXEL_NORMAL", "SSBO_VOXEL_EMISSION"),
                                                    writes=("SSBO_GATHER_ANCHORS", "SSBO_STALE_VOXELS"))
         self.find_anchors_program = programs.compute(
             "gather/find_anchors.comp", writes=("SSBO_GATHER_ANCHORS",),
-            reads=("SSBO_COVERED", "SSBO_STALE_VOXELS", "TEX_VOXEL_ALBEDO", "TEX_VOXEL_NORMAL"))
+            reads=("SSBO_COVERED", "SSBO_STALE_VOXELS", "SSBO_VOXEL_RECORD", "SSBO_VOXEL_ALBEDO", "SSBO_VOXEL_NORMAL", "SSBO_VOXEL_EMISSION"))
         self.sort_classes_program = programs.compute(
-            "gather/sort_classes.comp", reads=("SSBO_COVERED", "SSBO_GATHER_ANCHORS", "TEX_VOXEL_NORMAL"),
+            "gather/sort_classes.comp", reads=("SSBO_COVERED", "SSBO_GATHER_ANCHORS", "SSBO_VOXEL_RECORD", "SSBO_VOXEL_ALBEDO", "SSBO_VOXEL_NORMAL", "SSBO_VOXEL_EMISSION"),
             writes=("SSBO_CLASS_BUCKETS", "SSBO_CLASS_LIST", "SSBO_CELL_CLASS_BITS"))
         self.sort_cells_program = programs.compute("gather/sort_class_cells.comp", reads=("SSBO_CELLS", "SSBO_CELL_CLASS_BITS"),
                                                    writes=("SSBO_CLASS_BUCKETS", "SSBO_CELLS_BY_CLASS"))
-        self.fill_program = programs.compute("gather/interpolate_from_anchors.comp", writes=("IMG_GATHERED_OUT",),
-                                             reads=("SSBO_CLASS_LIST", "SSBO_SEGMENTS", "SSBO_GATHER_ANCHORS", "TEX_VOXEL_NORMAL"))
+        self.fill_program = programs.compute("gather/interpolate_from_anchors.comp", writes=("SSBO_GATHERED_OUT",),
+                                             reads=("SSBO_CLASS_LIST", "SSBO_SEGMENTS", "SSBO_GATHER_ANCHORS", "SSBO_VOXEL_RECORD", "SSBO_VOXEL_ALBEDO", "SSBO_VOXEL_NORMAL", "SSBO_VOXEL_EMISSION"))
         self.scan_program = programs.compute("gather/scan_buckets.comp", writes=("SSBO_CLASS_BUCKETS", "SSBO_SEGMENTS"))
-        self.extrapolate_program = programs.compute("gather/close_bounce_series.comp", reads=("SSBO_COVERED", "TEX_VOXEL_GATHERED"),
-                                                    writes=("IMG_GATHERED_OUT",))
+        self.extrapolate_program = programs.compute("gather/close_bounce_series.comp", reads=("SSBO_COVERED", "SSBO_VOXEL_RECORD", "SSBO_VOXEL_GATHERED"),
+                                                    writes=("SSBO_GATHERED_OUT",))
         self.anchors_epoch = None  # the epoch of the covered list self.anchors was found for
         self._storage = GridStorage()
 
@@ -137,32 +137,34 @@ class GatherPass:
 
     def run(self, grid, cone_uniforms, out, classes, class_index):
         """Gather the anchors of interleave class `class_index` (of ClassIndex `classes`) into
-        volume `out`, then interpolate the gather of the class's other voxels in it from the
+        array `out`, then interpolate the gather of the class's other voxels in it from the
         anchors around them. Returns `out`."""
         grid.use_surface()
         grid.use_faces()
         self.class_list.bind_to_storage_buffer(STORAGE_BINDING["CLASS_LIST"])
-        bind_image(out, IMAGE_UNIT["GATHERED_OUT"])
+        bind_values(out, "GATHERED_OUT")
         anchors = classes.anchor_segment(class_index)
         self.trace_program.set(**grid.uniforms(), **cone_uniforms)
         grid.dispatch(self.trace_program, anchors)
         return self.fill(grid, out, classes.filled_segment(class_index))
 
-    def fill(self, grid, volume, segment):
-        """Interpolate `volume` (the anchors' values written) at the voxels of `segment` (a
-        class's voxels that are not anchors) from the anchors around them. Returns `volume`."""
+    def fill(self, grid, values, segment):
+        """Interpolate `values` (an array of the grid, the anchors' values written) at the
+        voxels of `segment` (a class's voxels that are not anchors) from the anchors around
+        them. Returns `values`."""
         grid.use_surface()
         self.class_list.bind_to_storage_buffer(STORAGE_BINDING["CLASS_LIST"])
-        bind_image(volume, IMAGE_UNIT["GATHERED_OUT"], read=True)
+        bind_values(values, "GATHERED_OUT")
         self.anchors.bind_to_storage_buffer(STORAGE_BINDING["GATHER_ANCHORS"])
         self.fill_program.set(**grid.uniforms())
         grid.dispatch(self.fill_program, segment)
-        return volume
+        return values
 
     def extrapolate(self, grid, latest, older, gain):
         """older <- latest + (latest - older) * gain, per covered voxel; returns `older`."""
-        latest.use(TEXTURE_UNIT["VOXEL_GATHERED"])
-        bind_image(older, IMAGE_UNIT["GATHERED_OUT"], read=True)
+        grid.records.bind()
+        bind_values(latest, "VOXEL_GATHERED")
+        bind_values(older, "GATHERED_OUT")
         grid.covered.bind("COVERED")
         self.extrapolate_program.set(**grid.uniforms(), gain=tuple(float(g) for g in gain))
         grid.dispatch(self.extrapolate_program, grid.covered.segment())

@@ -2,16 +2,16 @@
 its surface receives from every light (with the shadow maps), evaluated per voxel at its
 surface point, and from the emitters (passes/emitter_light.py). Runs when lights, shadows,
 the emitters' light or the voxels change, over a segment of a voxel list."""
-from ..constants import IMAGE_UNIT, STORAGE_BINDING
-from ..voxel_grid import bind_image
+from ..constants import STORAGE_BINDING
+from ..voxel_grid import bind_values
 
 
 class InjectPass:
     def __init__(self, ctx, programs):
         self.program = programs.compute(
-            "inject/inject_direct_light.comp", writes=("IMG_BASE_OUT",),
-            reads=("SSBO_VOXEL_LIST", "SSBO_SEGMENTS", "TEX_VOXEL_ALBEDO", "TEX_VOXEL_NORMAL", "TEX_VOXEL_EMISSION", "TEX_VOXEL_EMITTER_IRRADIANCE",
-                   "TEX_VOXEL_SKY_IRRADIANCE", "TEX_SHADOW_ATLAS", "UBO_LIGHTS", "UBO_SHADOW_VIEWS"))
+            "inject/inject_direct_light.comp", writes=("SSBO_VOXEL_BASE",),
+            reads=("SSBO_VOXEL_LIST", "SSBO_SEGMENTS", "SSBO_VOXEL_RECORD", "SSBO_VOXEL_ALBEDO", "SSBO_VOXEL_NORMAL", "SSBO_VOXEL_EMISSION", "SSBO_VOXEL_EMITTER_IRRADIANCE",
+                   "SSBO_VOXEL_SKY_IRRADIANCE", "TEX_SHADOW_ATLAS", "UBO_LIGHTS", "UBO_SHADOW_VIEWS"))
 
     def run(self, grid, shadow_maps, emitters, environment, segment):
         """Writes grid.base for the voxels of `segment` (a VoxelSegment), adding the emitters'
@@ -20,7 +20,7 @@ class InjectPass:
         grid.use_surface()
         segment.buffer.bind_to_storage_buffer(STORAGE_BINDING["VOXEL_LIST"])
         shadow_maps.bind(self.program)
-        bind_image(grid.base, IMAGE_UNIT["BASE_OUT"])
+        bind_values(grid.base, "VOXEL_BASE")
         self.program.set(**grid.uniforms(), voxel_emitters=emitters.count > 0, voxel_sky=environment.environment is not None)
         grid.dispatch(self.program, segment)
         return grid.base

@@ -6,18 +6,18 @@ list when the voxels or the environment change into grid.traced_sky_irradiance, 
 interpolating them as they interpolate the gather (GatherPass.fill); then averaged over the
 like-facing voxels around each covered voxel into grid.sky_irradiance, which light injection adds to
 the base radiance and the image interpolates per pixel."""
-from ..constants import IMAGE_UNIT, STORAGE_BINDING, TEXTURE_UNIT
-from ..voxel_grid import bind_image
+from ..constants import STORAGE_BINDING
+from ..voxel_grid import bind_values
 
 
 class SkyLightPass:
     def __init__(self, ctx, programs):
         self.program = programs.compute(
-            "sky_light/trace_sky_cones.comp", writes=("IMG_SKY_IRRADIANCE_OUT",),
-            reads=("SSBO_VOXEL_LIST", "SSBO_SEGMENTS", "TEX_VOXEL_NORMAL", "TEX_VOXEL_EMISSION", "TEX_VOXEL_FACES", "TEX_ENVIRONMENT"))
+            "sky_light/trace_sky_cones.comp", writes=("SSBO_VOXEL_TRACED_SKY_IRRADIANCE",),
+            reads=("SSBO_VOXEL_LIST", "SSBO_SEGMENTS", "SSBO_VOXEL_RECORD", "SSBO_VOXEL_ALBEDO", "SSBO_VOXEL_NORMAL", "SSBO_VOXEL_EMISSION", "TEX_VOXEL_FACES", "TEX_ENVIRONMENT"))
         self.filter_program = programs.compute(
-            "sky_light/filter_sky_light.comp", writes=("IMG_SKY_IRRADIANCE_OUT",),
-            reads=("SSBO_COVERED", "TEX_VOXEL_NORMAL", "TEX_VOXEL_TRACED_SKY_IRRADIANCE"))
+            "sky_light/filter_sky_light.comp", writes=("SSBO_VOXEL_SKY_IRRADIANCE",),
+            reads=("SSBO_COVERED", "SSBO_VOXEL_RECORD", "SSBO_VOXEL_ALBEDO", "SSBO_VOXEL_NORMAL", "SSBO_VOXEL_EMISSION", "SSBO_VOXEL_TRACED_SKY_IRRADIANCE"))
 
     def run(self, grid, environment, cone_uniforms, segment):
         """`environment`: scene_gpu.EnvironmentMap; `segment`: a VoxelSegment of the class list
@@ -26,7 +26,7 @@ class SkyLightPass:
         grid.use_faces()
         segment.buffer.bind_to_storage_buffer(STORAGE_BINDING["VOXEL_LIST"])
         environment.bind(self.program)
-        bind_image(grid.traced_sky_irradiance, IMAGE_UNIT["SKY_IRRADIANCE_OUT"])
+        bind_values(grid.traced_sky_irradiance, "VOXEL_TRACED_SKY_IRRADIANCE")
         self.program.set(**grid.uniforms(), **cone_uniforms)
         grid.dispatch(self.program, segment)
         return grid.traced_sky_irradiance
@@ -35,9 +35,8 @@ class SkyLightPass:
         """grid.sky_irradiance of every covered voxel from grid.traced_sky_irradiance around it
         (written and returned)."""
         grid.use_surface()
-        grid.traced_sky_irradiance.use(TEXTURE_UNIT["VOXEL_TRACED_SKY_IRRADIANCE"])
+        bind_values(grid.traced_sky_irradiance, "VOXEL_TRACED_SKY_IRRADIANCE")
         grid.covered.bind("COVERED")
-        bind_image(grid.sky_irradiance, IMAGE_UNIT["SKY_IRRADIANCE_OUT"])
         self.filter_program.set(**grid.uniforms())
         grid.dispatch(self.filter_program, grid.covered.segment())
         return grid.sky_irradiance

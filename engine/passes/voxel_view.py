@@ -8,8 +8,8 @@ SHOW = {"voxels": SHADER_ENUMS["SHOW"]["radiance"], "voxel-normals": SHADER_ENUM
         "voxel-albedo": SHADER_ENUMS["SHOW"]["albedo"]}
 
 
-def shown_volume(grid, view):
-    """The volume a voxel view (or `Renderer.voxels`) shows."""
+def shown_values(grid, view):
+    """The array of values a voxel view (or `Renderer.voxels`) shows."""
     return {"voxels": grid.base, "voxel-normals": grid.normal, "voxel-albedo": grid.albedo}[view]
 
 
@@ -23,7 +23,7 @@ class VoxelViewPass:
         self.target.resize(size)
 
     def render(self, grid, view, mip, camera):
-        volume = grid.viewable(shown_volume(grid, view))  # an inspection view: the hardware mip chain of this volume
+        volume = grid.dense(shown_values(grid, view))  # an inspection volume, with its hardware mip chain
         volume.use(TEXTURE_UNIT["VOXEL_INSPECT"])
         self.program.set(**grid.uniforms(), **camera.uniforms(), show=SHOW[view], mip=float(mip),
                          viewport_size=tuple(float(x) for x in self.target.size))

@@ -13,10 +13,10 @@ lists (made anew, empty) and the whole scene is voxelized into it. Whether they 
 read back from the GPU only where the host cannot bound it (engine/voxel_room.py)."""
 import numpy as np
 
-from ..constants import IMAGE_UNIT, SHADER_ENUMS, STORAGE_BINDING, TEXTURE_UNIT, VOXEL_FACES, VOXEL_SUM_CHANNELS
+from ..constants import IMAGE_UNIT, SHADER_ENUMS, STORAGE_BINDING, VOXEL_FACES, VOXEL_SUM_CHANNELS
 from ..changes import VoxelUpdate
 from ..scene_gpu import vertex_extras
-from ..voxel_grid import GridStorage, bind_image, sum_room
+from ..voxel_grid import GridStorage, bind_image, bind_values, sum_room
 from ..voxel_room import CoveredBound
 
 
@@ -35,13 +35,17 @@ class VoxelizePass:
                                              writes=("SSBO_TOUCHED", "SSBO_VOXEL_SLOTS"))
         self.resolve = programs.compute(
             "voxelize/resolve_sums.comp", reads=("SSBO_TOUCHED",),
-            writes=("SSBO_VOXEL_SUMS", "SSBO_FRONT_KEYS", "SSBO_VOXEL_SLOTS", "IMG_ALBEDO_OUT", "IMG_NORMAL_OUT", "IMG_EMISSION_OUT", "IMG_CONE_EMISSION_OUT",
-                    "IMG_TOUCHED_FACES_OUT", "SSBO_COVERED_NEXT"))
-        self.rebuild_covered = programs.compute("voxelize/rebuild_covered_list.comp", reads=("SSBO_COVERED", "TEX_VOXEL_ALBEDO"),
-                                                writes=("SSBO_COVERED_NEXT", "IMG_BASE_OUT", "IMG_FACES_OUT"))
+            writes=("SSBO_VOXEL_SUMS", "SSBO_FRONT_KEYS", "SSBO_VOXEL_SLOTS", "SSBO_VOXEL_RECORD", "SSBO_RECORD_POOL", "SSBO_VOXEL_ALBEDO",
+                    "SSBO_VOXEL_NORMAL", "SSBO_VOXEL_EMISSION", "IMG_CONE_EMISSION_OUT", "IMG_TOUCHED_FACES_OUT", "SSBO_COVERED_NEXT"))
+        self.clear_new_records = programs.compute(
+            "voxelize/clear_new_records.comp", reads=("SSBO_COVERED_NEXT", "SSBO_VOXEL_RECORD"),
+            writes=("SSBO_VOXEL_BASE", "SSBO_VOXEL_GATHERED", "SSBO_GATHERED_OUT", "SSBO_VOXEL_EMITTER_IRRADIANCE", "SSBO_VOXEL_SKY_IRRADIANCE",
+                    "SSBO_VOXEL_TRACED_SKY_IRRADIANCE"))
+        self.rebuild_covered = programs.compute("voxelize/rebuild_covered_list.comp", reads=("SSBO_COVERED", "SSBO_VOXEL_RECORD"),
+                                                writes=("SSBO_COVERED_NEXT", "IMG_FACES_OUT"))
         self.list_cells = programs.compute("voxelize/list_cells.comp", reads=("SSBO_COVERED",),
                                            writes=("SSBO_CELLS", "SSBO_CELL_STAMPS"))
-        self.fill_emission = programs.compute("voxelize/fill_cone_emission.comp", reads=("SSBO_COVERED", "TEX_VOXEL_EMISSION"),
+        self.fill_emission = programs.compute("voxelize/fill_cone_emission.comp", reads=("SSBO_COVERED", "SSBO_VOXEL_RECORD", "SSBO_VOXEL_ALBEDO", "SSBO_VOXEL_NORMAL", "SSBO_VOXEL_EMISSION"),
                                               writes=("IMG_CONE_EMISSION_OUT",))
         self.clear_cells = programs.compute("voxelize/clear_cells.comp", reads=("SSBO_CELLS",), writes=("IMG_FACES_OUT",))
         self._scratch = GridStorage()  # the fixed-point sums, front-layer keys, voxel slots, a framebuffer
@@ -68,17 +72,20 @@ class VoxelizePass:
 
     def update(self, grid, update, draws):
         """Apply a changes.VoxelUpdate to the grid; `draws` are all of the frame's draws.
-        Writes the grid's surface volumes, its touched, covered and cell lists (a new epoch),
-        and zeroes the face views and base radiance of the voxels it emptied; where the lists
-        were short of room, grows them and voxelizes every draw instead."""
+        Writes the grid's records and their surface, its touched, covered and cell lists (a
+        new epoch), zeroes the light at the records it gave and the face views of the voxels it
+        emptied; where the lists or the records were short of room, grows them and voxelizes
+        every draw instead."""
         bound = self.room.bound(grid, update, draws)
-        if bound is not None and bound.needed() <= grid.list_room:  # room enough for certain: nothing read back
+        # Room enough for certain, nothing read back: a bound within the lists, and one chunk,
+        # whose resolve frees records before it takes any (voxelize/resolve_sums.comp).
+        if bound is not None and bound.fits(grid.list_room) and bound.touched <= sum_room(grid.n):
             self._apply(grid, update, draws, bound.touched)
             self.room.voxelized(grid, draws)
             return
         self._apply(grid, update, draws)
         counts = grid.list_counts()
-        while counts.needed() > grid.list_room:
+        while not counts.fits(grid.list_room):
             grid.grow_lists(counts.needed())
             self._scratch.release()  # the voxels left off the touched list are still flagged
             self._apply(grid, VoxelUpdate(True, [], list(draws)), draws)
@@ -125,15 +132,19 @@ class VoxelizePass:
         self.ctx.memory_barrier(self.ctx.SHADER_STORAGE_BARRIER_BIT | self.ctx.SHADER_IMAGE_ACCESS_BARRIER_BIT)
 
     def _resolve(self, grid, chunk_first):
-        """Resolve the sums of the chunk of touched voxels from `chunk_first` into the surface
-        volumes."""
+        """Resolve the sums of the chunk of touched voxels from `chunk_first` into the voxels'
+        records: those emptied give theirs back, then the covered ones take theirs."""
         grid.covered_next.bind("COVERED_NEXT")
-        for unit, volume in (("ALBEDO_OUT", grid.albedo), ("NORMAL_OUT", grid.normal), ("EMISSION_OUT", grid.emission),
-                             ("CONE_EMISSION_OUT", grid.cone_emission), ("TOUCHED_FACES_OUT", grid.faces)):
+        grid.records.bind()
+        for name, values in (("VOXEL_ALBEDO", grid.albedo), ("VOXEL_NORMAL", grid.normal), ("VOXEL_EMISSION", grid.emission)):
+            bind_values(values, name)
+        for unit, volume in (("CONE_EMISSION_OUT", grid.cone_emission), ("TOUCHED_FACES_OUT", grid.faces)):
             if volume is not None:
-                bind_image(volume, IMAGE_UNIT[unit], read=unit == "ALBEDO_OUT")
+                bind_image(volume, IMAGE_UNIT[unit])
         self.resolve.set(**grid.uniforms(), chunk_first=chunk_first, voxel_emitters=grid.cone_emission is not None)
-        grid.dispatch(self.resolve, grid.touched.segment())
+        for freeing in (True, False):
+            self.resolve.set(freeing=freeing)
+            grid.dispatch(self.resolve, grid.touched.segment())
 
     def fill_cone_emission(self, grid):
         """The grid's cone emission volume (made zero) at every covered voxel, from its emission."""
@@ -144,12 +155,20 @@ class VoxelizePass:
         grid.dispatch(self.fill_emission, grid.covered.segment())
 
     def _relist_covered(self, grid):
-        """The covered list from the previous one (the voxels still covered kept, the others
-        emptied) and the resolve's new voxels; then the cells of every level."""
+        """The light at the records the resolve gave zeroed, then the covered list from the
+        resolve's new voxels and the previous list (the voxels still covered kept, the others
+        emptied); then the cells of every level."""
+        grid.size_list(grid.covered_next)
+        for name, values in (("VOXEL_BASE", grid.base), ("VOXEL_GATHERED", grid.gathered[0]), ("GATHERED_OUT", grid.gathered[1]),
+                             ("VOXEL_EMITTER_IRRADIANCE", grid.emitter_irradiance), ("VOXEL_SKY_IRRADIANCE", grid.sky_irradiance),
+                             ("VOXEL_TRACED_SKY_IRRADIANCE", grid.traced_sky_irradiance)):
+            if values is not None:
+                bind_values(values, name)
+        self.clear_new_records.set(**grid.uniforms(), voxel_emitters=grid.emitter_irradiance is not None,
+                                   voxel_sky=grid.sky_irradiance is not None)
+        grid.dispatch(self.clear_new_records, grid.covered_next.segment())
         grid.covered.bind("COVERED")
-        grid.albedo.use(TEXTURE_UNIT["VOXEL_ALBEDO"])
         grid.bind_faces()
-        bind_image(grid.base, IMAGE_UNIT["BASE_OUT"])
         self.rebuild_covered.set(**grid.uniforms())
         grid.dispatch(self.rebuild_covered, grid.covered.segment())
         grid.replace_covered()
@@ -180,8 +199,8 @@ class VoxelizePass:
         return self._scratch.memory_bytes()
 
     def release(self):
-        for handle in (*self.programs.values(), self.mark_covered, self.resolve, self.rebuild_covered, self.list_cells, self.fill_emission,
-                       self.clear_cells):
+        for handle in (*self.programs.values(), self.mark_covered, self.resolve, self.clear_new_records, self.rebuild_covered,
+                       self.list_cells, self.fill_emission, self.clear_cells):
             handle.release()
         self._scratch.release()
 

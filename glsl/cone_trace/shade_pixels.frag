@@ -21,6 +21,7 @@
 // wait on them.
 #include "lib/gbuffer.glsl"
 #include "lib/voxel_surface.glsl"
+#include "lib/voxel_light.glsl"
 #include "lib/cone.glsl"
 #include "lib/brdf.glsl"
 #include "lib/specular_cone.glsl"
@@ -41,7 +42,7 @@
 #endif
 
 layout(binding = TEX_DIRECT_LIGHT) uniform sampler2D direct_light;
-layout(binding = TEX_VOXEL_GATHERED) uniform sampler3D voxel_gathered;
+layout(std430, binding = SSBO_VOXEL_GATHERED) readonly buffer VoxelGathered { uvec2 voxel_gathered[]; };
 uniform int output_kind;
 uniform bool include_direct;
 uniform bool include_diffuse;
@@ -72,10 +73,11 @@ VoxelInterpolation interpolate_voxels(Surface s, bool want_gathered, bool want_v
     for (int k = 0; k < 8; ++k) {
         ivec3 corner = ivec3(k & 1, (k >> 1) & 1, k >> 2);
         ivec3 v = base + corner;
-        if (any(lessThan(v, ivec3(0))) || any(greaterThanEqual(v, ivec3(voxel_grid)))) continue;
-        vec4 g = want_gathered ? texelFetch(voxel_gathered, v, 0) : vec4(0.0);
-        if (g.a <= 0.0 && !want_visibility && !want_sky) continue;  // no surface, or none that reflects diffuse light
-        vec3 n_v = texelFetch(voxel_normal, v, 0).xyz;
+        uint record = voxel_record(v);
+        if (record == NO_RECORD) continue;  // no surface
+        vec4 g = want_gathered ? unpack_value(voxel_gathered[record]) : vec4(0.0);
+        if (g.a <= 0.0 && !want_visibility && !want_sky) continue;  // none that reflects diffuse light
+        vec3 n_v = unpack_value(voxel_normal[record]).xyz;
         if (dot(n_v, n_v) <= 0.0) continue;  // no surface
         vec3 trilinear = mix(1.0 - f, f, vec3(corner));
         float weight = trilinear.x * trilinear.y * trilinear.z * facing_weight(s.normal, n_v);
@@ -83,8 +85,8 @@ VoxelInterpolation interpolate_voxels(Surface s, bool want_gathered, bool want_v
             gathered_sum += weight * g.rgb;
             gathered_total += weight;
         }
-        if (want_visibility) visibility_sum += weight * texelFetch(voxel_emitter_irradiance, v, 0).a;
-        if (want_sky) sky_sum += weight * texelFetch(voxel_sky_irradiance, v, 0).rgb;
+        if (want_visibility) visibility_sum += weight * unpack_value(voxel_emitter_irradiance[record]).a;
+        if (want_sky) sky_sum += weight * unpack_value(voxel_sky_irradiance[record]).rgb;
         surface_total += weight;
     }
     VoxelInterpolation result;

@@ -13,7 +13,7 @@
 #include "lib/emitters.glsl"
 
 layout(local_size_x = LIST_GROUP) in;
-layout(binding = IMG_EMITTER_IRRADIANCE_OUT, rgba16f) uniform writeonly image3D emitter_irradiance_out;
+layout(std430, binding = SSBO_VOXEL_EMITTER_IRRADIANCE) writeonly buffer VoxelEmitterIrradiance { uvec2 emitter_irradiance_out[]; };
 #include "lib/voxel_list.glsl"
 
 // Fraction of a patch p sees, from one cone towards the patch's centre as wide as its sphere.
@@ -41,6 +41,7 @@ void main() {
     if (gl_GlobalInvocationID.x >= segment_count()) return;
     ivec3 v = unpack_voxel(voxel_list[segment_first() + gl_GlobalInvocationID.x]);
     VoxelSurface s = voxel_surface(v);
+    if (!s.covered) return;  // a touched voxel the voxelization emptied
     vec3 shadowed = vec3(0.0), unshadowed = vec3(0.0);
     if (dot(s.mean_normal, s.mean_normal) > 0.0) {
         vec3 n = normalize(s.mean_normal);
@@ -54,5 +55,5 @@ void main() {
         }
     }
     float total = unshadowed.r + unshadowed.g + unshadowed.b;
-    imageStore(emitter_irradiance_out, v, vec4(shadowed, total > 0.0 ? (shadowed.r + shadowed.g + shadowed.b) / total : 1.0));
+    emitter_irradiance_out[voxel_record(v)] = pack_value(vec4(shadowed, total > 0.0 ? (shadowed.r + shadowed.g + shadowed.b) / total : 1.0));
 }

@@ -12,8 +12,8 @@
 #include "lib/voxel_surface.glsl"
 
 layout(local_size_x = LIST_GROUP) in;
-layout(binding = TEX_VOXEL_BASE) uniform sampler3D voxel_base;
-layout(binding = TEX_VOXEL_GATHERED) uniform sampler3D voxel_gathered;
+layout(std430, binding = SSBO_VOXEL_BASE) readonly buffer VoxelBase { uvec2 voxel_base[]; };
+layout(std430, binding = SSBO_VOXEL_GATHERED) readonly buffer VoxelGathered { uvec2 voxel_gathered[]; };
 layout(binding = IMG_FACES_OUT, rgba16f) uniform writeonly image3D faces_out;
 #include "lib/voxel_list.glsl"
 uniform bool include_gathered;  // false before the first bounce
@@ -21,11 +21,11 @@ uniform bool include_gathered;  // false before the first bounce
 void main() {
     if (gl_GlobalInvocationID.x >= segment_count()) return;
     ivec3 v = unpack_voxel(voxel_list[segment_first() + gl_GlobalInvocationID.x]);
-    vec4 albedo = texelFetch(voxel_albedo, v, 0);
-    if (albedo.a == 0.0) return;
-    vec3 radiance = max(texelFetch(voxel_base, v, 0).rgb - texelFetch(voxel_emission, v, 0).rgb, vec3(0.0));
-    vec3 mean_normal = texelFetch(voxel_normal, v, 0).xyz;
-    if (include_gathered) radiance += albedo.rgb * texelFetch(voxel_gathered, v, 0).rgb;
+    uint record = voxel_record(v);
+    if (record == NO_RECORD) return;
+    vec3 radiance = max(unpack_value(voxel_base[record]).rgb - unpack_value(voxel_emission[record]).rgb, vec3(0.0));
+    vec3 mean_normal = unpack_value(voxel_normal[record]).xyz;
+    if (include_gathered) radiance += unpack_value(voxel_albedo[record]).rgb * unpack_value(voxel_gathered[record]).rgb;
     for (int f = 0; f < VOXEL_FACES; ++f) {
         float coverage = face_coverage(mean_normal, f);
         if (coverage > 0.0) imageStore(faces_out, face_texel(v, f, voxel_grid), vec4(radiance * coverage, coverage));

@@ -3,18 +3,19 @@
 // ratio r, the remaining bounces add (G_k - G_{k-1}) r / (1 - r) (geometric series), so
 //   G_inf = G_k + (G_k - G_{k-1}) * gain,  gain = r / (1 - r) per colour channel,
 // written over the older gather, for every covered voxel.
-#include "lib/voxel.glsl"
+#include "lib/voxel_records.glsl"
 
 layout(local_size_x = LIST_GROUP) in;
-layout(binding = TEX_VOXEL_GATHERED) uniform sampler3D latest;
-layout(binding = IMG_GATHERED_OUT, rgba16f) uniform image3D older;
+layout(std430, binding = SSBO_VOXEL_GATHERED) readonly buffer Latest { uvec2 latest[]; };
+layout(std430, binding = SSBO_GATHERED_OUT) buffer Older { uvec2 older[]; };
 #include "lib/covered_voxels.glsl"
 uniform vec3 gain;
 
 void main() {
     if (gl_GlobalInvocationID.x >= covered_count) return;
-    ivec3 v = unpack_voxel(covered[gl_GlobalInvocationID.x]);
-    vec4 current = texelFetch(latest, v, 0);
-    vec3 previous = imageLoad(older, v).rgb;
-    imageStore(older, v, vec4(current.rgb + (current.rgb - previous) * gain, current.a));
+    uint record = voxel_record(unpack_voxel(covered[gl_GlobalInvocationID.x]));
+    if (record == NO_RECORD) return;
+    vec4 current = unpack_value(latest[record]);
+    vec3 previous = unpack_value(older[record]).rgb;
+    older[record] = pack_value(vec4(current.rgb + (current.rgb - previous) * gain, current.a));
 }

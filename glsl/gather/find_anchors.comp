@@ -16,8 +16,9 @@ void main() {
     if (k >= (every_voxel ? covered_count : LISTED(stale_count, stale))) return;
     ivec3 v = unpack_voxel(every_voxel ? covered[k] : stale[k]);
     uint record = 0u;
-    vec3 n = texelFetch(voxel_normal, v, 0).xyz;
-    if (reflects_light(v, n)) {
+    uint v_record = voxel_record(v);
+    vec3 n = RECORD_VALUE(voxel_normal, v_record).xyz;
+    if (v_record != NO_RECORD && reflects_light(v_record, n)) {
         if (on_anchor_lattice(v, n)) {
             record = ANCHOR_SELF;
         } else {
@@ -25,14 +26,16 @@ void main() {
             float total = 0.0;
             for (int k = 0; k < 26; ++k) {
                 ivec3 u = neighbour(v, k);
-                if (any(lessThan(u, ivec3(0))) || any(greaterThanEqual(u, ivec3(voxel_grid)))) continue;
-                vec3 n_u = texelFetch(voxel_normal, u, 0).xyz;
-                if (dot(n, n_u) <= 0.0 || !on_anchor_lattice(u, n_u) || !reflects_light(u, n_u)) continue;
+                uint u_record = voxel_record(u);
+                if (u_record == NO_RECORD) continue;
+                vec3 n_u = unpack_value(voxel_normal[u_record]).xyz;
+                if (dot(n, n_u) <= 0.0 || !on_anchor_lattice(u, n_u) || !reflects_light(u_record, n_u)) continue;
                 record |= 1u << k;
                 total += anchor_weight(v, unit, u, n_u);
             }
             if (total < MIN_ANCHOR_WEIGHT) record = ANCHOR_SELF;
         }
     }
+    if (v_record != NO_RECORD) record |= uint(voxel_facing(n)) << ANCHOR_FACING_SHIFT;
     gather_anchors[voxel_index(v)] = record;
 }

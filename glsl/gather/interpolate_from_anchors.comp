@@ -2,12 +2,12 @@
 // The gather of the voxels that are not anchors (lib/gather_anchors.glsl), from the anchors
 // gather/find_anchors.comp found around them:
 //   G(v) = sum_u W(v, u) G(u) / sum_u W(v, u),
-// 0 where the voxel reflects no light (no anchors recorded). Reads and writes one volume: the
-// anchors it reads are not among the voxels it writes.
+// 0 where the voxel reflects no light (no anchors recorded). Reads and writes one record array:
+// the anchors it reads are not among the voxels it writes.
 #include "lib/gather_anchors.glsl"
 
 layout(local_size_x = LIST_GROUP) in;
-layout(binding = IMG_GATHERED_OUT, rgba16f) uniform image3D gathered;
+layout(std430, binding = SSBO_GATHERED_OUT) buffer GatheredOut { uvec2 gathered[]; };
 layout(std430, binding = SSBO_CLASS_LIST) readonly buffer ClassList { uint class_list[]; };
 // The voxels of the class list that take their gather from anchors.
 #include "lib/list_segment.glsl"
@@ -15,19 +15,21 @@ layout(std430, binding = SSBO_CLASS_LIST) readonly buffer ClassList { uint class
 void main() {
     if (gl_GlobalInvocationID.x >= segment_count()) return;
     ivec3 v = unpack_voxel(class_list[segment_first() + gl_GlobalInvocationID.x]);
-    uint anchors = gather_anchors[voxel_index(v)];
+    uint anchors = gather_anchors[voxel_index(v)] & ANCHOR_NEIGHBOURS;
     vec4 result = vec4(0.0);
     if (anchors != 0u) {
-        vec3 n = normalize(texelFetch(voxel_normal, v, 0).xyz);
+        vec3 n = normalize(voxel_mean_normal(v));
         vec3 sum = vec3(0.0);
         float total = 0.0;
         for (; anchors != 0u; anchors &= anchors - 1u) {
             ivec3 u = neighbour(v, findLSB(anchors));
-            float weight = anchor_weight(v, n, u, texelFetch(voxel_normal, u, 0).xyz);
-            sum += weight * imageLoad(gathered, u).rgb;
+            uint anchor = voxel_record(u);
+            float weight = anchor_weight(v, n, u, RECORD_VALUE(voxel_normal, anchor).xyz);
+            sum += weight * RECORD_VALUE(gathered, anchor).rgb;
             total += weight;
         }
         result = vec4(sum / total, 1.0);  // total >= MIN_ANCHOR_WEIGHT
     }
-    imageStore(gathered, v, result);
+    uint record = voxel_record(v);
+    if (record != NO_RECORD) gathered[record] = pack_value(result);
 }

@@ -19,7 +19,7 @@ void main() {
         if (any(lessThan(u, ivec3(0))) || any(greaterThanEqual(u, ivec3(voxel_grid)))) continue;
         uint record = atomicExchange(gather_anchors[voxel_index(u)], ANCHOR_STALE);
         if (record == ANCHOR_STALE) continue;  // listed by another invocation
-        if (record == 0u && texelFetch(voxel_albedo, u, 0).a <= 0.0) gather_anchors[voxel_index(u)] = 0u;
+        if (record == 0u && voxel_record(u) == NO_RECORD) gather_anchors[voxel_index(u)] = 0u;
         else APPEND(stale_count, stale, pack_voxel(u));
     }
 }

@@ -27,11 +27,11 @@ void main() {
     ivec3 v = unpack_voxel(entry);
     int blocks = max(voxel_grid / CLASS_BLOCK, 1);
     ivec3 block = v / CLASS_BLOCK;
-    vec3 n = texelFetch(voxel_normal, v, 0).xyz;
-    bool anchor = gather_anchors[voxel_index(v)] == ANCHOR_SELF;
-    int class_index = voxel_class(v, n, interleave);
+    uint record = gather_anchors[voxel_index(v)];
+    bool anchor = (record & ANCHOR_SELF) != 0u;
+    int facing = int(record >> ANCHOR_FACING_SHIFT);
+    int class_index = voxel_class(v, facing, interleave);
     int part = anchor ? 0 : 1;
-    int facing = dot(n, n) > 0.0 ? facing_face(n) : CLASS_FACINGS - 1;
     uint block_index = uint((class_index * CLASS_PARTS + part) * blocks * blocks * blocks + block.x + blocks * (block.y + blocks * block.z));
     uint bucket = block_index * uint(CLASS_FACINGS) + uint(facing);
     if (scatter) {

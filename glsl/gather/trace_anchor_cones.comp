@@ -8,7 +8,7 @@
 #include "lib/cone.glsl"
 
 layout(local_size_x = LIST_GROUP) in;
-layout(binding = IMG_GATHERED_OUT, rgba16f) uniform writeonly image3D gathered_out;
+layout(std430, binding = SSBO_GATHERED_OUT) writeonly buffer GatheredOut { uvec2 gathered_out[]; };
 layout(std430, binding = SSBO_CLASS_LIST) readonly buffer ClassList { uint class_list[]; };
 // The segment of the class list to gather.
 #include "lib/list_segment.glsl"
@@ -16,6 +16,8 @@ layout(std430, binding = SSBO_CLASS_LIST) readonly buffer ClassList { uint class
 void main() {
     if (gl_GlobalInvocationID.x >= segment_count()) return;
     ivec3 v = unpack_voxel(class_list[segment_first() + gl_GlobalInvocationID.x]);
+    uint record = voxel_record(v);
+    if (record == NO_RECORD) return;
     VoxelSurface s = voxel_surface(v);
-    imageStore(gathered_out, v, vec4(trace_diffuse(s.position, normalize(s.mean_normal), 1e9).rgb, 1.0));
+    gathered_out[record] = pack_value(vec4(trace_diffuse(s.position, normalize(s.mean_normal), 1e9).rgb, 1.0));
 }

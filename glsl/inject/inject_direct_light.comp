@@ -9,10 +9,11 @@
 // (every voxel, or in progressive frames one interleave class) or the voxels a voxelization
 // touched.
 #include "lib/voxel_surface.glsl"
+#include "lib/voxel_light.glsl"
 #include "lib/lights.glsl"
 
 layout(local_size_x = LIST_GROUP) in;
-layout(binding = IMG_BASE_OUT, rgba16f) uniform writeonly image3D base_out;
+layout(std430, binding = SSBO_VOXEL_BASE) writeonly buffer VoxelBase { uvec2 base_out[]; };
 #include "lib/voxel_list.glsl"
 
 void main() {
@@ -26,8 +27,8 @@ void main() {
             vec3 l;
             irradiance += light_irradiance(i, s.position, s.mean_normal, l);
         }
-        if (voxel_emitters) irradiance += texelFetch(voxel_emitter_irradiance, v, 0).rgb;
-        if (voxel_sky) irradiance += texelFetch(voxel_sky_irradiance, v, 0).rgb;
+        if (voxel_emitters) irradiance += unpack_value(voxel_emitter_irradiance[voxel_record(v)]).rgb;
+        if (voxel_sky) irradiance += unpack_value(voxel_sky_irradiance[voxel_record(v)]).rgb;
     }
-    imageStore(base_out, v, vec4(s.emission + s.albedo / PI * irradiance, 1.0));
+    base_out[voxel_record(v)] = pack_value(vec4(s.emission + s.albedo / PI * irradiance, 1.0));
 }

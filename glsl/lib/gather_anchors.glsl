@@ -5,42 +5,49 @@
 // surfaces face, as the image interpolates the voxels (cone_trace/shade_pixels.frag). A voxel with too few
 // anchors of a like facing around it (a thin part, an edge) is an anchor too.
 //
-// gather/find_anchors.comp records per voxel (GATHER_ANCHORS, at voxel_index(v)) the bit
+// gather/find_anchors.comp records per covered voxel (GATHER_ANCHORS, at voxel_index(v)) the bit
 // ANCHOR_SELF when it traces the gather itself, or else the bit k of each neighbour k
-// (`neighbour`) that is an anchor it takes its gather from. A record depends on the voxel and
-// its neighbours only: after a voxelization, gather/mark_stale_anchors.comp marks the records around
-// the voxels it touched ANCHOR_STALE, and only those are found again.
+// (`neighbour`, within ANCHOR_NEIGHBOURS) that is an anchor it takes its gather from, and its
+// facing from bit ANCHOR_FACING_SHIFT (what the class sort reads: voxel_facing); an empty
+// voxel's record is 0. A record depends on the voxel and its neighbours only: after a
+// voxelization, gather/mark_stale_anchors.comp marks the records around the voxels it touched
+// ANCHOR_STALE, and only those are found again.
 #include "lib/voxel_surface.glsl"
 
 layout(std430, binding = SSBO_GATHER_ANCHORS) buffer GatherAnchors { uint gather_anchors[]; };
 
-// Voxels whose surface reflects no light gather nothing (v, with its mean normal n).
-bool reflects_light(ivec3 v, vec3 n) {
-    vec4 albedo = texelFetch(voxel_albedo, v, 0);
+// Voxels whose surface reflects no light gather nothing (a voxel's record, and its mean normal n).
+bool reflects_light(uint record, vec3 n) {
+    vec4 albedo = RECORD_VALUE(voxel_albedo, record);
     return albedo.a > 0.0 && any(greaterThan(albedo.rgb, vec3(0.0))) && dot(n, n) > 1e-6;
 }
 
-// The axes along a surface with normal n: the two other than its dominant one.
-ivec2 tangent_axes(vec3 n) {
-    int axis = dominant_axis(n);
+// The axes along a surface across `axis` (its normal's dominant one): the two others.
+ivec2 tangent_axes(int axis) {
     return ivec2((axis + 1) % 3, (axis + 2) % 3);
+}
+
+// A covered voxel's facing (the class sort's buckets, CLASS_FACINGS): the face view its mean
+// normal n belongs to, or CLASS_FACINGS - 1 where n is zero.
+int voxel_facing(vec3 n) {
+    return dot(n, n) > 0.0 ? facing_face(n) : CLASS_FACINGS - 1;
 }
 
 // Whether a voxel with mean normal n lies on the anchors' lattice: even along its surface.
 bool on_anchor_lattice(ivec3 v, vec3 n) {
-    ivec2 t = tangent_axes(n);
+    ivec2 t = tangent_axes(dominant_axis(n));
     return ((v[t.x] | v[t.y]) & 1) == 0;
 }
 
-// Interleave class of a voxel (mean normal n) for the progressive bounce: the position of its
-// level-1 cell (2x2x2 voxels) in the 2x2 block of cells along its surface, then the cell's
-// layer. A class spreads over the surfaces evenly (its anchors are a quarter of a plane's, 4
+// Interleave class of a voxel (of `facing`: voxel_facing) for the progressive bounce: the
+// position of its level-1 cell (2x2x2 voxels) in the 2x2 block of cells along its surface,
+// then the cell's layer. A class spreads over the surfaces evenly (its anchors are a quarter of a plane's, 4
 // voxels apart), and a cell holds one class unless surfaces of several facings meet in it, so
 // that the face views' level 1 changes in the cells of the class composed (gather/sort_class_cells.comp).
-int voxel_class(ivec3 v, vec3 n, int interleave) {
+int voxel_class(ivec3 v, int facing, int interleave) {
     ivec3 cell = v >> 1;
-    int axis = dominant_axis(n);
-    ivec2 t = tangent_axes(n);
+    int axis = facing < CLASS_FACINGS - 1 ? facing >> 1 : 0;  // a zero normal's dominant axis is x
+    ivec2 t = tangent_axes(axis);
     return ((cell[t.x] & 1) | ((cell[t.y] & 1) << 1) | ((cell[axis] & 1) << 2)) % interleave;
 }
 

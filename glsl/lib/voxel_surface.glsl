@@ -1,16 +1,15 @@
 // The resolved surface of each voxel (written by voxelize/resolve_sums.comp): reflectance, mean
 // normal, emission, and the point on the surface nearest the voxel centre.
-#include "lib/voxel.glsl"
+#include "lib/voxel_records.glsl"
 
-layout(binding = TEX_VOXEL_ALBEDO) uniform sampler3D voxel_albedo;     // rgb, a = 1 where covered
-layout(binding = TEX_VOXEL_NORMAL) uniform sampler3D voxel_normal;     // xyz mean normal, w = 1 where covered
-layout(binding = TEX_VOXEL_EMISSION) uniform sampler3D voxel_emission; // rgb, a = surface offset in voxels
-// The emitters' shadowed irradiance at each voxel's surface (rgb) and the fraction of their
-// unshadowed light that arrives (a), where voxel_emitters (emitter_light/light_voxels.comp).
-layout(binding = TEX_VOXEL_EMITTER_IRRADIANCE) uniform sampler3D voxel_emitter_irradiance;
-// The environment's irradiance at each voxel's surface through the voxels (rgb), where
-// voxel_sky (sky_light/trace_sky_cones.comp).
-layout(binding = TEX_VOXEL_SKY_IRRADIANCE) uniform sampler3D voxel_sky_irradiance;
+layout(std430, binding = SSBO_VOXEL_ALBEDO) readonly buffer VoxelAlbedo { uvec2 voxel_albedo[]; };       // rgb, a = 1
+layout(std430, binding = SSBO_VOXEL_NORMAL) readonly buffer VoxelNormal { uvec2 voxel_normal[]; };       // xyz mean normal, w = 1
+layout(std430, binding = SSBO_VOXEL_EMISSION) readonly buffer VoxelEmission { uvec2 voxel_emission[]; }; // rgb, a = surface offset in voxels
+
+// Voxel v's mean normal (zero where no surface covers it).
+vec3 voxel_mean_normal(ivec3 v) {
+    return RECORD_VALUE(voxel_normal, voxel_record(v)).xyz;
+}
 
 struct VoxelSurface {
     bool covered;
@@ -22,11 +21,11 @@ struct VoxelSurface {
 
 VoxelSurface voxel_surface(ivec3 v) {
     VoxelSurface s;
-    vec4 albedo = texelFetch(voxel_albedo, v, 0);
-    vec4 emission = texelFetch(voxel_emission, v, 0);
-    s.covered = albedo.a > 0.0;
-    s.albedo = albedo.rgb;
-    s.mean_normal = texelFetch(voxel_normal, v, 0).xyz;
+    uint record = voxel_record(v);
+    vec4 emission = RECORD_VALUE(voxel_emission, record);
+    s.covered = record != NO_RECORD;
+    s.albedo = RECORD_VALUE(voxel_albedo, record).rgb;
+    s.mean_normal = RECORD_VALUE(voxel_normal, record).xyz;
     s.emission = emission.rgb;
     float length_n = length(s.mean_normal);
     // Surface point = centre + n * mean(dot(p_i - centre, n_i)): the centre projected onto a plane.

@@ -9,14 +9,16 @@
 #include "lib/voxel_surface.glsl"
 
 layout(local_size_x = LIST_GROUP) in;
-layout(binding = TEX_VOXEL_TRACED_SKY_IRRADIANCE) uniform sampler3D sky_traced;  // a = 1 where traced or interpolated
-layout(binding = IMG_SKY_IRRADIANCE_OUT, rgba16f) uniform writeonly image3D sky_irradiance_out;
+layout(std430, binding = SSBO_VOXEL_TRACED_SKY_IRRADIANCE) readonly buffer TracedSky { uvec2 sky_traced[]; };  // a = 1 where traced or interpolated
+layout(std430, binding = SSBO_VOXEL_SKY_IRRADIANCE) writeonly buffer VoxelSkyIrradiance { uvec2 sky_irradiance_out[]; };
 #include "lib/covered_voxels.glsl"
 
 void main() {
     if (gl_GlobalInvocationID.x >= covered_count) return;
     ivec3 v = unpack_voxel(covered[gl_GlobalInvocationID.x]);
-    vec3 n_v = texelFetch(voxel_normal, v, 0).xyz;
+    uint record = voxel_record(v);
+    if (record == NO_RECORD) return;
+    vec3 n_v = unpack_value(voxel_normal[record]).xyz;
     vec3 sum = vec3(0.0);
     float total = 0.0;
     if (dot(n_v, n_v) > 0.0) {
@@ -26,10 +28,10 @@ void main() {
         for (int dy = -SKY_FILTER_RADIUS; dy <= SKY_FILTER_RADIUS; ++dy)
         for (int dx = -SKY_FILTER_RADIUS; dx <= SKY_FILTER_RADIUS; ++dx) {
             ivec3 u = v + ivec3(dx, dy, dz);
-            if (any(lessThan(u, ivec3(0))) || any(greaterThanEqual(u, ivec3(voxel_grid)))) continue;
-            vec4 traced = texelFetch(sky_traced, u, 0);
+            uint neighbour = voxel_record(u);
+            vec4 traced = RECORD_VALUE(sky_traced, neighbour);
             if (traced.a <= 0.0) continue;  // not lit by the sky: no surface, or one that reflects nothing
-            vec3 n_u = texelFetch(voxel_normal, u, 0).xyz;
+            vec3 n_u = unpack_value(voxel_normal[neighbour]).xyz;
             if (dot(n_u, n_u) <= 0.0) continue;
             vec3 tent = 1.0 - abs(vec3(dx, dy, dz)) / reach;
             float weight = tent.x * tent.y * tent.z * facing_weight(n, n_u);
@@ -37,5 +39,5 @@ void main() {
             total += weight;
         }
     }
-    imageStore(sky_irradiance_out, v, vec4(total > 0.0 ? sum / total : vec3(0.0), total > 0.0 ? 1.0 : 0.0));
+    sky_irradiance_out[record] = pack_value(vec4(total > 0.0 ? sum / total : vec3(0.0), total > 0.0 ? 1.0 : 0.0));
 }

@@ -15,7 +15,7 @@
 #include "lib/environment.glsl"
 
 layout(local_size_x = LIST_GROUP) in;
-layout(binding = IMG_SKY_IRRADIANCE_OUT, rgba16f) uniform writeonly image3D sky_irradiance_out;
+layout(std430, binding = SSBO_VOXEL_TRACED_SKY_IRRADIANCE) writeonly buffer TracedSky { uvec2 sky_traced_out[]; };
 #include "lib/voxel_list.glsl"
 
 // The voxel's own offsets of its cones in [0, 1)^2: a hash of its coordinates.
@@ -38,6 +38,7 @@ void main() {
     if (gl_GlobalInvocationID.x >= segment_count()) return;
     ivec3 v = unpack_voxel(voxel_list[segment_first() + gl_GlobalInvocationID.x]);
     VoxelSurface s = voxel_surface(v);
+    if (!s.covered) return;  // a touched voxel the voxelization emptied
     vec3 irradiance = vec3(0.0);
     if (dot(s.mean_normal, s.mean_normal) > 0.0) {
         vec3 n = normalize(s.mean_normal);
@@ -54,5 +55,5 @@ void main() {
         }
         irradiance *= PI / cosine_sum;  // E = pi x the cosine-weighted mean radiance
     }
-    imageStore(sky_irradiance_out, v, vec4(irradiance, 1.0));
+    sky_traced_out[voxel_record(v)] = pack_value(vec4(irradiance, 1.0));
 }

@@ -1,21 +1,28 @@
 #version 450 core
 // Voxel resolve, over the voxels the last voxelization touched, those of the chunk being
-// summed (lib/voxel_sums.glsl): divide the fixed-point sums by
-// the fragment count into the surface volumes (albedo, normal, emission with the surface offset
-// in a; a = 1 marks a covered voxel) and, where surfaces emit, the emission volume specular
-// cones read (emission, a = 1 where covered), zero the sums, front-layer keys and slot for the next update, zero the voxel's
-// six faces at level 0 of the face views (faces/compose_face_views.comp writes only the faces its new
-// surface covers), and list the voxels that were empty before and are covered now, for the new
-// covered list.
+// summed (lib/voxel_sums.glsl), in two dispatches. First (`freeing`) the voxels every surface
+// left give their records back to the pool (engine/voxel_records.py); then each covered voxel
+// takes a record where it had none (and is listed for the new covered list), and the
+// fixed-point sums divided by the fragment count become its surface: albedo, mean normal,
+// emission with the surface offset in a. Where surfaces emit, the emission volume specular
+// cones read follows (emission, a = 1 where covered). Both zero the sums, front-layer keys and
+// slot for the next update, and the voxel's six faces at level 0 of the face views
+// (faces/compose_face_views.comp writes only the faces its new surface covers). Freeing first
+// keeps the records an update holds at once to the more of the voxels covered before it and
+// after it, within each chunk; a voxel the pool has no record for is counted short (the grid
+// is then made anew with more room: VoxelizePass.update).
 #include "lib/voxel_sums.glsl"
+#include "lib/voxel_records.glsl"
 
 layout(local_size_x = LIST_GROUP) in;
-layout(binding = IMG_ALBEDO_OUT, rgba16f) uniform image3D albedo_out;
-layout(binding = IMG_NORMAL_OUT, rgba16f) uniform writeonly image3D normal_out;
-layout(binding = IMG_EMISSION_OUT, rgba16f) uniform writeonly image3D emission_out;
+layout(std430, binding = SSBO_RECORD_POOL) buffer RecordPool { int free_count; uint short_count; uint free_records[]; };
+layout(std430, binding = SSBO_VOXEL_ALBEDO) writeonly buffer VoxelAlbedo { uvec2 albedo_out[]; };
+layout(std430, binding = SSBO_VOXEL_NORMAL) writeonly buffer VoxelNormal { uvec2 normal_out[]; };
+layout(std430, binding = SSBO_VOXEL_EMISSION) writeonly buffer VoxelEmission { uvec2 emission_out[]; };
 layout(binding = IMG_CONE_EMISSION_OUT, rgba16f) uniform writeonly image3D cone_emission_out;
 layout(binding = IMG_TOUCHED_FACES_OUT, rgba16f) uniform writeonly image3D faces_out;
 layout(std430, binding = SSBO_COVERED_NEXT) buffer NextCovered { uint next_count; uint next_covered[]; };
+uniform bool freeing;
 
 float unit_sum(int i, int channel) {
     return float(int(voxel_sums[sum_entry(i, channel)]));
@@ -32,13 +39,26 @@ void main() {
     if (i < 0) return;  // resolved with its own chunk
     ivec3 v = unpack_voxel(touched[place]);
     uint count = voxel_sums[sum_entry(i, SUM_COUNT)];
-    bool was_covered = imageLoad(albedo_out, v).a > 0.0;
+    if ((count == 0u) != freeing) return;  // resolved in the other dispatch
+    uint record = voxel_record(v);
     if (count == 0u) {  // every surface left this voxel
-        imageStore(albedo_out, v, vec4(0.0));
-        imageStore(normal_out, v, vec4(0.0));
-        imageStore(emission_out, v, vec4(0.0));
+        if (record != NO_RECORD) {
+            int at = atomicAdd(free_count, 1);
+            if (at >= 0 && at < free_records.length()) free_records[at] = record;  // (else the pool is short: made anew)
+            voxel_records[voxel_index(v)] = 0u;
+        }
         if (voxel_emitters) imageStore(cone_emission_out, v, vec4(0.0));
     } else {
+        if (record == NO_RECORD) {  // empty before, covered now
+            int at = atomicAdd(free_count, -1) - 1;
+            if (at >= 0) {
+                record = free_records[at];
+                voxel_records[voxel_index(v)] = record + 1u;
+            } else {
+                atomicAdd(short_count, 1u);
+            }
+            APPEND(next_count, next_covered, pack_voxel(v));
+        }
         float samples = float(min(count, VOXEL_MAX_FRAGMENTS));
         float to_unit = 1.0 / (samples * VOXEL_UNIT_SCALE);
         vec3 albedo = vec3(unit_sum(i, SUM_ALBEDO_R), unit_sum(i, SUM_ALBEDO_G), unit_sum(i, SUM_ALBEDO_B)) * to_unit;
@@ -52,11 +72,12 @@ void main() {
         // n_i)) = 0, so t = mean(offset_i) / |mean normal|, within the voxel.
         float coherence = length(normal);
         float surface_offset = coherence > 0.0 ? clamp(offset / coherence, -0.87, 0.87) : 0.0;
-        imageStore(albedo_out, v, vec4(albedo, 1.0));
-        imageStore(normal_out, v, vec4(normal, 1.0));
-        imageStore(emission_out, v, vec4(emission, surface_offset));
+        if (record != NO_RECORD) {
+            albedo_out[record] = pack_value(vec4(albedo, 1.0));
+            normal_out[record] = pack_value(vec4(normal, 1.0));
+            emission_out[record] = pack_value(vec4(emission, surface_offset));
+        }
         if (voxel_emitters) imageStore(cone_emission_out, v, vec4(emission, 1.0));
-        if (!was_covered) APPEND(next_count, next_covered, pack_voxel(v));
     }
     for (int channel = 0; channel < VOXEL_SUM_CHANNELS; ++channel) voxel_sums[sum_entry(i, channel)] = 0u;
     voxel_slots[voxel_index(v)] = 0u;

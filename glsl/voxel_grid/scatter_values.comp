@@ -1,0 +1,17 @@
+#version 450 core
+// An array of values (one per record: engine/voxel_records.py) into an n^3 volume, over the
+// covered voxels, for inspection: the voxel views and Renderer.voxels (the volume is zero
+// before, so empty voxels read zero).
+#include "lib/voxel_records.glsl"
+
+layout(local_size_x = LIST_GROUP) in;
+#include "lib/covered_voxels.glsl"
+layout(std430, binding = SSBO_INSPECT_VALUES) readonly buffer Values { uvec2 values[]; };
+layout(binding = IMG_INSPECT_OUT, rgba16f) uniform writeonly image3D inspect_out;
+
+void main() {
+    if (gl_GlobalInvocationID.x >= covered_count) return;
+    ivec3 v = unpack_voxel(covered[gl_GlobalInvocationID.x]);
+    uint record = voxel_record(v);
+    if (record != NO_RECORD) imageStore(inspect_out, v, unpack_value(values[record]));
+}
