@@ -65,7 +65,7 @@ STORAGE_BINDING = {
     "SHARED_PIXELS": 23,    # pixels that take their cones' light from the anchors around them
     "EMITTER_TRIANGLES": 24,  # the emissive triangles (GLSL_STRUCTS["EmitterTriangle"])
     "EMITTER_PATCHES": 25,    # groups of them that share a visibility cone (GLSL_STRUCTS["EmitterPatch"])
-    "GATHER_ANCHORS": 26,     # per voxel: whether it traces the gather, or the anchors it takes it from
+    "GATHER_ANCHORS": 26,     # per record: whether its voxel traces the gather, or the anchors it takes it from
     "CELL_CLASS_BITS": 27,    # per level-1 cell: a bit per interleave class of the voxels in it
     "CELLS_BY_CLASS": 28,     # the covered level-1 cells sorted by class, the mixed ones last
     "STALE_VOXELS": 29,       # voxels whose gather-anchor records a voxelization may have changed
@@ -262,9 +262,9 @@ SHADER_ENUMS = {
 VOXEL_PACK_BITS = 10
 # A voxel an update touched when the touched list had no room left (lib/voxel_sums.glsl).
 UNLISTED_VOXEL = 0xFFFFFFFF
-# A voxel's gather-anchor record (lib/gather_anchors.glsl): ANCHOR_SELF where it traces its own
+# A covered voxel's gather anchors (lib/gather_anchors.glsl): ANCHOR_SELF where it traces its own
 # gather, ANCHOR_STALE where a voxelization touched it; else a bit per anchor neighbour (0..25);
-# and a covered voxel's facing (0..CLASS_FACINGS - 1) from bit ANCHOR_FACING_SHIFT.
+# and its facing (0..CLASS_FACINGS - 1) from bit ANCHOR_FACING_SHIFT.
 ANCHOR_SELF = 1 << 26
 ANCHOR_STALE = 1 << 27
 ANCHOR_NEIGHBOURS = (1 << 26) - 1

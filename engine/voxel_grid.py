@@ -63,9 +63,9 @@ def voxel_memory_bytes(n):
     voxels = n ** 3
     per_voxel = 4 + 4                                        # slots, records' index
     volumes = TEXEL_BYTES * (VOXEL_FACES + 2) * MIP_CHAIN     # faces, cone emission, an inspection volume
-    lists = 4 + 2 * 4 / 7 + 2 * 4 / 8                        # anchors; cells, stamps; level-1 cells' classes, cells by class
+    lists = 2 * 4 / 7 + 2 * 4 / 8                            # cells, stamps; level-1 cells' classes, cells by class
     room = new_grid_room(n)
-    listed = 4 * 7 * room                                     # touched x2, covered x2, stale x2, classes
+    listed = 4 * 7 * room                                     # touched x2, covered x2, stale, classes, anchors
     records = (VALUE_BYTES * len(RECORD_ARRAYS) + 4) * room   # the arrays and the pool
     sums = 4 * (len(VOXEL_SUM_CHANNELS) + VOXEL_FACES) * sum_room(n)  # and the front-layer keys
     return int(voxels * (per_voxel + volumes + lists) + listed + records + sums)

@@ -88,8 +88,8 @@ def test_each_kind_of_change_runs_only_the_passes_it_needs():
 
 
 def test_gather_anchors_found_again_around_a_moved_object_equal_anchors_found_anew():
-    """After an object moves, the gather-anchor records are found again only around the voxels
-    the voxelization touched; every covered voxel's record equals the one found from scratch."""
+    """After an object moves, the gather anchors are found again only around the voxels the
+    voxelization touched; every covered voxel's anchors equal those found from scratch."""
     scene = engine.load_scene(SCENES / "cornell_box.json")
     with engine.Renderer(64, 64) as tracked, engine.Renderer(64, 64) as fresh:
         tracked.render(scene, grid=32)
@@ -101,8 +101,9 @@ def test_gather_anchors_found_again_around_a_moved_object_equal_anchors_found_an
         for r in (tracked, fresh):
             with r.ctx:
                 x, y, z = list_voxels(r.grid.covered)
+                record = np.frombuffer(r.grid.records.index.read(), dtype="u4")[x + 32 * (y + 32 * z)] - 1
                 records.append((r.grid.touched.read_count(), r.grid.covered.read_count(), set(zip(x, y, z)),
-                                dict(zip(zip(x, y, z), np.frombuffer(r.gather.anchors.read(), dtype="u4")[x + 32 * (y + 32 * z)]))))
+                                dict(zip(zip(x, y, z), np.frombuffer(r.gather.anchors.read(), dtype="u4")[record]))))
     (touched, covered, voxels, found_again), (_, _, fresh_voxels, found_anew) = records
     assert 0 < touched < covered  # a partial voxelization
     assert voxels == fresh_voxels and found_again == found_anew

@@ -38,18 +38,18 @@ class GatherPass:
         self._storage = GridStorage()
 
     def _ensure_storage(self, grid):
-        """Per voxel of the grid (n^3): its anchor record (lib/gather_anchors.glsl); the list of
-        voxels whose records to find again (covered before or after an update: the touched
-        list's room); the covered voxels sorted by class and the covered level-1 cells sorted by
-        class (what a ClassIndex points into); the buckets of those counting sorts, and the
-        classes of the voxels in each level-1 cell."""
+        """Per record of the grid (engine/voxel_records.py, the list room): its voxel's anchors
+        (lib/gather_anchors.glsl); the list of covered voxels whose anchors to find again; the
+        covered voxels sorted by class and the covered level-1 cells sorted by class (what a
+        ClassIndex points into); the buckets of those counting sorts, and the classes of the
+        voxels in each level-1 cell."""
         n = grid.n
         if self._storage.holds((n, grid.list_room)):
             return
         self._storage.release()
-        ctx, voxels, cells = self.ctx, n ** 3, (n >> 1) ** 3
-        self.anchors = ctx.buffer(reserve=4 * voxels)
-        self.stale = VoxelList(ctx, grid.touched_room)
+        ctx, cells = self.ctx, (n >> 1) ** 3
+        self.anchors = ctx.buffer(reserve=4 * grid.list_room)
+        self.stale = VoxelList(ctx, grid.list_room)
         self.class_list = ctx.buffer(reserve=4 * grid.list_room)
         self.class_buckets = ctx.buffer(reserve=4 * CLASS_PARTS * MAX_INTERLEAVE * max(n // CLASS_BLOCK, 1) ** 3 * CLASS_FACINGS)
         self.cell_class_bits = ctx.buffer(reserve=4 * cells)

@@ -15,12 +15,13 @@ void main() {
     uint k = gl_GlobalInvocationID.x;
     if (k >= (every_voxel ? covered_count : LISTED(stale_count, stale))) return;
     ivec3 v = unpack_voxel(every_voxel ? covered[k] : stale[k]);
-    uint record = 0u;
-    uint v_record = voxel_record(v);
-    vec3 n = RECORD_VALUE(voxel_normal, v_record).xyz;
-    if (v_record != NO_RECORD && reflects_light(v_record, n)) {
+    uint record = voxel_record(v);
+    if (record == NO_RECORD) return;  // the pool was short (the grid is made anew)
+    vec3 n = unpack_value(voxel_normal[record]).xyz;
+    uint anchors = 0u;
+    if (reflects_light(record, n)) {
         if (on_anchor_lattice(v, n)) {
-            record = ANCHOR_SELF;
+            anchors = ANCHOR_SELF;
         } else {
             vec3 unit = normalize(n);
             float total = 0.0;
@@ -30,12 +31,11 @@ void main() {
                 if (u_record == NO_RECORD) continue;
                 vec3 n_u = unpack_value(voxel_normal[u_record]).xyz;
                 if (dot(n, n_u) <= 0.0 || !on_anchor_lattice(u, n_u) || !reflects_light(u_record, n_u)) continue;
-                record |= 1u << k;
+                anchors |= 1u << k;
                 total += anchor_weight(v, unit, u, n_u);
             }
-            if (total < MIN_ANCHOR_WEIGHT) record = ANCHOR_SELF;
+            if (total < MIN_ANCHOR_WEIGHT) anchors = ANCHOR_SELF;
         }
     }
-    if (v_record != NO_RECORD) record |= uint(voxel_facing(n)) << ANCHOR_FACING_SHIFT;
-    gather_anchors[voxel_index(v)] = record;
+    gather_anchors[record] = anchors | (uint(voxel_facing(n)) << ANCHOR_FACING_SHIFT);
 }

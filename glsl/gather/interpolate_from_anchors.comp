@@ -15,7 +15,7 @@ layout(std430, binding = SSBO_CLASS_LIST) readonly buffer ClassList { uint class
 void main() {
     if (gl_GlobalInvocationID.x >= segment_count()) return;
     ivec3 v = unpack_voxel(class_list[segment_first() + gl_GlobalInvocationID.x]);
-    uint anchors = gather_anchors[voxel_index(v)] & ANCHOR_NEIGHBOURS;
+    uint anchors = gather_anchors[voxel_record(v)] & ANCHOR_NEIGHBOURS;
     vec4 result = vec4(0.0);
     if (anchors != 0u) {
         vec3 n = normalize(voxel_mean_normal(v));

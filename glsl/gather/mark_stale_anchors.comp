@@ -1,9 +1,8 @@
 #version 450 core
-// Marks ANCHOR_STALE the gather-anchor records (lib/gather_anchors.glsl) of the voxels a
-// voxelization touched and of their 26 neighbours, the records it may have changed, and lists
-// each of those voxels once for gather/find_anchors.comp (which leaves no record stale). An
-// empty neighbour whose record was already none keeps it: finding it again would give none. So
-// the list holds voxels covered now or before, at most the room of two covered lists.
+// Marks ANCHOR_STALE the gather anchors (lib/gather_anchors.glsl) of the covered voxels among
+// those a voxelization touched and their 26 neighbours, the anchors it may have changed, and
+// lists each of those voxels once for gather/find_anchors.comp (which leaves none stale). Empty
+// voxels hold no anchors (nor a record): the list holds covered voxels only.
 #include "lib/gather_anchors.glsl"
 #include "lib/list_append.glsl"
 
@@ -16,10 +15,9 @@ void main() {
     ivec3 v = unpack_voxel(touched[gl_GlobalInvocationID.x]);
     for (int k = 0; k < 27; ++k) {
         ivec3 u = v + ivec3(k % 3, (k / 3) % 3, k / 9) - 1;
-        if (any(lessThan(u, ivec3(0))) || any(greaterThanEqual(u, ivec3(voxel_grid)))) continue;
-        uint record = atomicExchange(gather_anchors[voxel_index(u)], ANCHOR_STALE);
-        if (record == ANCHOR_STALE) continue;  // listed by another invocation
-        if (record == 0u && voxel_record(u) == NO_RECORD) gather_anchors[voxel_index(u)] = 0u;
-        else APPEND(stale_count, stale, pack_voxel(u));
+        uint record = voxel_record(u);
+        if (record == NO_RECORD) continue;
+        if (atomicExchange(gather_anchors[record], ANCHOR_STALE) == ANCHOR_STALE) continue;  // listed by another invocation
+        APPEND(stale_count, stale, pack_voxel(u));
     }
 }

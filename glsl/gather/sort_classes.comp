@@ -27,9 +27,9 @@ void main() {
     ivec3 v = unpack_voxel(entry);
     int blocks = max(voxel_grid / CLASS_BLOCK, 1);
     ivec3 block = v / CLASS_BLOCK;
-    uint record = gather_anchors[voxel_index(v)];
-    bool anchor = (record & ANCHOR_SELF) != 0u;
-    int facing = int(record >> ANCHOR_FACING_SHIFT);
+    uint anchors = gather_anchors[voxel_record(v)];
+    bool anchor = (anchors & ANCHOR_SELF) != 0u;
+    int facing = int(anchors >> ANCHOR_FACING_SHIFT);
     int class_index = voxel_class(v, facing, interleave);
     int part = anchor ? 0 : 1;
     uint block_index = uint((class_index * CLASS_PARTS + part) * blocks * blocks * blocks + block.x + blocks * (block.y + blocks * block.z));

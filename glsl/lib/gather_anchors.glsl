@@ -5,18 +5,19 @@
 // surfaces face, as the image interpolates the voxels (cone_trace/shade_pixels.frag). A voxel with too few
 // anchors of a like facing around it (a thin part, an edge) is an anchor too.
 //
-// gather/find_anchors.comp records per covered voxel (GATHER_ANCHORS, at voxel_index(v)) the bit
-// ANCHOR_SELF when it traces the gather itself, or else the bit k of each neighbour k
-// (`neighbour`, within ANCHOR_NEIGHBOURS) that is an anchor it takes its gather from, and its
-// facing from bit ANCHOR_FACING_SHIFT (what the class sort reads: voxel_facing); an empty
-// voxel's record is 0. A record depends on the voxel and its neighbours only: after a
-// voxelization, gather/mark_stale_anchors.comp marks the records around the voxels it touched
+// gather/find_anchors.comp writes the anchors of each covered voxel (GATHER_ANCHORS, a word per
+// record: lib/voxel_records.glsl): the bit ANCHOR_SELF when it traces the gather itself, or else
+// the bit k of each neighbour k (`neighbour`, within ANCHOR_NEIGHBOURS) that is an anchor it
+// takes its gather from, and its facing from bit ANCHOR_FACING_SHIFT (what the class sort
+// reads: voxel_facing). A voxel's anchors depend on it and its neighbours only: after a
+// voxelization, gather/mark_stale_anchors.comp marks those around the voxels it touched
 // ANCHOR_STALE, and only those are found again.
 #include "lib/voxel_surface.glsl"
 
 layout(std430, binding = SSBO_GATHER_ANCHORS) buffer GatherAnchors { uint gather_anchors[]; };
 
-// Voxels whose surface reflects no light gather nothing (a voxel's record, and its mean normal n).
+// Voxels whose surface reflects no light gather nothing (a covered voxel's record, and its mean
+// normal n).
 bool reflects_light(uint record, vec3 n) {
     vec4 albedo = RECORD_VALUE(voxel_albedo, record);
     return albedo.a > 0.0 && any(greaterThan(albedo.rgb, vec3(0.0))) && dot(n, n) > 1e-6;
