@@ -52,7 +52,7 @@ VOXEL_SUM_CHANNELS = ("COUNT", "ALBEDO_R", "ALBEDO_G", "ALBEDO_B", "NORMAL_X", "
 STORAGE_BINDING = {
     "VOXEL_SUMS": 0,        # the voxelizer's sums of the touched voxels, a record per slot (lib/voxel_sums.glsl)
     "FRONT_KEYS": 1,        # their front-layer keys, per slot and facing direction
-    "VOXEL_SLOTS": 2,       # per voxel: its place on the touched list + 1 while an update runs
+    "TOUCHED_RECORDS": 2,   # per place on the touched list: the voxel's word of the record index before the update
     "TOUCHED": 14,          # voxels the current voxelization touched (count, then packed coordinates)
     "COVERED": 15,          # voxels holding surface
     "COVERED_NEXT": 16,     # the covered list being rebuilt
@@ -260,8 +260,11 @@ SHADER_ENUMS = {
 
 # Voxel coordinates packed into one uint for the voxel lists: x | y << 10 | z << 20 (N <= 1024).
 VOXEL_PACK_BITS = 10
-# A voxel an update touched when the touched list had no room left (lib/voxel_sums.glsl).
-UNLISTED_VOXEL = 0xFFFFFFFF
+# While an update runs, a touched voxel's word of the record index holds TOUCHED_FLAG and its
+# place on the touched list, or UNLISTED_PLACE where the list had no room left
+# (lib/voxel_slots.glsl).
+TOUCHED_FLAG = 1 << 31
+UNLISTED_PLACE = TOUCHED_FLAG - 1
 # A covered voxel's gather anchors (lib/gather_anchors.glsl): ANCHOR_SELF where it traces its own
 # gather, ANCHOR_STALE where a voxelization touched it; else a bit per anchor neighbour (0..25);
 # and its facing (0..CLASS_FACINGS - 1) from bit ANCHOR_FACING_SHIFT.
@@ -317,7 +320,8 @@ def glsl_header():
         f"#define VOXEL_MAX_EMISSION {VOXEL_MAX_EMISSION:.1f}",
         "#define PI 3.14159265358979",
         f"#define VOXEL_PACK_BITS {VOXEL_PACK_BITS}",
-        f"#define UNLISTED_VOXEL {UNLISTED_VOXEL:#x}u",
+        f"#define TOUCHED_FLAG {TOUCHED_FLAG:#x}u",
+        f"#define UNLISTED_PLACE {UNLISTED_PLACE:#x}u",
         f"#define ANCHOR_SELF {ANCHOR_SELF:#x}u",
         f"#define ANCHOR_STALE {ANCHOR_STALE:#x}u",
         f"#define ANCHOR_NEIGHBOURS {ANCHOR_NEIGHBOURS:#x}u",

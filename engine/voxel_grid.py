@@ -57,15 +57,15 @@ RECORD_ARRAYS = ("albedo", "normal", "emission", "base", "gathered", "gathered_p
 
 def voxel_memory_bytes(n):
     """GPU bytes a grid of n^3 may need, the passes' storage sized by it included: the
-    voxelizer's sums of a chunk and the voxels' slots, the records (with the emitters' and the
+    voxelizer's sums of a chunk and the touched voxels' records, the records (with the emitters' and the
     sky's light, as a scene may have), the volumes (faces and cone emission with their mips, an
     inspection volume) and the lists."""
     voxels = n ** 3
-    per_voxel = 4 + 4                                        # slots, records' index
+    per_voxel = 4                                            # the records' index
     volumes = TEXEL_BYTES * (VOXEL_FACES + 2) * MIP_CHAIN     # faces, cone emission, an inspection volume
     lists = 2 * 4 / 7 + 2 * 4 / 8                            # cells, stamps; level-1 cells' classes, cells by class
     room = new_grid_room(n)
-    listed = 4 * 7 * room                                     # touched x2, covered x2, stale, classes, anchors
+    listed = 4 * 9 * room                                     # touched x2 and their records x2, covered x2, stale, classes, anchors
     records = (VALUE_BYTES * len(RECORD_ARRAYS) + 4) * room   # the arrays and the pool
     sums = 4 * (len(VOXEL_SUM_CHANNELS) + VOXEL_FACES) * sum_room(n)  # and the front-layer keys
     return int(voxels * (per_voxel + volumes + lists) + listed + records + sums)

@@ -29,13 +29,14 @@ class VoxelizePass:
         self.programs = {extras: programs.program({"VERTEX_EXTRAS": 1} if extras else None, vertex_shader="voxelize/rasterize.vert",
                                                   geometry_shader="voxelize/rasterize.geom", fragment_shader="voxelize/rasterize.frag",
                                                   reads=("TEX_BASE_COLOR_MAP", "TEX_METAL_ROUGH_MAP", "TEX_EMISSIVE_MAP"),
-                                                  writes=("SSBO_VOXEL_SUMS", "SSBO_FRONT_KEYS", "SSBO_VOXEL_SLOTS", "SSBO_TOUCHED"))
+                                                  writes=("SSBO_VOXEL_SUMS", "SSBO_FRONT_KEYS", "SSBO_VOXEL_RECORD", "SSBO_TOUCHED_RECORDS",
+                                                          "SSBO_TOUCHED"))
                          for extras in (False, True)}
         self.mark_covered = programs.compute("voxelize/mark_covered.comp", reads=("SSBO_COVERED",),
-                                             writes=("SSBO_TOUCHED", "SSBO_VOXEL_SLOTS"))
+                                             writes=("SSBO_TOUCHED", "SSBO_VOXEL_RECORD", "SSBO_TOUCHED_RECORDS"))
         self.resolve = programs.compute(
             "voxelize/resolve_sums.comp", reads=("SSBO_TOUCHED",),
-            writes=("SSBO_VOXEL_SUMS", "SSBO_FRONT_KEYS", "SSBO_VOXEL_SLOTS", "SSBO_VOXEL_RECORD", "SSBO_RECORD_POOL", "SSBO_VOXEL_ALBEDO",
+            writes=("SSBO_VOXEL_SUMS", "SSBO_FRONT_KEYS", "SSBO_TOUCHED_RECORDS", "SSBO_VOXEL_RECORD", "SSBO_RECORD_POOL", "SSBO_VOXEL_ALBEDO",
                     "SSBO_VOXEL_NORMAL", "SSBO_VOXEL_EMISSION", "IMG_CONE_EMISSION_OUT", "IMG_TOUCHED_FACES_OUT", "SSBO_COVERED_NEXT"))
         self.clear_new_records = programs.compute(
             "voxelize/clear_new_records.comp", reads=("SSBO_COVERED_NEXT", "SSBO_VOXEL_RECORD"),
@@ -48,27 +49,29 @@ class VoxelizePass:
         self.fill_emission = programs.compute("voxelize/fill_cone_emission.comp", reads=("SSBO_COVERED", "SSBO_VOXEL_RECORD", "SSBO_VOXEL_ALBEDO", "SSBO_VOXEL_NORMAL", "SSBO_VOXEL_EMISSION"),
                                               writes=("IMG_CONE_EMISSION_OUT",))
         self.clear_cells = programs.compute("voxelize/clear_cells.comp", reads=("SSBO_CELLS",), writes=("IMG_FACES_OUT",))
-        self._scratch = GridStorage()  # the fixed-point sums, front-layer keys, voxel slots, a framebuffer
+        self._scratch = GridStorage()  # the fixed-point sums, front-layer keys, touched voxels' records, a framebuffer
         self.room = CoveredBound()     # what is known of the grid's covered count
 
-    def _ensure_scratch(self, n):
-        """For an n^3 grid: the sums of a chunk of the touched list (sum_room voxels, a record
-        of VOXEL_SUM_CHANNELS each) and their front-layer keys (VOXEL_FACES each), and the slot
-        of every voxel (lib/voxel_sums.glsl): zero, and zero again after each chunk's resolve
-        (voxelize/resolve_sums.comp)."""
-        if self._scratch.holds(n):
+    def _ensure_scratch(self, grid):
+        """For the grid's size and list room: the sums of a chunk of the touched list (sum_room
+        voxels, a record of VOXEL_SUM_CHANNELS each) and their front-layer keys (VOXEL_FACES
+        each), zero, and zero again after each chunk's resolve (voxelize/resolve_sums.comp);
+        and the words of the record index the touched voxels had (lib/voxel_slots.glsl)."""
+        n = grid.n
+        if self._scratch.holds((n, grid.touched_room)):
             return
         self._scratch.release()
         ctx, room = self.ctx, sum_room(n)
         self.sums = ctx.buffer(data=bytes(4 * len(VOXEL_SUM_CHANNELS) * room))
         self.front_keys = ctx.buffer(data=bytes(4 * VOXEL_FACES * room))
-        self.slots = ctx.buffer(data=bytes(4 * n ** 3))
+        self.touched_records = ctx.buffer(reserve=4 * grid.touched_room)
         self.framebuffer = ctx.empty_framebuffer((n, n))
-        self._scratch.hold(n, [self.sums, self.front_keys, self.slots, self.framebuffer])
+        self._scratch.hold((n, grid.touched_room), [self.sums, self.front_keys, self.touched_records, self.framebuffer])
 
-    def _bind_scratch(self):
-        for name, buffer in (("VOXEL_SUMS", self.sums), ("FRONT_KEYS", self.front_keys), ("VOXEL_SLOTS", self.slots)):
+    def _bind_scratch(self, grid):
+        for name, buffer in (("VOXEL_SUMS", self.sums), ("FRONT_KEYS", self.front_keys), ("TOUCHED_RECORDS", self.touched_records)):
             buffer.bind_to_storage_buffer(STORAGE_BINDING[name])
+        grid.records.bind()
 
     def update(self, grid, update, draws):
         """Apply a changes.VoxelUpdate to the grid; `draws` are all of the frame's draws.
@@ -87,7 +90,6 @@ class VoxelizePass:
         counts = grid.list_counts()
         while not counts.fits(grid.list_room):
             grid.grow_lists(counts.needed())
-            self._scratch.release()  # the voxels left off the touched list are still flagged
             self._apply(grid, VoxelUpdate(True, [], list(draws)), draws)
             counts = grid.list_counts()
         self.room.voxelized(grid, draws, counts.covered)
@@ -96,10 +98,10 @@ class VoxelizePass:
         """The update: flag and list the voxels to rebuild, then chunk after chunk of them sum
         their front layers and resolve. `touched`: at most how many voxels it touches, where the
         host knows (else the count is read back)."""
-        self._ensure_scratch(grid.n)
+        self._ensure_scratch(grid)
         grid.touched.clear()
         grid.covered_next.clear()
-        self._bind_scratch()
+        self._bind_scratch(grid)
         grid.touched.bind("TOUCHED")
         if update.full:
             box, marked = grid.bounds(), update.added

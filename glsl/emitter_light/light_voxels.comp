@@ -40,8 +40,8 @@ float patch_visibility(vec3 p, vec3 n, EmitterPatch e) {
 void main() {
     if (gl_GlobalInvocationID.x >= segment_count()) return;
     ivec3 v = unpack_voxel(voxel_list[segment_first() + gl_GlobalInvocationID.x]);
-    VoxelSurface s = voxel_surface(v);
-    if (!s.covered) return;  // a touched voxel the voxelization emptied
+    uint record = voxel_record(v);
+    VoxelSurface s = voxel_surface(v, record);
     vec3 shadowed = vec3(0.0), unshadowed = vec3(0.0);
     if (dot(s.mean_normal, s.mean_normal) > 0.0) {
         vec3 n = normalize(s.mean_normal);
@@ -55,5 +55,5 @@ void main() {
         }
     }
     float total = unshadowed.r + unshadowed.g + unshadowed.b;
-    emitter_irradiance_out[voxel_record(v)] = pack_value(vec4(shadowed, total > 0.0 ? (shadowed.r + shadowed.g + shadowed.b) / total : 1.0));
+    emitter_irradiance_out[record] = pack_value(vec4(shadowed, total > 0.0 ? (shadowed.r + shadowed.g + shadowed.b) / total : 1.0));
 }

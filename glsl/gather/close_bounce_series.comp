@@ -14,7 +14,6 @@ uniform vec3 gain;
 void main() {
     if (gl_GlobalInvocationID.x >= covered_count) return;
     uint record = voxel_record(unpack_voxel(covered[gl_GlobalInvocationID.x]));
-    if (record == NO_RECORD) return;
     vec4 current = unpack_value(latest[record]);
     vec3 previous = unpack_value(older[record]).rgb;
     older[record] = pack_value(vec4(current.rgb + (current.rgb - previous) * gain, current.a));

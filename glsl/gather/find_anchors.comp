@@ -16,7 +16,6 @@ void main() {
     if (k >= (every_voxel ? covered_count : LISTED(stale_count, stale))) return;
     ivec3 v = unpack_voxel(every_voxel ? covered[k] : stale[k]);
     uint record = voxel_record(v);
-    if (record == NO_RECORD) return;  // the pool was short (the grid is made anew)
     vec3 n = unpack_value(voxel_normal[record]).xyz;
     uint anchors = 0u;
     if (reflects_light(record, n)) {

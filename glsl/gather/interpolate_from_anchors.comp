@@ -15,21 +15,21 @@ layout(std430, binding = SSBO_CLASS_LIST) readonly buffer ClassList { uint class
 void main() {
     if (gl_GlobalInvocationID.x >= segment_count()) return;
     ivec3 v = unpack_voxel(class_list[segment_first() + gl_GlobalInvocationID.x]);
-    uint anchors = gather_anchors[voxel_record(v)] & ANCHOR_NEIGHBOURS;
+    uint record = voxel_record(v);
+    uint anchors = gather_anchors[record] & ANCHOR_NEIGHBOURS;
     vec4 result = vec4(0.0);
     if (anchors != 0u) {
-        vec3 n = normalize(voxel_mean_normal(v));
+        vec3 n = normalize(unpack_value(voxel_normal[record]).xyz);
         vec3 sum = vec3(0.0);
         float total = 0.0;
         for (; anchors != 0u; anchors &= anchors - 1u) {
             ivec3 u = neighbour(v, findLSB(anchors));
-            uint anchor = voxel_record(u);
-            float weight = anchor_weight(v, n, u, RECORD_VALUE(voxel_normal, anchor).xyz);
-            sum += weight * RECORD_VALUE(gathered, anchor).rgb;
+            uint anchor = voxel_record(u);  // recorded anchors are covered
+            float weight = anchor_weight(v, n, u, unpack_value(voxel_normal[anchor]).xyz);
+            sum += weight * unpack_value(gathered[anchor]).rgb;
             total += weight;
         }
         result = vec4(sum / total, 1.0);  // total >= MIN_ANCHOR_WEIGHT
     }
-    uint record = voxel_record(v);
-    if (record != NO_RECORD) gathered[record] = pack_value(result);
+    gathered[record] = pack_value(result);
 }

@@ -17,7 +17,6 @@ void main() {
     if (gl_GlobalInvocationID.x >= segment_count()) return;
     ivec3 v = unpack_voxel(class_list[segment_first() + gl_GlobalInvocationID.x]);
     uint record = voxel_record(v);
-    if (record == NO_RECORD) return;
-    VoxelSurface s = voxel_surface(v);
+    VoxelSurface s = voxel_surface(v, record);
     gathered_out[record] = pack_value(vec4(trace_diffuse(s.position, normalize(s.mean_normal), 1e9).rgb, 1.0));
 }

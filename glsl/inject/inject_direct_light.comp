@@ -19,16 +19,17 @@ layout(std430, binding = SSBO_VOXEL_BASE) writeonly buffer VoxelBase { uvec2 bas
 void main() {
     if (gl_GlobalInvocationID.x >= segment_count()) return;
     ivec3 v = unpack_voxel(voxel_list[segment_first() + gl_GlobalInvocationID.x]);
-    VoxelSurface s = voxel_surface(v);
-    if (!s.covered) return;  // a touched voxel the voxelization emptied
+    uint record = voxel_record(v);
+    if (record == NO_RECORD) return;  // a touched voxel the voxelization emptied
+    VoxelSurface s = voxel_surface(v, record);
     vec3 irradiance = vec3(0.0);
     if (dot(s.mean_normal, s.mean_normal) > 0.0 && any(greaterThan(s.albedo, vec3(0.0)))) {
         for (int i = 0; i < light_count; ++i) {
             vec3 l;
             irradiance += light_irradiance(i, s.position, s.mean_normal, l);
         }
-        if (voxel_emitters) irradiance += unpack_value(voxel_emitter_irradiance[voxel_record(v)]).rgb;
-        if (voxel_sky) irradiance += unpack_value(voxel_sky_irradiance[voxel_record(v)]).rgb;
+        if (voxel_emitters) irradiance += unpack_value(voxel_emitter_irradiance[record]).rgb;
+        if (voxel_sky) irradiance += unpack_value(voxel_sky_irradiance[record]).rgb;
     }
-    base_out[voxel_record(v)] = pack_value(vec4(s.emission + s.albedo / PI * irradiance, 1.0));
+    base_out[record] = pack_value(vec4(s.emission + s.albedo / PI * irradiance, 1.0));
 }

@@ -19,7 +19,7 @@ layout(std430, binding = SSBO_GATHER_ANCHORS) buffer GatherAnchors { uint gather
 // Voxels whose surface reflects no light gather nothing (a covered voxel's record, and its mean
 // normal n).
 bool reflects_light(uint record, vec3 n) {
-    vec4 albedo = RECORD_VALUE(voxel_albedo, record);
+    vec4 albedo = unpack_value(voxel_albedo[record]);
     return albedo.a > 0.0 && any(greaterThan(albedo.rgb, vec3(0.0))) && dot(n, n) > 1e-6;
 }
 

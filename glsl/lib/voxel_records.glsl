@@ -20,6 +20,3 @@ vec4 unpack_value(uvec2 halves) {
 uvec2 pack_value(vec4 value) {
     return uvec2(packHalf2x16(value.xy), packHalf2x16(value.zw));
 }
-
-// The value an array holds for `record`: zero where there is none, as for an empty voxel.
-#define RECORD_VALUE(array, record) ((record) == NO_RECORD ? vec4(0.0) : unpack_value(array[record]))

@@ -21,10 +21,11 @@ int chunk_slot(uint place) {
 }
 
 // The slot of voxel v's sums in this chunk; -1 where the update did not touch it (or it lies
-// in another chunk, or off the touched list).
+// in another chunk, or off the touched list, or was resolved).
 int sum_slot(ivec3 v) {
-    uint place = voxel_slots[voxel_index(v)];
-    return place == 0u || place == UNLISTED_VOXEL ? -1 : chunk_slot(place - 1u);
+    uint word = voxel_records[voxel_index(v)];
+    uint place = word & ~TOUCHED_FLAG;
+    return (word & TOUCHED_FLAG) == 0u || place == UNLISTED_PLACE ? -1 : chunk_slot(place);
 }
 
 uint sum_entry(int slot, int channel) {

@@ -6,26 +6,19 @@ layout(std430, binding = SSBO_VOXEL_ALBEDO) readonly buffer VoxelAlbedo { uvec2 
 layout(std430, binding = SSBO_VOXEL_NORMAL) readonly buffer VoxelNormal { uvec2 voxel_normal[]; };       // xyz mean normal, w = 1
 layout(std430, binding = SSBO_VOXEL_EMISSION) readonly buffer VoxelEmission { uvec2 voxel_emission[]; }; // rgb, a = surface offset in voxels
 
-// Voxel v's mean normal (zero where no surface covers it).
-vec3 voxel_mean_normal(ivec3 v) {
-    return RECORD_VALUE(voxel_normal, voxel_record(v)).xyz;
-}
-
 struct VoxelSurface {
-    bool covered;
     vec3 albedo;       // reflectance (lib/brdf.glsl layered_albedo), averaged over the voxel's fragments
     vec3 mean_normal;  // mean of the fragments' unit normals: its length is their coherence
     vec3 position;     // the voxel centre moved along the normal onto the (mean) surface
     vec3 emission;     // radiance of the front sides, W/(m^2 sr)
 };
 
-VoxelSurface voxel_surface(ivec3 v) {
+// The surface of covered voxel v, which holds `record`.
+VoxelSurface voxel_surface(ivec3 v, uint record) {
     VoxelSurface s;
-    uint record = voxel_record(v);
-    vec4 emission = RECORD_VALUE(voxel_emission, record);
-    s.covered = record != NO_RECORD;
-    s.albedo = RECORD_VALUE(voxel_albedo, record).rgb;
-    s.mean_normal = RECORD_VALUE(voxel_normal, record).xyz;
+    vec4 emission = unpack_value(voxel_emission[record]);
+    s.albedo = unpack_value(voxel_albedo[record]).rgb;
+    s.mean_normal = unpack_value(voxel_normal[record]).xyz;
     s.emission = emission.rgb;
     float length_n = length(s.mean_normal);
     // Surface point = centre + n * mean(dot(p_i - centre, n_i)): the centre projected onto a plane.

@@ -17,7 +17,6 @@ void main() {
     if (gl_GlobalInvocationID.x >= covered_count) return;
     ivec3 v = unpack_voxel(covered[gl_GlobalInvocationID.x]);
     uint record = voxel_record(v);
-    if (record == NO_RECORD) return;
     vec3 n_v = unpack_value(voxel_normal[record]).xyz;
     vec3 sum = vec3(0.0);
     float total = 0.0;
@@ -29,8 +28,9 @@ void main() {
         for (int dx = -SKY_FILTER_RADIUS; dx <= SKY_FILTER_RADIUS; ++dx) {
             ivec3 u = v + ivec3(dx, dy, dz);
             uint neighbour = voxel_record(u);
-            vec4 traced = RECORD_VALUE(sky_traced, neighbour);
-            if (traced.a <= 0.0) continue;  // not lit by the sky: no surface, or one that reflects nothing
+            if (neighbour == NO_RECORD) continue;  // no surface
+            vec4 traced = unpack_value(sky_traced[neighbour]);
+            if (traced.a <= 0.0) continue;  // not lit by the sky: a surface that reflects nothing
             vec3 n_u = unpack_value(voxel_normal[neighbour]).xyz;
             if (dot(n_u, n_u) <= 0.0) continue;
             vec3 tent = 1.0 - abs(vec3(dx, dy, dz)) / reach;

@@ -37,8 +37,8 @@ vec3 sky_cone(int j, vec2 jitter) {
 void main() {
     if (gl_GlobalInvocationID.x >= segment_count()) return;
     ivec3 v = unpack_voxel(voxel_list[segment_first() + gl_GlobalInvocationID.x]);
-    VoxelSurface s = voxel_surface(v);
-    if (!s.covered) return;  // a touched voxel the voxelization emptied
+    uint record = voxel_record(v);
+    VoxelSurface s = voxel_surface(v, record);
     vec3 irradiance = vec3(0.0);
     if (dot(s.mean_normal, s.mean_normal) > 0.0) {
         vec3 n = normalize(s.mean_normal);
@@ -55,5 +55,5 @@ void main() {
         }
         irradiance *= PI / cosine_sum;  // E = pi x the cosine-weighted mean radiance
     }
-    sky_traced_out[voxel_record(v)] = pack_value(vec4(irradiance, 1.0));
+    sky_traced_out[record] = pack_value(vec4(irradiance, 1.0));
 }

@@ -12,6 +12,5 @@ layout(binding = IMG_INSPECT_OUT, rgba16f) uniform writeonly image3D inspect_out
 void main() {
     if (gl_GlobalInvocationID.x >= covered_count) return;
     ivec3 v = unpack_voxel(covered[gl_GlobalInvocationID.x]);
-    uint record = voxel_record(v);
-    if (record != NO_RECORD) imageStore(inspect_out, v, unpack_value(values[record]));
+    imageStore(inspect_out, v, unpack_value(values[voxel_record(v)]));
 }

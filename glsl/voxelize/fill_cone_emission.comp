@@ -11,5 +11,5 @@ layout(binding = IMG_CONE_EMISSION_OUT, rgba16f) uniform writeonly image3D cone_
 void main() {
     if (gl_GlobalInvocationID.x >= covered_count) return;
     ivec3 v = unpack_voxel(covered[gl_GlobalInvocationID.x]);
-    imageStore(cone_emission_out, v, vec4(RECORD_VALUE(voxel_emission, voxel_record(v)).rgb, 1.0));
+    imageStore(cone_emission_out, v, vec4(unpack_value(voxel_emission[voxel_record(v)]).rgb, 1.0));
 }

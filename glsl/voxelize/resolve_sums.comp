@@ -5,14 +5,14 @@
 // takes a record where it had none (and is listed for the new covered list), and the
 // fixed-point sums divided by the fragment count become its surface: albedo, mean normal,
 // emission with the surface offset in a. Where surfaces emit, the emission volume specular
-// cones read follows (emission, a = 1 where covered). Both zero the sums, front-layer keys and
-// slot for the next update, and the voxel's six faces at level 0 of the face views
+// cones read follows (emission, a = 1 where covered). Both zero the sums and front-layer keys
+// for the next update, put back the voxel's word of the record index (its record now, or none:
+// lib/voxel_slots.glsl), and zero the voxel's six faces at level 0 of the face views
 // (faces/compose_face_views.comp writes only the faces its new surface covers). Freeing first
 // keeps the records an update holds at once to the more of the voxels covered before it and
 // after it, within each chunk; a voxel the pool has no record for is counted short (the grid
 // is then made anew with more room: VoxelizePass.update).
 #include "lib/voxel_sums.glsl"
-#include "lib/voxel_records.glsl"
 
 layout(local_size_x = LIST_GROUP) in;
 layout(std430, binding = SSBO_RECORD_POOL) buffer RecordPool { int free_count; uint short_count; uint free_records[]; };
@@ -40,23 +40,19 @@ void main() {
     ivec3 v = unpack_voxel(touched[place]);
     uint count = voxel_sums[sum_entry(i, SUM_COUNT)];
     if ((count == 0u) != freeing) return;  // resolved in the other dispatch
-    uint record = voxel_record(v);
+    uint record = touched_records[place] - 1u;  // NO_RECORD where the voxel was empty
     if (count == 0u) {  // every surface left this voxel
         if (record != NO_RECORD) {
             int at = atomicAdd(free_count, 1);
             if (at >= 0 && at < free_records.length()) free_records[at] = record;  // (else the pool is short: made anew)
-            voxel_records[voxel_index(v)] = 0u;
         }
+        record = NO_RECORD;
         if (voxel_emitters) imageStore(cone_emission_out, v, vec4(0.0));
     } else {
         if (record == NO_RECORD) {  // empty before, covered now
             int at = atomicAdd(free_count, -1) - 1;
-            if (at >= 0) {
-                record = free_records[at];
-                voxel_records[voxel_index(v)] = record + 1u;
-            } else {
-                atomicAdd(short_count, 1u);
-            }
+            if (at >= 0) record = free_records[at];
+            else atomicAdd(short_count, 1u);
             APPEND(next_count, next_covered, pack_voxel(v));
         }
         float samples = float(min(count, VOXEL_MAX_FRAGMENTS));
@@ -80,7 +76,7 @@ void main() {
         if (voxel_emitters) imageStore(cone_emission_out, v, vec4(emission, 1.0));
     }
     for (int channel = 0; channel < VOXEL_SUM_CHANNELS; ++channel) voxel_sums[sum_entry(i, channel)] = 0u;
-    voxel_slots[voxel_index(v)] = 0u;
+    voxel_records[voxel_index(v)] = record + 1u;  // its record, no longer flagged (0: none)
     for (int f = 0; f < VOXEL_FACES; ++f) {
         front_keys[key_entry(i, f)] = 0u;
         imageStore(faces_out, face_texel(v, f, voxel_grid), vec4(0.0));
