@@ -94,9 +94,9 @@ class ComposeFaces:
 
 @dataclass(frozen=True)
 class Mipmap:
-    """The face views' coarser levels: over every covered cell (`class_index` None) or, at
-    level 1, over the cells of one interleave class."""
-    class_index: int = None
+    """The face views' coarser levels after `voxels` (a tuple of Voxels) were composed: level 1
+    over the cells that hold them, the coarser levels over every covered cell."""
+    voxels: tuple
     timer = "mipmap"
 
 
@@ -303,12 +303,8 @@ class RadianceSchedule:
     def _compose(self, voxels, gathered):
         """The face views of `voxels` (a list of Voxels), then every mip level: none is stale after."""
         yield ComposeFaces(tuple(voxels), gathered)
-        yield Mipmap()
+        yield Mipmap(tuple(voxels))
         self.stale_faces = []
-
-    def _compose_class(self, class_index):
-        yield ComposeFaces((class_voxels(class_index),), self.latest)
-        yield Mipmap(class_index)
 
     def _gather_every(self, epoch):
         yield from self._sort(epoch, 1)
@@ -373,7 +369,7 @@ class RadianceSchedule:
             yield from self._compose(stale + extra, self.latest)
         yield Gather(chosen, self.latest)
         if not stale:
-            yield from self._compose_class(chosen)
+            yield from self._compose([class_voxels(chosen)], self.latest)
         self.phase = (chosen + 1) % interleave
         self.iterations += 1
         if self.phase == 0:

@@ -431,6 +431,15 @@ class Renderer:
             return self.grid.touched.segment()
         return self.class_index.segment(voxels.class_index)
 
+    def _cell_segments(self, voxels):
+        """The level-1 cells of a bounces.Voxels selection, as (VoxelSegment, the level of its
+        entries): the covered cells, a class's cells, or the touched voxels themselves."""
+        if voxels.kind == "touched":
+            return [(self.grid.touched.segment(), 0)]
+        if voxels.kind == "class":
+            return [(segment, 1) for segment in self.class_index.cell_segments(voxels.class_index)]
+        return [(self.grid.cells.segment(1), 1)]  # every covered cell
+
     def _execute(self, item, work):
         grid, classes = self.grid, self.class_index
         if isinstance(item, bounces.SortClasses):
@@ -448,7 +457,7 @@ class Renderer:
             for voxels in item.voxels:
                 self.faces.compose(grid, gathered, self._voxel_segment(voxels))
         elif isinstance(item, bounces.Mipmap):
-            self.faces.mipmap(grid, classes, item.class_index)
+            self.faces.mipmap(grid, [segment for voxels in item.voxels for segment in self._cell_segments(voxels)])
         elif isinstance(item, bounces.Gather):
             self.gather.run(grid, work.cone_uniforms, self._gathered(item.into), classes, item.class_index)
         elif isinstance(item, bounces.ExtrapolateGather):

@@ -125,7 +125,7 @@ def test_mips_rebuilt_over_one_interleave_class_equal_mips_rebuilt_everywhere(gl
         if intensity == 2.0:
             gl["faces"].mipmap(grid)
             before = grid.read_level(grid.faces, 1)
-    gl["faces"].mipmap(grid, classes, 1)
+    gl["faces"].mipmap(grid, [(segment, 1) for segment in classes.cell_segments(1)])
     partial = [grid.read_level(grid.faces, level) for level in range(1, grid.mip_count)]
     gl["faces"].mipmap(grid)
     full = [grid.read_level(grid.faces, level) for level in range(1, grid.mip_count)]

@@ -34,7 +34,7 @@ def test_fixed_bounces_gather_k_times_and_compose_between():
     and no totals read back."""
     schedule, epoch = RadianceSchedule(), Epoch()
     items = run(schedule.bounce(True, 3, 4, False, epoch))
-    assert items[:3] == [ComposeFaces((EVERY_VOXEL,), None), Mipmap(), SortClasses(1)]
+    assert items[:3] == [ComposeFaces((EVERY_VOXEL,), None), Mipmap((EVERY_VOXEL,)), SortClasses(1)]
     assert len(of_type(items, Gather)) == 3 and all(g.class_index == 0 for g in of_type(items, Gather))
     composes = of_type(items, ComposeFaces)
     assert composes[0] == ComposeFaces((EVERY_VOXEL,), None) and len(composes) == 3
@@ -51,7 +51,7 @@ def test_converging_bounces_close_a_geometric_series_by_extrapolation():
     assert [g.into for g in gathers] == [1 - k % 2 for k in range(len(gathers))]
     extrapolations = of_type(items, ExtrapolateGather)
     assert len(extrapolations) == 1 and np.allclose(extrapolations[0].gain, 1.0)
-    assert items[-2:] == [ComposeFaces((EVERY_VOXEL,), schedule.latest), Mipmap()]
+    assert items[-2:] == [ComposeFaces((EVERY_VOXEL,), schedule.latest), Mipmap((EVERY_VOXEL,))]
     assert schedule.settled and schedule.iterations == len(gathers)
 
 
@@ -77,7 +77,7 @@ def test_progressive_frames_gather_one_class_each_until_the_cycles_converge():
     gathered = [of_type(items, Gather) for items in frames[:-1]]
     assert all(len(g) == 1 for g in gathered)
     assert [g[0].class_index for g in gathered] == [k % 4 for k in range(len(frames) - 1)]
-    assert frames[1][-2:] == [ComposeFaces((class_voxels(1),), 0), Mipmap(1)]
+    assert frames[1][-2:] == [ComposeFaces((class_voxels(1),), 0), Mipmap((class_voxels(1),))]
     assert not any(of_type(items, MeasureTotals) for items in frames)
     for k, items in enumerate(frames):
         assert bool(of_type(items, ReadTotals)) == (k > 0 and bool(of_type(frames[k - 1], RequestTotals)))
@@ -106,8 +106,8 @@ def test_progressive_light_changes_inject_each_class_before_its_gather():
 
 def test_progressive_voxel_changes_inject_and_compose_the_touched_voxels_before_the_gather():
     """Voxels changed by one voxelization since the last injection: only the touched voxels
-    are injected, and their face views (with the class's) are composed with every mip level
-    before the class gathers; after two voxelizations every voxel is injected again."""
+    are injected, and their face views (with the class's) are composed, with the mip levels
+    over their cells, before the class gathers; after two voxelizations every voxel is injected again."""
     schedule, epoch = RadianceSchedule(), Epoch()
     run(schedule.inject(True, True, 4, False, epoch))
     progressive_frame(schedule, epoch, restart=True)
@@ -117,7 +117,8 @@ def test_progressive_voxel_changes_inject_and_compose_the_touched_voxels_before_
     frame = progressive_frame(schedule, epoch, restart=True)
     compose = of_type(frame, ComposeFaces)[0]
     assert compose.voxels == (TOUCHED_VOXELS, class_voxels(1))
-    assert frame.index(compose) < frame.index(Mipmap()) < frame.index(of_type(frame, Gather)[0])
+    mipmap = Mipmap((TOUCHED_VOXELS, class_voxels(1)))
+    assert frame.index(compose) < frame.index(mipmap) < frame.index(of_type(frame, Gather)[0])
     epoch = epoch.next().next()
     assert of_type(run(schedule.inject(True, False, 4, True, epoch)), Inject) == [Inject(EVERY_VOXEL)]
 

@@ -32,19 +32,20 @@ class FaceViewsPass:
         grid.dispatch(self.compose_program, segment)
         return grid.faces
 
-    def mipmap(self, grid, classes=None, class_index=None):
-        """Every coarser level of the face views, level after level, over its covered cells;
-        level 1 over the cells of interleave class `class_index` of ClassIndex `classes` only,
-        where only that class's voxels were composed (and those of several classes). Returns
-        the face views."""
+    def mipmap(self, grid, level_one=None):
+        """Every coarser level of the face views, level after level: level 1 over the cells
+        that hold the entries of `level_one`, (VoxelSegment, level of its entries) pairs (the
+        cells of the voxels composed: an interleave class's, or those of the voxels a
+        voxelization touched, which it zeroed; None: every covered cell), the coarser levels
+        over every covered cell. Returns the face views."""
         grid.use_faces()
         uniforms = grid.uniforms()
+        level_one = level_one or [(grid.cells.segment(1), 1)]
         for level in range(1, grid.mip_count):
             grid.bind_faces(level)
-            segments = classes.cell_segments(class_index) if level == 1 and class_index is not None else [grid.cells.segment(level)]
-            for segment in segments:
+            for segment, entry_level in level_one if level == 1 else [(grid.cells.segment(level), level)]:
                 segment.buffer.bind_to_storage_buffer(STORAGE_BINDING["CELLS"])
-                self.mipmap_program.set(**uniforms, level=level)
+                self.mipmap_program.set(**uniforms, level=level, entry_level=entry_level)
                 grid.dispatch(self.mipmap_program, segment)
         return grid.faces
 

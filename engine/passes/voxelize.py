@@ -48,7 +48,7 @@ class VoxelizePass:
                                            writes=("SSBO_CELLS", "SSBO_CELL_STAMPS"))
         self.fill_emission = programs.compute("voxelize/fill_cone_emission.comp", reads=("SSBO_COVERED", "SSBO_VOXEL_RECORD", "SSBO_VOXEL_ALBEDO", "SSBO_VOXEL_NORMAL", "SSBO_VOXEL_EMISSION"),
                                               writes=("IMG_CONE_EMISSION_OUT",))
-        self.clear_cells = programs.compute("voxelize/clear_cells.comp", reads=("SSBO_CELLS",), writes=("IMG_FACES_OUT",))
+        self.clear_cells = programs.compute("voxelize/clear_cells.comp", reads=("SSBO_CELLS", "SSBO_SEGMENTS"), writes=("IMG_FACES_OUT",))
         self._scratch = GridStorage()  # the fixed-point sums, front-layer keys, touched voxels' records, a framebuffer
         self.room = CoveredBound()     # what is known of the grid's covered count
 
@@ -118,7 +118,7 @@ class VoxelizePass:
             self._rasterize(grid, reaching, "front", box, chunk_first)
             self._rasterize(grid, reaching, "add", box, chunk_first)
             self._resolve(grid, chunk_first)
-        self._relist_covered(grid)
+        self._relist_covered(grid, update.full)
 
     def _rasterize(self, grid, draws, stage, box, chunk_first):
         """Rasterize the parts of `draws` inside the world `box` in one of the fragment stages,
@@ -156,7 +156,7 @@ class VoxelizePass:
         self.fill_emission.set(**grid.uniforms())
         grid.dispatch(self.fill_emission, grid.covered.segment())
 
-    def _relist_covered(self, grid):
+    def _relist_covered(self, grid, full):
         """The light at the records the resolve gave zeroed, then the covered list from the
         resolve's new voxels and the previous list (the voxels still covered kept, the others
         emptied); then the cells of every level."""
@@ -174,17 +174,20 @@ class VoxelizePass:
         self.rebuild_covered.set(**grid.uniforms())
         grid.dispatch(self.rebuild_covered, grid.covered.segment())
         grid.replace_covered()
-        self._relist_cells(grid)
+        self._relist_cells(grid, full)
 
-    def _relist_cells(self, grid):
-        """Zero the face views over the old covered cells of every level, then list the cells
-        the covered voxels now reach, level after level."""
+    def _relist_cells(self, grid, full):
+        """Zero the face views of every level over the cells the voxelization changed (those
+        holding the voxels it touched; after a full one, the old covered cells), then list the
+        cells the covered voxels now reach, level after level."""
         uniforms, cells = grid.uniforms(), grid.cells
-        cells.bind()
         for level in range(1, grid.mip_count):
             grid.bind_faces(level)
-            self.clear_cells.set(**uniforms, level=level, first=cells.first[level])
-            grid.dispatch(self.clear_cells, cells.segment(level))
+            segment = cells.segment(level) if full else grid.touched.segment()
+            segment.buffer.bind_to_storage_buffer(STORAGE_BINDING["CELLS"])
+            self.clear_cells.set(**uniforms, level=level, entry_level=level if full else 0)
+            grid.dispatch(self.clear_cells, segment)
+        cells.bind()
         generation = cells.restart()
         grid.covered.bind("COVERED")
         cells.bind_stamps()
