@@ -101,6 +101,9 @@ def check_grid(ctx, n, source=None):
 
 
 class VoxelGrid:
+    # What a program reading the voxels' surface (glsl/lib/voxel_surface.glsl) declares.
+    SURFACE_READS = ("SSBO_VOXEL_RECORD", "SSBO_VOXEL_ALBEDO", "SSBO_VOXEL_NORMAL", "SSBO_VOXEL_EMISSION")
+
     def __init__(self, ctx, programs):
         self.ctx = ctx
         self.n = 0

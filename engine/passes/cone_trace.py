@@ -9,7 +9,7 @@ anchor stood for."""
 import numpy as np
 
 from ..constants import GL_IMAGE_FORMAT, IMAGE_UNIT, SHADER_ENUMS, STORAGE_BINDING, TEXTURE_UNIT
-from ..voxel_grid import bind_values
+from ..voxel_grid import VoxelGrid, bind_values
 from .gbuffer import GBuffer
 from .target import ScreenTarget
 
@@ -24,7 +24,7 @@ class ConeTracePass:
         self.programs = {(lit, sky): programs.program(
             {name: 1 for name, on in (("EMITTERS", lit), ("SKY", sky)) if on} or None,
             vertex_shader="lib/fullscreen.vert", fragment_shader="cone_trace/shade_pixels.frag",
-            reads=(*GBuffer.READS, "TEX_DIRECT_LIGHT", "SSBO_VOXEL_RECORD", "SSBO_VOXEL_ALBEDO", "SSBO_VOXEL_NORMAL", "SSBO_VOXEL_EMISSION", "TEX_VOXEL_FACES", "SSBO_VOXEL_GATHERED",
+            reads=(*GBuffer.READS, "TEX_DIRECT_LIGHT", *VoxelGrid.SURFACE_READS, "TEX_VOXEL_FACES", "SSBO_VOXEL_GATHERED",
                    "SSBO_VOXEL_EMITTER_IRRADIANCE", "SSBO_VOXEL_SKY_IRRADIANCE", "TEX_ENVIRONMENT", "SSBO_EMITTER_TRIANGLES",
                    "SSBO_EMITTER_PATCHES", "SSBO_UNSHARED_PIXELS"),
             writes=("SSBO_CONE_PIXELS", "SSBO_SHARED_PIXELS", "IMG_DIFFUSE_IN"))

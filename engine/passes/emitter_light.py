@@ -4,13 +4,14 @@ through the face views (which must hold the grid's current coverage), and the fr
 that arrives, which the image interpolates per pixel. Runs over a segment of the grid's class
 list when the voxels or the emitters change; light injection adds it to the base radiance."""
 from ..constants import STORAGE_BINDING
+from ..voxel_grid import VoxelGrid
 
 
 class EmitterLightPass:
     def __init__(self, ctx, programs):
         self.program = programs.compute(
             "emitter_light/light_voxels.comp", writes=("SSBO_VOXEL_EMITTER_IRRADIANCE",),
-            reads=("SSBO_VOXEL_LIST", "SSBO_SEGMENTS", "SSBO_VOXEL_RECORD", "SSBO_VOXEL_ALBEDO", "SSBO_VOXEL_NORMAL", "SSBO_VOXEL_EMISSION", "TEX_VOXEL_FACES", "SSBO_EMITTER_TRIANGLES",
+            reads=("SSBO_VOXEL_LIST", "SSBO_SEGMENTS", *VoxelGrid.SURFACE_READS, "TEX_VOXEL_FACES", "SSBO_EMITTER_TRIANGLES",
                    "SSBO_EMITTER_PATCHES"))
 
     def run(self, grid, emitters, cone_uniforms, segment):

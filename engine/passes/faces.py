@@ -4,7 +4,7 @@ direction; then their mip levels, built over the covered cells of each level onl
 import numpy as np
 
 from ..constants import STORAGE_BINDING, VOXEL_FACES
-from ..voxel_grid import bind_values
+from ..voxel_grid import VoxelGrid, bind_values
 
 
 class FaceViewsPass:
@@ -12,7 +12,7 @@ class FaceViewsPass:
         self.ctx = ctx
         self.compose_program = programs.compute(
             "faces/compose_face_views.comp", writes=("IMG_FACES_OUT",),
-            reads=("SSBO_VOXEL_LIST", "SSBO_SEGMENTS", "SSBO_VOXEL_RECORD", "SSBO_VOXEL_ALBEDO", "SSBO_VOXEL_NORMAL", "SSBO_VOXEL_EMISSION", "SSBO_VOXEL_BASE", "SSBO_VOXEL_GATHERED"))
+            reads=("SSBO_VOXEL_LIST", "SSBO_SEGMENTS", *VoxelGrid.SURFACE_READS, "SSBO_VOXEL_BASE", "SSBO_VOXEL_GATHERED"))
         self.mipmap_program = programs.compute("faces/mipmap_face_views.comp", reads=("SSBO_CELLS", "SSBO_SEGMENTS", "TEX_VOXEL_FACES"),
                                                writes=("IMG_FACES_OUT",))
         self.totals_program = programs.compute("faces/sum_face_views.comp", reads=("TEX_VOXEL_FACES",), writes=("SSBO_READBACK",))

@@ -9,7 +9,7 @@ extrapolation."""
 import numpy as np
 
 from ..constants import CLASS_BLOCK, CLASS_FACINGS, CLASS_PARTS, MAX_INTERLEAVE, MAX_SEGMENT_ROWS, STORAGE_BINDING
-from ..voxel_grid import GridStorage, bind_values
+from ..voxel_grid import GridStorage, VoxelGrid, bind_values
 from ..voxel_lists import ClassIndex, SegmentTable, VoxelList
 
 
@@ -18,19 +18,19 @@ class GatherPass:
         self.ctx = ctx
         self.trace_program = programs.compute(
             "gather/trace_anchor_cones.comp", writes=("SSBO_GATHERED_OUT",),
-            reads=("SSBO_CLASS_LIST", "SSBO_SEGMENTS", "SSBO_VOXEL_RECORD", "SSBO_VOXEL_ALBEDO", "SSBO_VOXEL_NORMAL", "SSBO_VOXEL_EMISSION", "TEX_VOXEL_FACES"))
-        self.mark_stale_program = programs.compute("gather/mark_stale_anchors.comp", reads=("SSBO_TOUCHED", "SSBO_VOXEL_RECORD", "SSBO_VOXEL_ALBEDO", "SSBO_VOXEL_NORMAL", "SSBO_VOXEL_EMISSION"),
+            reads=("SSBO_CLASS_LIST", "SSBO_SEGMENTS", *VoxelGrid.SURFACE_READS, "TEX_VOXEL_FACES"))
+        self.mark_stale_program = programs.compute("gather/mark_stale_anchors.comp", reads=("SSBO_TOUCHED", *VoxelGrid.SURFACE_READS),
                                                    writes=("SSBO_GATHER_ANCHORS", "SSBO_STALE_VOXELS"))
         self.find_anchors_program = programs.compute(
             "gather/find_anchors.comp", writes=("SSBO_GATHER_ANCHORS",),
-            reads=("SSBO_COVERED", "SSBO_STALE_VOXELS", "SSBO_VOXEL_RECORD", "SSBO_VOXEL_ALBEDO", "SSBO_VOXEL_NORMAL", "SSBO_VOXEL_EMISSION"))
+            reads=("SSBO_COVERED", "SSBO_STALE_VOXELS", *VoxelGrid.SURFACE_READS))
         self.sort_classes_program = programs.compute(
-            "gather/sort_classes.comp", reads=("SSBO_COVERED", "SSBO_GATHER_ANCHORS", "SSBO_VOXEL_RECORD", "SSBO_VOXEL_ALBEDO", "SSBO_VOXEL_NORMAL", "SSBO_VOXEL_EMISSION"),
+            "gather/sort_classes.comp", reads=("SSBO_COVERED", "SSBO_GATHER_ANCHORS", *VoxelGrid.SURFACE_READS),
             writes=("SSBO_CLASS_BUCKETS", "SSBO_CLASS_LIST", "SSBO_CELL_CLASS_BITS"))
         self.sort_cells_program = programs.compute("gather/sort_class_cells.comp", reads=("SSBO_CELLS", "SSBO_CELL_CLASS_BITS"),
                                                    writes=("SSBO_CLASS_BUCKETS", "SSBO_CELLS_BY_CLASS"))
         self.fill_program = programs.compute("gather/interpolate_from_anchors.comp", writes=("SSBO_GATHERED_OUT",),
-                                             reads=("SSBO_CLASS_LIST", "SSBO_SEGMENTS", "SSBO_GATHER_ANCHORS", "SSBO_VOXEL_RECORD", "SSBO_VOXEL_ALBEDO", "SSBO_VOXEL_NORMAL", "SSBO_VOXEL_EMISSION"))
+                                             reads=("SSBO_CLASS_LIST", "SSBO_SEGMENTS", "SSBO_GATHER_ANCHORS", *VoxelGrid.SURFACE_READS))
         self.scan_program = programs.compute("gather/scan_buckets.comp", writes=("SSBO_CLASS_BUCKETS", "SSBO_SEGMENTS"))
         self.extrapolate_program = programs.compute("gather/close_bounce_series.comp", reads=("SSBO_COVERED", "SSBO_VOXEL_RECORD", "SSBO_VOXEL_GATHERED"),
                                                     writes=("SSBO_GATHERED_OUT",))

@@ -3,14 +3,14 @@ its surface receives from every light (with the shadow maps), evaluated per voxe
 surface point, and from the emitters (passes/emitter_light.py). Runs when lights, shadows,
 the emitters' light or the voxels change, over a segment of a voxel list."""
 from ..constants import STORAGE_BINDING
-from ..voxel_grid import bind_values
+from ..voxel_grid import VoxelGrid, bind_values
 
 
 class InjectPass:
     def __init__(self, ctx, programs):
         self.program = programs.compute(
             "inject/inject_direct_light.comp", writes=("SSBO_VOXEL_BASE",),
-            reads=("SSBO_VOXEL_LIST", "SSBO_SEGMENTS", "SSBO_VOXEL_RECORD", "SSBO_VOXEL_ALBEDO", "SSBO_VOXEL_NORMAL", "SSBO_VOXEL_EMISSION", "SSBO_VOXEL_EMITTER_IRRADIANCE",
+            reads=("SSBO_VOXEL_LIST", "SSBO_SEGMENTS", *VoxelGrid.SURFACE_READS, "SSBO_VOXEL_EMITTER_IRRADIANCE",
                    "SSBO_VOXEL_SKY_IRRADIANCE", "TEX_SHADOW_ATLAS", "UBO_LIGHTS", "UBO_SHADOW_VIEWS"))
 
     def run(self, grid, shadow_maps, emitters, environment, segment):

@@ -7,17 +7,17 @@ interpolating them as they interpolate the gather (GatherPass.fill); then averag
 like-facing voxels around each covered voxel into grid.sky_irradiance, which light injection adds to
 the base radiance and the image interpolates per pixel."""
 from ..constants import STORAGE_BINDING
-from ..voxel_grid import bind_values
+from ..voxel_grid import VoxelGrid, bind_values
 
 
 class SkyLightPass:
     def __init__(self, ctx, programs):
         self.program = programs.compute(
             "sky_light/trace_sky_cones.comp", writes=("SSBO_VOXEL_TRACED_SKY_IRRADIANCE",),
-            reads=("SSBO_VOXEL_LIST", "SSBO_SEGMENTS", "SSBO_VOXEL_RECORD", "SSBO_VOXEL_ALBEDO", "SSBO_VOXEL_NORMAL", "SSBO_VOXEL_EMISSION", "TEX_VOXEL_FACES", "TEX_ENVIRONMENT"))
+            reads=("SSBO_VOXEL_LIST", "SSBO_SEGMENTS", *VoxelGrid.SURFACE_READS, "TEX_VOXEL_FACES", "TEX_ENVIRONMENT"))
         self.filter_program = programs.compute(
             "sky_light/filter_sky_light.comp", writes=("SSBO_VOXEL_SKY_IRRADIANCE",),
-            reads=("SSBO_COVERED", "SSBO_VOXEL_RECORD", "SSBO_VOXEL_ALBEDO", "SSBO_VOXEL_NORMAL", "SSBO_VOXEL_EMISSION", "SSBO_VOXEL_TRACED_SKY_IRRADIANCE"))
+            reads=("SSBO_COVERED", *VoxelGrid.SURFACE_READS, "SSBO_VOXEL_TRACED_SKY_IRRADIANCE"))
 
     def run(self, grid, environment, cone_uniforms, segment):
         """`environment`: scene_gpu.EnvironmentMap; `segment`: a VoxelSegment of the class list

@@ -16,7 +16,7 @@ import numpy as np
 from ..constants import IMAGE_UNIT, SHADER_ENUMS, STORAGE_BINDING, VOXEL_FACES, VOXEL_SUM_CHANNELS
 from ..changes import VoxelUpdate
 from ..scene_gpu import vertex_extras
-from ..voxel_grid import GridStorage, bind_image, bind_values, sum_room
+from ..voxel_grid import GridStorage, VoxelGrid, bind_image, bind_values, sum_room
 from ..voxel_room import CoveredBound
 
 
@@ -46,7 +46,7 @@ class VoxelizePass:
                                                 writes=("SSBO_COVERED_NEXT", "IMG_FACES_OUT"))
         self.list_cells = programs.compute("voxelize/list_cells.comp", reads=("SSBO_COVERED",),
                                            writes=("SSBO_CELLS", "SSBO_CELL_STAMPS"))
-        self.fill_emission = programs.compute("voxelize/fill_cone_emission.comp", reads=("SSBO_COVERED", "SSBO_VOXEL_RECORD", "SSBO_VOXEL_ALBEDO", "SSBO_VOXEL_NORMAL", "SSBO_VOXEL_EMISSION"),
+        self.fill_emission = programs.compute("voxelize/fill_cone_emission.comp", reads=("SSBO_COVERED", *VoxelGrid.SURFACE_READS),
                                               writes=("IMG_CONE_EMISSION_OUT",))
         self.clear_cells = programs.compute("voxelize/clear_cells.comp", reads=("SSBO_CELLS", "SSBO_SEGMENTS"), writes=("IMG_FACES_OUT",))
         self._scratch = GridStorage()  # the fixed-point sums, front-layer keys, touched voxels' records, a framebuffer
