@@ -4,7 +4,7 @@ schedule plans work items (below) and the renderer runs each under the timer of 
 
 A bounce gathers light at every voxel with the 6 diffuse cones, traced by the anchors (1 in 4
 of a surface's voxels) and interpolated by the others (passes/gather.py), and composes the face
-views again with it (passes/faces.py). The gathers live in two volumes: `latest` is the one
+views again with it (passes/faces.py). The gathers live in two arrays: `latest` is the one
 the image and the face views use, the other keeps an earlier gather for closing the series.
 
 - `bounces` K >= 1: K bounces when the base radiance changes; the face views carry K - 1 of
@@ -86,7 +86,7 @@ class LightVoxels:
 @dataclass(frozen=True)
 class ComposeFaces:
     """Level 0 of the face views of each of `voxels` from their base radiance plus gather
-    volume `gathered` (None: before the first bounce)."""
+    array `gathered` (None: before the first bounce)."""
     voxels: tuple
     gathered: int
     timer = "faces"
@@ -102,7 +102,7 @@ class Mipmap:
 
 @dataclass(frozen=True)
 class Gather:
-    """The gather of interleave class `class_index` into gather volume `into`."""
+    """The gather of interleave class `class_index` into gather array `into`."""
     class_index: int
     into: int
     timer = "gather"
@@ -110,7 +110,7 @@ class Gather:
 
 @dataclass(frozen=True)
 class ExtrapolateGather:
-    """Gather volume older <- latest + (latest - older) * gain (gain 0: a copy)."""
+    """Gather array older <- latest + (latest - older) * gain (gain 0: a copy)."""
     latest: int
     older: int
     gain: tuple
@@ -323,7 +323,7 @@ class RadianceSchedule:
         # MAX_BOUNCES): a count and a rate on a terminal, no bar; no line in a log.
         with progress(None, "bounces", "bounce", summary=False) as bouncing:
             for iteration in range(1, MAX_BOUNCES + 1):
-                self.latest = 1 - self.latest  # the other volume holds the previous gather
+                self.latest = 1 - self.latest  # the other array holds the previous gather
                 yield from self._gather_every(epoch)
                 yield from self._compose([EVERY_VOXEL], self.latest)
                 self.iterations = iteration

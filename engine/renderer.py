@@ -271,7 +271,7 @@ class Renderer:
         if not s.shown.uses_voxels(emitters.count > 0 or frame.environment is not None):
             return direct
         self._voxels(frame, s, scene.source, emitters)
-        for stage in self.grid.hold_light_volumes(emitters=emitters.count > 0, sky=environment.environment is not None):
+        for stage in self.grid.hold_light_arrays(emitters=emitters.count > 0, sky=environment.environment is not None):
             self.stages[stage].forget()
         work = WorkResources(shadow_maps, emitters, environment, s.cone_uniforms())
         if emitters.count:

@@ -141,7 +141,7 @@ class VoxelGrid:
     def grow_lists(self, needed):
         """Make the grid anew, empty, with list room for `needed` covered voxels (list_room),
         holding a cone emission volume if it held one (the voxelization that follows fills it;
-        the light volumes are made again with their light: hold_light_volumes)."""
+        the light arrays are made again with their light: hold_light_arrays)."""
         emits = self.cone_emission is not None
         self._release_resources()
         self._allocate(self.n, list_room(needed, self.n))
@@ -155,7 +155,7 @@ class VoxelGrid:
         self.records = self._keep(VoxelRecords(ctx, n, room))
         self.albedo, self.normal, self.emission, self.base = (self._values() for _ in range(4))
         self.gathered = [self._values() for _ in range(2)]
-        self.emitter_irradiance = self.sky_irradiance = self.traced_sky_irradiance = None  # hold_light_volumes
+        self.emitter_irradiance = self.sky_irradiance = self.traced_sky_irradiance = None  # hold_light_arrays
         self.cone_emission = None  # hold_cone_emission
         self.faces = self._volume(mipmapped=True, views=VOXEL_FACES)
         self.touched = self._keep(VoxelList(ctx, self.touched_room))
@@ -223,7 +223,7 @@ class VoxelGrid:
             self.cone_emission = None
         return False
 
-    def hold_light_volumes(self, emitters, sky):
+    def hold_light_arrays(self, emitters, sky):
         """Hold the arrays of the emitters' light (`emitters`) and of the sky's (`sky`) where
         the scene has them, zero when made, and none of those it has not. Returns which were
         made now ("emitter_light", "sky_light"): their light is still to compute."""
