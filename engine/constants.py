@@ -55,7 +55,7 @@ STORAGE_BINDING = {
     "TOUCHED_RECORDS": 2,   # per place on the touched list: the voxel's word of the record index before the update
     "TOUCHED": 14,          # voxels the current voxelization touched (count, then packed coordinates)
     "COVERED": 15,          # voxels holding surface
-    "COVERED_NEXT": 16,     # the covered list being rebuilt
+    "NEWLY_COVERED": 16,    # the voxels a voxelization covered that were empty
     "CELLS": 17,            # covered cells of the coarser levels, level after level
     "CELL_STAMPS": 18,
     "CLASS_LIST": 19,       # covered voxels sorted by interleave class, part (gather anchors, others), block, facing

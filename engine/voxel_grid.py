@@ -2,8 +2,8 @@
 renderer and passed to the passes that read and write it. Its owner keeps these invariants:
 every volume starts zero and every empty voxel stays zero (passes touch only listed voxels);
 a voxel holds a record exactly while some surface covers it, and a record's values start zero;
-the covered list holds the voxels some surface covers, and its state is an `Epoch`, a new one
-at each rebuild (`replace_covered`).
+the covered list holds the voxel of each record (the voxels some surface covers), and its state
+is an `Epoch`, a new one after each voxelization (`covered_changed`).
 
 Per covered voxel, arrays of RGBA16F values indexed by the voxel's record (`records`,
 engine/voxel_records.py; an empty voxel reads zero):
@@ -20,8 +20,9 @@ stacked along z in one volume `faces` (n x n x 6n, view f at z in [f n, (f + 1) 
 surfaces emit, `cone_emission` (emission, a = 1 where covered): the emission the specular cones
 see. The voxel views and `read_level` see an array as a volume made from it (`dense`).
 
-Lists (voxel_lists.py): `covered` (surface voxels), `touched` (by the last voxelization) and
-the covered `cells` of every mip level. The voxel lists have room for `list_room` covered
+Lists (voxel_lists.py): `covered` (the voxel of each record handed out, or NO_VOXEL at a free
+one: lib/covered_voxels.glsl), `touched` (by the last voxelization), `newly_covered` (the
+voxels it covered that were empty) and the covered `cells` of every mip level. The voxel lists have room for `list_room` covered
 voxels (the touched list twice that: the voxels covered before and after an update):
 NEW_GRID_ROOM n^2 in a new grid, or LIST_HEADROOM of what a voxelization needed when it last
 grew. A voxelization that needs more room makes the grid anew with more (`list_counts`,
@@ -110,7 +111,7 @@ class VoxelGrid:
         self.region = None
         self.list_room = 0
         self._resources = []
-        self.epoch = Epoch()  # of the covered list: a new one whenever it is rebuilt (replace_covered)
+        self.epoch = Epoch()  # of the covered list: a new one whenever it changes (covered_changed)
         self.read_program = programs.compute("voxel_grid/read_level.comp", reads=("TEX_VOXEL_INSPECT",),
                                              writes=("SSBO_READBACK",))
         self.scatter_program = programs.compute("voxel_grid/scatter_values.comp", reads=("SSBO_COVERED", "SSBO_VOXEL_RECORD",
@@ -135,8 +136,8 @@ class VoxelGrid:
     def list_counts(self):
         """After a voxelization: its covered and touched counts as a ListBound, read back from
         the GPU (its `needed()` the list room they take), and the records the pool was short."""
-        return ListBound(covered=self.covered.read_count(), touched=self.touched.read_count(),
-                         records_short=self.records.read_short())
+        held, short = self.records.read_counts()
+        return ListBound(covered=held, touched=self.touched.read_count(), records_short=short)
 
     def grow_lists(self, needed):
         """Make the grid anew, empty, with list room for `needed` covered voxels (list_room),
@@ -159,7 +160,8 @@ class VoxelGrid:
         self.cone_emission = None  # hold_cone_emission
         self.faces = self._volume(mipmapped=True, views=VOXEL_FACES)
         self.touched = self._keep(VoxelList(ctx, self.touched_room))
-        self.covered, self.covered_next = (self._keep(VoxelList(ctx, room)) for _ in range(2))
+        self.covered, self.newly_covered = (self._keep(VoxelList(ctx, room)) for _ in range(2))
+        self.covered.clear()  # no record handed out yet
         self.cells = self._keep(CellLists(ctx, n))
         self.epoch = Epoch()  # a new grid: nothing was computed from its lists yet
 
@@ -332,10 +334,9 @@ class VoxelGrid:
         if self.cone_emission is not None:
             self.cone_emission.use(TEXTURE_UNIT["VOXEL_CONE_EMISSION"])
 
-    def replace_covered(self):
-        """Make `covered_next` (which a voxelization filled) the covered list, the old one the
-        next to fill, and start a new epoch."""
-        self.covered, self.covered_next = self.covered_next, self.covered
+    def covered_changed(self):
+        """After a voxelization wrote the covered list: its segment row from its count, and a
+        new epoch."""
         self.size_list(self.covered)
         self.epoch = self.epoch.next()
 

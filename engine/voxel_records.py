@@ -50,9 +50,11 @@ class VoxelRecords:
         self.index.write(index.tobytes())
         self.pool.write(pool_words(self.room, len(x)).tobytes())
 
-    def read_short(self):
-        """How many records the last voxelizations asked the pool for in vain (a read back)."""
-        return int(np.frombuffer(self.pool.read(4, offset=4), "u4")[0])
+    def read_counts(self):
+        """How many records voxels hold, and how many the last voxelizations asked the pool for
+        in vain (a read back)."""
+        free_count, short = np.frombuffer(self.pool.read(8), "i4")
+        return self.room - int(free_count), int(short)
 
     def memory_bytes(self):
         return self.index.size + self.pool.size

@@ -23,8 +23,10 @@ def settle_viewer(renderer, scene):
 
 
 def list_voxels(voxel_list):
-    """The x, y and z coordinates of a VoxelList's entries (they follow its count)."""
+    """The x, y and z coordinates of a VoxelList's entries (they follow its count; the covered
+    list's free records, NO_VOXEL, left out)."""
     entries = np.frombuffer(voxel_list.buffer.read(4 * (1 + voxel_list.read_count())), dtype="u4")[1:]
+    entries = entries[entries != 0xFFFFFFFF]
     mask = (1 << VOXEL_PACK_BITS) - 1
     return entries & mask, (entries >> VOXEL_PACK_BITS) & mask, entries >> (2 * VOXEL_PACK_BITS)
 

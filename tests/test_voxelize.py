@@ -291,9 +291,11 @@ def check_records(renderer):
         index = np.frombuffer(grid.records.index.read(), "u4")
         pool = np.frombuffer(grid.records.pool.read(), "i4")
         covered = np.frombuffer(grid.covered.buffer.read(4 * (1 + grid.covered.read_count())), "u4")[1:]
+    records = np.flatnonzero(covered != 0xFFFFFFFF)  # the covered list holds the voxel of each record
+    covered = covered[records]
     x, y, z = (covered & 1023, (covered >> 10) & 1023, covered >> 20)
     held = index[x + grid.n * (y + grid.n * z)]
-    assert np.all(held > 0) and np.count_nonzero(index) == len(covered)
+    assert np.array_equal(held - 1, records) and np.count_nonzero(index) == len(covered)
     free_count, short = pool[0], pool[1]
     assert short == 0 and free_count == grid.records.room - len(covered)
     free = pool[2:2 + free_count]

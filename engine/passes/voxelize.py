@@ -37,13 +37,12 @@ class VoxelizePass:
         self.resolve = programs.compute(
             "voxelize/resolve_sums.comp", reads=("SSBO_TOUCHED",),
             writes=("SSBO_VOXEL_SUMS", "SSBO_FRONT_KEYS", "SSBO_TOUCHED_RECORDS", "SSBO_VOXEL_RECORD", "SSBO_RECORD_POOL", "SSBO_VOXEL_ALBEDO",
-                    "SSBO_VOXEL_NORMAL", "SSBO_VOXEL_EMISSION", "IMG_CONE_EMISSION_OUT", "IMG_TOUCHED_FACES_OUT", "SSBO_COVERED_NEXT"))
+                    "SSBO_VOXEL_NORMAL", "SSBO_VOXEL_EMISSION", "IMG_CONE_EMISSION_OUT", "IMG_TOUCHED_FACES_OUT", "SSBO_COVERED",
+                    "SSBO_NEWLY_COVERED"))
         self.clear_new_records = programs.compute(
-            "voxelize/clear_new_records.comp", reads=("SSBO_COVERED_NEXT", "SSBO_VOXEL_RECORD"),
+            "voxelize/clear_new_records.comp", reads=("SSBO_NEWLY_COVERED", "SSBO_VOXEL_RECORD"),
             writes=("SSBO_VOXEL_BASE", "SSBO_VOXEL_GATHERED", "SSBO_GATHERED_OUT", "SSBO_VOXEL_EMITTER_IRRADIANCE", "SSBO_VOXEL_SKY_IRRADIANCE",
                     "SSBO_VOXEL_TRACED_SKY_IRRADIANCE"))
-        self.rebuild_covered = programs.compute("voxelize/rebuild_covered_list.comp", reads=("SSBO_COVERED", "SSBO_VOXEL_RECORD"),
-                                                writes=("SSBO_COVERED_NEXT", "IMG_FACES_OUT"))
         self.list_cells = programs.compute("voxelize/list_cells.comp", reads=("SSBO_COVERED",),
                                            writes=("SSBO_CELLS", "SSBO_CELL_STAMPS"))
         self.fill_emission = programs.compute("voxelize/fill_cone_emission.comp", reads=("SSBO_COVERED", *VoxelGrid.SURFACE_READS),
@@ -100,7 +99,7 @@ class VoxelizePass:
         host knows (else the count is read back)."""
         self._ensure_scratch(grid)
         grid.touched.clear()
-        grid.covered_next.clear()
+        grid.newly_covered.clear()
         self._bind_scratch(grid)
         grid.touched.bind("TOUCHED")
         if update.full:
@@ -136,7 +135,8 @@ class VoxelizePass:
     def _resolve(self, grid, chunk_first):
         """Resolve the sums of the chunk of touched voxels from `chunk_first` into the voxels'
         records: those emptied give theirs back, then the covered ones take theirs."""
-        grid.covered_next.bind("COVERED_NEXT")
+        grid.covered.bind("COVERED")
+        grid.newly_covered.bind("NEWLY_COVERED")
         grid.records.bind()
         for name, values in (("VOXEL_ALBEDO", grid.albedo), ("VOXEL_NORMAL", grid.normal), ("VOXEL_EMISSION", grid.emission)):
             bind_values(values, name)
@@ -157,10 +157,9 @@ class VoxelizePass:
         grid.dispatch(self.fill_emission, grid.covered.segment())
 
     def _relist_covered(self, grid, full):
-        """The light at the records the resolve gave zeroed, then the covered list from the
-        resolve's new voxels and the previous list (the voxels still covered kept, the others
-        emptied); then the cells of every level."""
-        grid.size_list(grid.covered_next)
+        """The light at the records the resolve gave zeroed; the covered list (a voxel per
+        record, which the resolve wrote) sized, and the cells of every level listed again."""
+        grid.size_list(grid.newly_covered)
         for name, values in (("VOXEL_BASE", grid.base), ("VOXEL_GATHERED", grid.gathered[0]), ("GATHERED_OUT", grid.gathered[1]),
                              ("VOXEL_EMITTER_IRRADIANCE", grid.emitter_irradiance), ("VOXEL_SKY_IRRADIANCE", grid.sky_irradiance),
                              ("VOXEL_TRACED_SKY_IRRADIANCE", grid.traced_sky_irradiance)):
@@ -168,12 +167,8 @@ class VoxelizePass:
                 bind_values(values, name)
         self.clear_new_records.set(**grid.uniforms(), voxel_emitters=grid.emitter_irradiance is not None,
                                    voxel_sky=grid.sky_irradiance is not None)
-        grid.dispatch(self.clear_new_records, grid.covered_next.segment())
-        grid.covered.bind("COVERED")
-        grid.bind_faces()
-        self.rebuild_covered.set(**grid.uniforms())
-        grid.dispatch(self.rebuild_covered, grid.covered.segment())
-        grid.replace_covered()
+        grid.dispatch(self.clear_new_records, grid.newly_covered.segment())
+        grid.covered_changed()
         self._relist_cells(grid, full)
 
     def _relist_cells(self, grid, full):
@@ -204,7 +199,7 @@ class VoxelizePass:
         return self._scratch.memory_bytes()
 
     def release(self):
-        for handle in (*self.programs.values(), self.mark_covered, self.resolve, self.clear_new_records, self.rebuild_covered,
+        for handle in (*self.programs.values(), self.mark_covered, self.resolve, self.clear_new_records,
                        self.list_cells, self.fill_emission, self.clear_cells):
             handle.release()
         self._scratch.release()

@@ -12,8 +12,9 @@ layout(std430, binding = SSBO_GATHERED_OUT) buffer Older { uvec2 older[]; };
 uniform vec3 gain;
 
 void main() {
-    if (gl_GlobalInvocationID.x >= covered_count) return;
-    uint record = voxel_record(unpack_voxel(covered[gl_GlobalInvocationID.x]));
+    uint record = gl_GlobalInvocationID.x;
+    ivec3 v;
+    if (!covered_voxel(record, v)) return;
     vec4 current = unpack_value(latest[record]);
     vec3 previous = unpack_value(older[record]).rgb;
     older[record] = pack_value(vec4(current.rgb + (current.rgb - previous) * gain, current.a));

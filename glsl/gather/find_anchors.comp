@@ -13,9 +13,15 @@ uniform bool every_voxel;  // false: the stale voxels
 
 void main() {
     uint k = gl_GlobalInvocationID.x;
-    if (k >= (every_voxel ? covered_count : LISTED(stale_count, stale))) return;
-    ivec3 v = unpack_voxel(every_voxel ? covered[k] : stale[k]);
-    uint record = voxel_record(v);
+    ivec3 v;
+    uint record = k;
+    if (every_voxel) {
+        if (!covered_voxel(k, v)) return;
+    } else {
+        if (k >= LISTED(stale_count, stale)) return;
+        v = unpack_voxel(stale[k]);
+        record = voxel_record(v);
+    }
     vec3 n = unpack_value(voxel_normal[record]).xyz;
     uint anchors = 0u;
     if (reflects_light(record, n)) {

@@ -22,12 +22,12 @@ uniform int interleave;
 uniform bool scatter;
 
 void main() {
-    if (gl_GlobalInvocationID.x >= covered_count) return;
-    uint entry = covered[gl_GlobalInvocationID.x];
-    ivec3 v = unpack_voxel(entry);
+    uint record = gl_GlobalInvocationID.x;
+    ivec3 v;
+    if (!covered_voxel(record, v)) return;
     int blocks = max(voxel_grid / CLASS_BLOCK, 1);
     ivec3 block = v / CLASS_BLOCK;
-    uint anchors = gather_anchors[voxel_record(v)];
+    uint anchors = gather_anchors[record];
     bool anchor = (anchors & ANCHOR_SELF) != 0u;
     int facing = int(anchors >> ANCHOR_FACING_SHIFT);
     int class_index = voxel_class(v, facing, interleave);
@@ -35,7 +35,7 @@ void main() {
     uint block_index = uint((class_index * CLASS_PARTS + part) * blocks * blocks * blocks + block.x + blocks * (block.y + blocks * block.z));
     uint bucket = block_index * uint(CLASS_FACINGS) + uint(facing);
     if (scatter) {
-        class_list[atomicAdd(buckets[bucket], 1u)] = entry;
+        class_list[atomicAdd(buckets[bucket], 1u)] = pack_voxel(v);
         atomicOr(cell_class_bits[grid_index(v >> 1, voxel_grid >> 1)], 1u << class_index);
     } else {
         atomicAdd(buckets[bucket], 1u);

@@ -14,9 +14,9 @@ layout(std430, binding = SSBO_VOXEL_SKY_IRRADIANCE) writeonly buffer VoxelSkyIrr
 #include "lib/covered_voxels.glsl"
 
 void main() {
-    if (gl_GlobalInvocationID.x >= covered_count) return;
-    ivec3 v = unpack_voxel(covered[gl_GlobalInvocationID.x]);
-    uint record = voxel_record(v);
+    uint record = gl_GlobalInvocationID.x;
+    ivec3 v;
+    if (!covered_voxel(record, v)) return;
     vec3 n_v = unpack_value(voxel_normal[record]).xyz;
     vec3 sum = vec3(0.0);
     float total = 0.0;

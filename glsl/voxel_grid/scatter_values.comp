@@ -10,7 +10,7 @@ layout(std430, binding = SSBO_INSPECT_VALUES) readonly buffer Values { uvec2 val
 layout(binding = IMG_INSPECT_OUT, rgba16f) uniform writeonly image3D inspect_out;
 
 void main() {
-    if (gl_GlobalInvocationID.x >= covered_count) return;
-    ivec3 v = unpack_voxel(covered[gl_GlobalInvocationID.x]);
-    imageStore(inspect_out, v, unpack_value(values[voxel_record(v)]));
+    uint record = gl_GlobalInvocationID.x;
+    ivec3 v;
+    if (covered_voxel(record, v)) imageStore(inspect_out, v, unpack_value(values[record]));
 }

@@ -1,5 +1,5 @@
 #version 450 core
-// After a resolve, over the voxels it listed as newly covered (the new covered list so far):
+// After a resolve, over the voxels it listed as newly covered:
 // the light at their records starts at zero, as at an empty voxel (the records were another
 // voxel's before): base radiance, both gathers, and where the scene has them the emitters'
 // and the sky's light.
@@ -7,7 +7,7 @@
 #include "lib/list_append.glsl"
 
 layout(local_size_x = LIST_GROUP) in;
-layout(std430, binding = SSBO_COVERED_NEXT) readonly buffer NextCovered { uint next_count; uint next_covered[]; };
+layout(std430, binding = SSBO_NEWLY_COVERED) readonly buffer NewlyCovered { uint new_count; uint newly_covered[]; };
 layout(std430, binding = SSBO_VOXEL_BASE) writeonly buffer VoxelBase { uvec2 base_out[]; };
 layout(std430, binding = SSBO_VOXEL_GATHERED) writeonly buffer VoxelGathered { uvec2 gathered_out[]; };
 layout(std430, binding = SSBO_GATHERED_OUT) writeonly buffer VoxelGatheredPrevious { uvec2 previous_gathered_out[]; };
@@ -16,9 +16,8 @@ layout(std430, binding = SSBO_VOXEL_SKY_IRRADIANCE) writeonly buffer VoxelSkyIrr
 layout(std430, binding = SSBO_VOXEL_TRACED_SKY_IRRADIANCE) writeonly buffer VoxelTracedSky { uvec2 traced_sky_out[]; };
 
 void main() {
-    if (gl_GlobalInvocationID.x >= LISTED(next_count, next_covered)) return;
-    uint record = voxel_record(unpack_voxel(next_covered[gl_GlobalInvocationID.x]));
-    if (record == NO_RECORD) return;  // the pool was short (the grid is made anew)
+    if (gl_GlobalInvocationID.x >= LISTED(new_count, newly_covered)) return;
+    uint record = voxel_record(unpack_voxel(newly_covered[gl_GlobalInvocationID.x]));
     base_out[record] = gathered_out[record] = previous_gathered_out[record] = uvec2(0u);
     if (voxel_emitters) emitter_irradiance_out[record] = uvec2(0u);
     if (voxel_sky) traced_sky_out[record] = sky_irradiance_out[record] = uvec2(0u);

@@ -9,7 +9,8 @@ layout(binding = IMG_CONE_EMISSION_OUT, rgba16f) uniform writeonly image3D cone_
 #include "lib/covered_voxels.glsl"
 
 void main() {
-    if (gl_GlobalInvocationID.x >= covered_count) return;
-    ivec3 v = unpack_voxel(covered[gl_GlobalInvocationID.x]);
-    imageStore(cone_emission_out, v, vec4(unpack_value(voxel_emission[voxel_record(v)]).rgb, 1.0));
+    uint record = gl_GlobalInvocationID.x;
+    ivec3 v;
+    if (!covered_voxel(record, v)) return;
+    imageStore(cone_emission_out, v, vec4(unpack_value(voxel_emission[record]).rgb, 1.0));
 }

@@ -17,7 +17,9 @@ void main() {
     uint k = gl_GlobalInvocationID.x;
     uint count = level == 1 ? covered_count : cell_count[level - 1];
     if (k >= count) return;
-    ivec3 cell = unpack_voxel(level == 1 ? covered[k] : cells[source_first + k]) >> 1;
+    uint entry = level == 1 ? covered[k] : cells[source_first + k];
+    if (entry == NO_VOXEL) return;  // a free record
+    ivec3 cell = unpack_voxel(entry) >> 1;
     int side = voxel_grid >> level;
     uint stamp = stamp_first + grid_index(cell, side);
     if (atomicExchange(stamps[stamp], generation) != generation)

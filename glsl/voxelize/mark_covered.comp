@@ -7,6 +7,6 @@ layout(local_size_x = LIST_GROUP) in;
 #include "lib/covered_voxels.glsl"
 
 void main() {
-    if (gl_GlobalInvocationID.x >= covered_count) return;
-    touch_voxel(unpack_voxel(covered[gl_GlobalInvocationID.x]));
+    ivec3 v;
+    if (covered_voxel(gl_GlobalInvocationID.x, v)) touch_voxel(v);
 }

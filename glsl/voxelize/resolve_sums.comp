@@ -1,8 +1,9 @@
 #version 450 core
 // Voxel resolve, over the voxels the last voxelization touched, those of the chunk being
 // summed (lib/voxel_sums.glsl), in two dispatches. First (`freeing`) the voxels every surface
-// left give their records back to the pool (engine/voxel_records.py); then each covered voxel
-// takes a record where it had none (and is listed for the new covered list), and the
+// left give their records back to the pool (engine/voxel_records.py), and the covered list
+// reads NO_VOXEL at them; then each covered voxel takes a record where it had none (the covered
+// list holds it at that record, and it is listed as newly covered), and the
 // fixed-point sums divided by the fragment count become its surface: albedo, mean normal,
 // emission with the surface offset in a. Where surfaces emit, the emission volume specular
 // cones read follows (emission, a = 1 where covered). Both zero the sums and front-layer keys
@@ -13,6 +14,7 @@
 // after it, within each chunk; a voxel the pool has no record for is counted short (the grid
 // is then made anew with more room: VoxelizePass.update).
 #include "lib/voxel_sums.glsl"
+#include "lib/covered_voxels.glsl"
 
 layout(local_size_x = LIST_GROUP) in;
 layout(std430, binding = SSBO_RECORD_POOL) buffer RecordPool { int free_count; uint short_count; uint free_records[]; };
@@ -21,7 +23,7 @@ layout(std430, binding = SSBO_VOXEL_NORMAL) writeonly buffer VoxelNormal { uvec2
 layout(std430, binding = SSBO_VOXEL_EMISSION) writeonly buffer VoxelEmission { uvec2 emission_out[]; };
 layout(binding = IMG_CONE_EMISSION_OUT, rgba16f) uniform writeonly image3D cone_emission_out;
 layout(binding = IMG_TOUCHED_FACES_OUT, rgba16f) uniform writeonly image3D faces_out;
-layout(std430, binding = SSBO_COVERED_NEXT) buffer NextCovered { uint next_count; uint next_covered[]; };
+layout(std430, binding = SSBO_NEWLY_COVERED) buffer NewlyCovered { uint new_count; uint newly_covered[]; };
 uniform bool freeing;
 
 float unit_sum(int i, int channel) {
@@ -45,15 +47,21 @@ void main() {
         if (record != NO_RECORD) {
             int at = atomicAdd(free_count, 1);
             if (at >= 0 && at < free_records.length()) free_records[at] = record;  // (else the pool is short: made anew)
+            covered[record] = NO_VOXEL;
         }
         record = NO_RECORD;
         if (voxel_emitters) imageStore(cone_emission_out, v, vec4(0.0));
     } else {
         if (record == NO_RECORD) {  // empty before, covered now
             int at = atomicAdd(free_count, -1) - 1;
-            if (at >= 0) record = free_records[at];
-            else atomicAdd(short_count, 1u);
-            APPEND(next_count, next_covered, pack_voxel(v));
+            if (at >= 0) {
+                record = free_records[at];
+                covered[record] = pack_voxel(v);
+                atomicMax(covered_count, record + 1u);
+                APPEND(new_count, newly_covered, pack_voxel(v));
+            } else {
+                atomicAdd(short_count, 1u);
+            }
         }
         float samples = float(min(count, VOXEL_MAX_FRAGMENTS));
         float to_unit = 1.0 / (samples * VOXEL_UNIT_SCALE);
