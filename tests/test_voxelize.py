@@ -184,8 +184,9 @@ def shelved(scene, heights):
 def test_voxel_lists_grow_to_hold_every_covered_voxel(renderer):
     """The voxel lists have room for what a grid covers, with a margin; shelves across the box
     cover more voxels than the box's walls. The update adding them outgrows the lists, which
-    grow: the grid and image equal a fresh voxelization of the shelved box, bit for bit, and a
-    shelf moved afterwards updates the grown grid as a fresh one."""
+    grow (and the record pool, which ran short with them): the grid and image equal a fresh
+    voxelization of the shelved box, bit for bit, each covered voxel holds a record of its own,
+    and a shelf moved afterwards updates the grown grid as a fresh one."""
     def state(r):
         return [r.voxels(name).tobytes() for name in ("radiance", "normal", "albedo")], r.radiance()
 
@@ -203,6 +204,7 @@ def test_voxel_lists_grow_to_hold_every_covered_voxel(renderer):
             fresh.render(scene, mode="gi", grid=32, bounces=1)
             fresh_voxels, fresh_image = state(fresh)
         assert voxels == fresh_voxels and np.array_equal(image, fresh_image)
+        check_records(renderer)
         scene.root.find("Shelf 7").translation += [0.0, 0.05, 0.0]
 
 
@@ -300,3 +302,4 @@ def check_records(renderer):
     assert short == 0 and free_count == grid.records.room - len(covered)
     free = pool[2:2 + free_count]
     assert sorted(np.concatenate([held - 1, free]).tolist()) == list(range(grid.records.room))
+
