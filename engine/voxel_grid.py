@@ -15,10 +15,10 @@ engine/voxel_records.py; an empty voxel reads zero):
 - the radiance: `base` (emission + injected direct light) and the diffuse light `gathered` by
   each voxel (two arrays, the latest and the one before, for closing the bounce series).
 
-Volumes (n^3 RGBA16F with their mip chains, what cones read): the six one-sided face views,
-stacked along z in one volume `faces` (n x n x 6n, view f at z in [f n, (f + 1) n)), and, where
-surfaces emit, `cone_emission` (emission, a = 1 where covered): the emission the specular cones
-see. The voxel views and `read_level` see an array as a volume made from it (`dense`).
+Volumes (RGBA16F with their mip chains, what cones read): the six one-sided face views, stacked
+along z in one volume `faces` (n x n x 6n, view f at z in [f n, (f + 1) n)), and, where surfaces
+emit, `cone_emission` (emission, a: coverage): the emission the specular cones see, from mip
+level 1 up ((n/2)^3 and coarser: the cones that read it are at least 4 voxels wide). The voxel views and `read_level` see an array as a volume made from it (`dense`).
 
 Lists (voxel_lists.py): `covered` (the voxel of each record handed out, or NO_VOXEL at a free
 one: lib/covered_voxels.glsl), `touched` (by the last voxelization), `newly_covered` (the
@@ -63,7 +63,7 @@ def voxel_memory_bytes(n):
     inspection volume) and the lists."""
     voxels = n ** 3
     per_voxel = 4                                            # the records' index
-    volumes = TEXEL_BYTES * (VOXEL_FACES + 2) * MIP_CHAIN     # faces, cone emission, an inspection volume
+    volumes = TEXEL_BYTES * (VOXEL_FACES + 1 + 1 / 8) * MIP_CHAIN  # faces, an inspection volume, cone emission
     lists = 2 * 4 / 7 + 2 * 4 / 8                            # cells, stamps; level-1 cells' classes, cells by class
     room = new_grid_room(n)
     listed = 4 * 9 * room                                     # touched x2 and their records x2, covered x2, stale, classes, anchors
@@ -190,8 +190,9 @@ class VoxelGrid:
         for array, rgb, a in ((self.albedo, albedo, flag), (self.normal, normal, flag), (self.emission, emission, 0.0 * flag)):
             values = np.concatenate([np.asarray(rgb, np.float32), a], axis=-1)[z, y, x]
             array.write(values.astype(VOXEL_FORMAT).tobytes())
-        if self.cone_emission is not None:
-            self.cone_emission.write(np.concatenate([emission * flag, flag], axis=-1).astype(VOXEL_FORMAT).tobytes())
+        if self.cone_emission is not None:  # its level 1: the mean of each cell's 8 voxels
+            level_one = np.concatenate([emission * flag, flag], axis=-1).reshape(n // 2, 2, n // 2, 2, n // 2, 2, 4).mean(axis=(1, 3, 5))
+            self.cone_emission.write(level_one.astype(VOXEL_FORMAT).tobytes())
         self.covered.buffer.write(np.concatenate([[len(coords)], pack_voxels(coords)]).astype("u4").tobytes())
         self.covered.table.write(0, 1, len(coords))
         for level in range(1, self.mip_count):
@@ -215,10 +216,10 @@ class VoxelGrid:
 
     def hold_cone_emission(self, emits):
         """Hold the emission volume the specular cones read where surfaces emit (`emits`), and
-        none where none does. True when made now: zero, its covered voxels still to fill
+        none where none does. True when made now: zero, its covered cells still to fill
         (VoxelizePass.fill_cone_emission)."""
         if emits and self.cone_emission is None:
-            self.cone_emission = self._volume(mipmapped=True)
+            self.cone_emission = self._volume(mipmapped=True, side=self.n // 2)
             return True
         if not emits and self.cone_emission is not None:
             self._drop(self.cone_emission)
@@ -281,9 +282,10 @@ class VoxelGrid:
         """An array of values per record, zero."""
         return self._keep(self.records.array())
 
-    def _volume(self, mipmapped=False, views=1):
-        """An n x n x (views n) RGBA16F volume of zeros (with a full mip chain if asked)."""
-        n = self.n
+    def _volume(self, mipmapped=False, views=1, side=None):
+        """A side x side x (views side) RGBA16F volume of zeros, side n unless given (with a full
+        mip chain if asked)."""
+        n = side or self.n
         volume = self.ctx.texture3d((n, n, views * n), 4, data=bytes(TEXEL_BYTES * views * n ** 3), dtype=VOXEL_FORMAT)
         volume.filter = (self.ctx.LINEAR, self.ctx.LINEAR)
         volume.repeat_x = volume.repeat_y = volume.repeat_z = False
@@ -341,7 +343,8 @@ class VoxelGrid:
         self.epoch = self.epoch.next()
 
     def build_emission_mips(self):
-        """The cone emission's mip chain, after a voxelization where surfaces emit."""
+        """The cone emission's coarser levels from its level 1, after a voxelization where
+        surfaces emit."""
         self.cone_emission.build_mipmaps()
 
     def bind_faces(self, level=0):

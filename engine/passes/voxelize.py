@@ -37,7 +37,7 @@ class VoxelizePass:
         self.resolve = programs.compute(
             "voxelize/resolve_sums.comp", reads=("SSBO_TOUCHED",),
             writes=("SSBO_VOXEL_SUMS", "SSBO_FRONT_KEYS", "SSBO_TOUCHED_RECORDS", "SSBO_VOXEL_RECORD", "SSBO_RECORD_POOL", "SSBO_VOXEL_ALBEDO",
-                    "SSBO_VOXEL_NORMAL", "SSBO_VOXEL_EMISSION", "IMG_CONE_EMISSION_OUT", "IMG_TOUCHED_FACES_OUT", "SSBO_COVERED",
+                    "SSBO_VOXEL_NORMAL", "SSBO_VOXEL_EMISSION", "IMG_TOUCHED_FACES_OUT", "SSBO_COVERED",
                     "SSBO_NEWLY_COVERED"))
         self.clear_new_records = programs.compute(
             "voxelize/clear_new_records.comp", reads=("SSBO_NEWLY_COVERED", "SSBO_VOXEL_RECORD"),
@@ -45,7 +45,7 @@ class VoxelizePass:
                     "SSBO_VOXEL_TRACED_SKY_IRRADIANCE"))
         self.list_cells = programs.compute("voxelize/list_cells.comp", reads=("SSBO_COVERED",),
                                            writes=("SSBO_CELLS", "SSBO_CELL_STAMPS"))
-        self.fill_emission = programs.compute("voxelize/fill_cone_emission.comp", reads=("SSBO_COVERED", *VoxelGrid.SURFACE_READS),
+        self.fill_emission = programs.compute("voxelize/fill_cone_emission.comp", reads=("SSBO_CELLS", "SSBO_SEGMENTS", *VoxelGrid.SURFACE_READS),
                                               writes=("IMG_CONE_EMISSION_OUT",))
         self.clear_cells = programs.compute("voxelize/clear_cells.comp", reads=("SSBO_CELLS", "SSBO_SEGMENTS"), writes=("IMG_FACES_OUT",))
         self._scratch = GridStorage()  # the fixed-point sums, front-layer keys, touched voxels' records, a framebuffer
@@ -118,6 +118,8 @@ class VoxelizePass:
             self._rasterize(grid, reaching, "add", box, chunk_first)
             self._resolve(grid, chunk_first)
         self._relist_covered(grid, update.full)
+        if grid.cone_emission is not None:
+            self.fill_cone_emission(grid, touched=True)
 
     def _rasterize(self, grid, draws, stage, box, chunk_first):
         """Rasterize the parts of `draws` inside the world `box` in one of the fragment stages,
@@ -140,21 +142,22 @@ class VoxelizePass:
         grid.records.bind()
         for name, values in (("VOXEL_ALBEDO", grid.albedo), ("VOXEL_NORMAL", grid.normal), ("VOXEL_EMISSION", grid.emission)):
             bind_values(values, name)
-        for unit, volume in (("CONE_EMISSION_OUT", grid.cone_emission), ("TOUCHED_FACES_OUT", grid.faces)):
-            if volume is not None:
-                bind_image(volume, IMAGE_UNIT[unit])
-        self.resolve.set(**grid.uniforms(), chunk_first=chunk_first, voxel_emitters=grid.cone_emission is not None)
+        bind_image(grid.faces, IMAGE_UNIT["TOUCHED_FACES_OUT"])
+        self.resolve.set(**grid.uniforms(), chunk_first=chunk_first)
         for freeing in (True, False):
             self.resolve.set(freeing=freeing)
             grid.dispatch(self.resolve, grid.touched.segment())
 
-    def fill_cone_emission(self, grid):
-        """The grid's cone emission volume (made zero) at every covered voxel, from its emission."""
+    def fill_cone_emission(self, grid, touched=False):
+        """Level 1 of the grid's cone emission volume from the voxels' emission: over every
+        covered cell (a volume made zero), or over the cells of the voxels the last
+        voxelization touched."""
         grid.use_surface()
-        grid.covered.bind("COVERED")
+        segment = grid.touched.segment() if touched else grid.cells.segment(1)
+        segment.buffer.bind_to_storage_buffer(STORAGE_BINDING["CELLS"])
         bind_image(grid.cone_emission, IMAGE_UNIT["CONE_EMISSION_OUT"])
-        self.fill_emission.set(**grid.uniforms())
-        grid.dispatch(self.fill_emission, grid.covered.segment())
+        self.fill_emission.set(**grid.uniforms(), entry_level=0 if touched else 1)
+        grid.dispatch(self.fill_emission, segment)
 
     def _relist_covered(self, grid, full):
         """The light at the records the resolve gave zeroed; the covered list (a voxel per

@@ -5,7 +5,9 @@
 #include "lib/voxel.glsl"
 
 layout(binding = TEX_VOXEL_FACES) uniform sampler3D voxel_faces;      // the face views, stacked along z
-layout(binding = TEX_VOXEL_CONE_EMISSION) uniform sampler3D voxel_cone_emission;  // emission (rgb), coverage (a)
+// Emission (rgb) and coverage (a) from mip level 1 (cells of 2 voxels) up: what `emitted` cones
+// add, which are at least SPECULAR_CONE_MIN_DIAMETER voxels wide (mip >= 1).
+layout(binding = TEX_VOXEL_CONE_EMISSION) uniform sampler3D voxel_cone_emission;
 uniform float cone_step;      // step length as a fraction of the cone diameter
 uniform float cone_offset;    // start offset along the surface normal, in voxels
 uniform float voxel_max_mip;  // log2(N): the 1^3 level
@@ -138,7 +140,7 @@ vec4 trace_cone(vec3 p, vec3 n, vec3 direction, float tan_half_angle, float max_
             float alpha = min(coverage, 1.0 - gathered.a);
             vec3 radiance = s.rgb / s.a;
             if (emitted && voxel_emitters) {
-                vec4 e = textureLod(voxel_cone_emission, uvw, mip);
+                vec4 e = textureLod(voxel_cone_emission, uvw, mip - 1.0);  // it holds levels 1 and up
                 if (e.a > 0.0) radiance += e.rgb / e.a;
             }
             gathered.rgb += alpha * radiance;

@@ -1,16 +1,25 @@
 #version 450 core
-// A cone emission volume made for a grid that already holds voxels (the first surface of the
-// scene to emit): every covered voxel's emission (rgb) and coverage (a = 1), as the resolve
-// writes them (voxelize/resolve_sums.comp).
+// The emission volume the specular cones read (grid.cone_emission: mip level 1 and coarser of
+// the voxels' emission; the cones read no finer), its level 1 over the cells that hold the
+// entries of a list segment: every covered cell (`entry_level` 1, a volume made for a grid
+// that already holds voxels) or the voxels a voxelization touched (0). Each cell is the mean
+// of its 8 voxels' emission (rgb) and coverage (a; 1 where covered), as a mip level of a volume
+// of the voxels would hold; glGenerateMipmap builds the coarser levels.
 #include "lib/voxel_surface.glsl"
 
 layout(local_size_x = LIST_GROUP) in;
 layout(binding = IMG_CONE_EMISSION_OUT, rgba16f) uniform writeonly image3D cone_emission_out;
-#include "lib/covered_voxels.glsl"
+layout(std430, binding = SSBO_CELLS) readonly buffer Cells { uint cells[]; };
+#include "lib/list_segment.glsl"
+uniform int entry_level;  // the level of the list's entries: 1 for cells, 0 for voxels
 
 void main() {
-    uint record = gl_GlobalInvocationID.x;
-    ivec3 v;
-    if (!covered_voxel(record, v)) return;
-    imageStore(cone_emission_out, v, vec4(unpack_value(voxel_emission[record]).rgb, 1.0));
+    if (gl_GlobalInvocationID.x >= segment_count()) return;
+    ivec3 cell = unpack_voxel(cells[segment_first() + gl_GlobalInvocationID.x]) >> (1 - entry_level);
+    vec4 sum = vec4(0.0);
+    for (int k = 0; k < 8; ++k) {
+        uint record = voxel_record(2 * cell + ivec3(k & 1, (k >> 1) & 1, k >> 2));
+        if (record != NO_RECORD) sum += vec4(unpack_value(voxel_emission[record]).rgb, 1.0);
+    }
+    imageStore(cone_emission_out, cell, sum / 8.0);
 }

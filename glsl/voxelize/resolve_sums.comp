@@ -5,8 +5,7 @@
 // reads NO_VOXEL at them; then each covered voxel takes a record where it had none (the covered
 // list holds it at that record, and it is listed as newly covered), and the
 // fixed-point sums divided by the fragment count become its surface: albedo, mean normal,
-// emission with the surface offset in a. Where surfaces emit, the emission volume specular
-// cones read follows (emission, a = 1 where covered). Both zero the sums and front-layer keys
+// emission with the surface offset in a. Both zero the sums and front-layer keys
 // for the next update, put back the voxel's word of the record index (its record now, or none:
 // lib/voxel_slots.glsl), and zero the voxel's six faces at level 0 of the face views
 // (faces/compose_face_views.comp writes only the faces its new surface covers). Freeing first
@@ -21,7 +20,6 @@ layout(std430, binding = SSBO_RECORD_POOL) buffer RecordPool { int free_count; u
 layout(std430, binding = SSBO_VOXEL_ALBEDO) writeonly buffer VoxelAlbedo { uvec2 albedo_out[]; };
 layout(std430, binding = SSBO_VOXEL_NORMAL) writeonly buffer VoxelNormal { uvec2 normal_out[]; };
 layout(std430, binding = SSBO_VOXEL_EMISSION) writeonly buffer VoxelEmission { uvec2 emission_out[]; };
-layout(binding = IMG_CONE_EMISSION_OUT, rgba16f) uniform writeonly image3D cone_emission_out;
 layout(binding = IMG_TOUCHED_FACES_OUT, rgba16f) uniform writeonly image3D faces_out;
 layout(std430, binding = SSBO_NEWLY_COVERED) buffer NewlyCovered { uint new_count; uint newly_covered[]; };
 uniform bool freeing;
@@ -50,7 +48,6 @@ void main() {
             covered[record] = NO_VOXEL;
         }
         record = NO_RECORD;
-        if (voxel_emitters) imageStore(cone_emission_out, v, vec4(0.0));
     } else {
         if (record == NO_RECORD) {  // empty before, covered now
             int at = atomicAdd(free_count, -1) - 1;
@@ -81,7 +78,6 @@ void main() {
             normal_out[record] = pack_value(vec4(normal, 1.0));
             emission_out[record] = pack_value(vec4(emission, surface_offset));
         }
-        if (voxel_emitters) imageStore(cone_emission_out, v, vec4(emission, 1.0));
     }
     for (int channel = 0; channel < VOXEL_SUM_CHANNELS; ++channel) voxel_sums[sum_entry(i, channel)] = 0u;
     voxel_records[voxel_index(v)] = record + 1u;  // its record, no longer flagged (0: none)
