@@ -22,7 +22,7 @@ TEXTURE_UNIT = {
     "HDR_INPUT": 12,
     "DIRECT_LIGHT": 13,
     "VOXEL_INSPECT": 14,    # the volume a voxel view or a readback reads
-    "VOXEL_CONE_EMISSION": 15,    # emission (rgb) and coverage (a) of every voxel, mipmapped: what specular cones add
+    "VOXEL_CONE_EMISSION": 15,    # emission (rgb) and coverage (a) from mip level 1 up: what specular cones add
     "ENVIRONMENT": 17,      # the sky's radiance, equirectangular, mipmapped (glsl/lib/environment.glsl)
     "BASE_COLOR_MAP": 20,   # the textures of the material being drawn (glsl/lib/material.glsl)
     "METAL_ROUGH_MAP": 21,

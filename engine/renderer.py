@@ -207,7 +207,7 @@ class Renderer:
         if not isinstance(level, numbers.Integral) or isinstance(level, bool) or not 0 <= level <= top:
             raise VctError(f"must be a whole number in 0..{top} for grid {self.grid.n}, got {level!r}", field="level")
         values = self._gathered() if name == "gathered" else shown_values(self.grid, VOXEL_VOLUMES[name])
-        return self.grid.read_level(self.grid.dense(values), level)
+        return self.grid.read_level(values, level)
 
     @_current
     def reload_shaders(self):

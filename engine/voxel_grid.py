@@ -253,10 +253,10 @@ class VoxelGrid:
         self._mipmapped.add(volume)
         return volume
 
-    def dense(self, values):
-        """An array of values as an n^3 volume (zero where no surface covers a voxel) with its
-        hardware mip chain, for the voxel views and Renderer.voxels: one volume, made again at
-        each call."""
+    def dense(self, values, mips=True):
+        """An array of values as an n^3 volume (zero where no surface covers a voxel), with its
+        hardware mip chain built where `mips`, for the voxel views and Renderer.voxels: one
+        volume, made again at each call."""
         if self._inspection is None:
             self._inspection = self._volume(mipmapped=True)
         volume = self._inspection
@@ -267,7 +267,7 @@ class VoxelGrid:
         bind_image(volume, IMAGE_UNIT["INSPECT_OUT"])
         self.scatter_program.set(**self.uniforms())
         self.dispatch(self.scatter_program, self.covered.segment())
-        return self.viewable(volume)
+        return self.viewable(volume) if mips else volume
 
     def _keep(self, resource):
         self._resources.append(resource)
@@ -388,7 +388,7 @@ class VoxelGrid:
         (depth, n, n, 4), indexed [z, y, x] (the face views' depth holds their six views one
         after the other)."""
         if isinstance(volume, moderngl.Buffer):
-            volume = self.dense(volume)
+            volume = self.dense(volume, mips=level > 0)
         width, height, depth = (max(1, side >> level) for side in volume.size)
         shape = (depth, height, width, 4)
         if level == 0:

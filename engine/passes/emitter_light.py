@@ -4,7 +4,7 @@ through the face views (which must hold the grid's current coverage), and the fr
 that arrives, which the image interpolates per pixel. Runs over a segment of the grid's class
 list when the voxels or the emitters change; light injection adds it to the base radiance."""
 from ..constants import STORAGE_BINDING
-from ..voxel_grid import VoxelGrid
+from ..voxel_grid import VoxelGrid, bind_values
 
 
 class EmitterLightPass:
@@ -21,6 +21,7 @@ class EmitterLightPass:
         grid.use_faces()
         segment.buffer.bind_to_storage_buffer(STORAGE_BINDING["VOXEL_LIST"])
         emitters.bind(self.program)
+        bind_values(grid.emitter_irradiance, "VOXEL_EMITTER_IRRADIANCE")
         self.program.set(**grid.uniforms(), **cone_uniforms)
         grid.dispatch(self.program, segment)
         return grid.emitter_irradiance

@@ -36,6 +36,7 @@ class SkyLightPass:
         (written and returned)."""
         grid.use_surface()
         bind_values(grid.traced_sky_irradiance, "VOXEL_TRACED_SKY_IRRADIANCE")
+        bind_values(grid.sky_irradiance, "VOXEL_SKY_IRRADIANCE")
         grid.covered.bind("COVERED")
         self.filter_program.set(**grid.uniforms())
         grid.dispatch(self.filter_program, grid.covered.segment())

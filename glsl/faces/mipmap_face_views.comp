@@ -5,20 +5,16 @@
 // cell is the mean of its 8 children one level finer (a box filter, as glGenerateMipmap), so a
 // level-m cell holds the mean premultiplied radiance and coverage of the 2^m voxels along each
 // side. Cells no surface covers are zero and stay zero (voxelize/clear_cells.comp).
-#include "lib/voxel.glsl"
+#include "lib/segment_cells.glsl"
 
 layout(local_size_x = LIST_GROUP) in;
 layout(binding = TEX_VOXEL_FACES) uniform sampler3D voxel_faces;
 layout(binding = IMG_FACES_OUT, rgba16f) uniform writeonly image3D faces_out;
-layout(std430, binding = SSBO_CELLS) readonly buffer Cells { uint cells[]; };
 uniform int level;
-uniform int entry_level;  // the level of the list's entries: `level` for cells, 0 for voxels
-// The segment of `cells` to build.
-#include "lib/list_segment.glsl"
 
 void main() {
     if (gl_GlobalInvocationID.x >= segment_count()) return;
-    ivec3 cell = unpack_voxel(cells[segment_first() + gl_GlobalInvocationID.x]) >> (level - entry_level);
+    ivec3 cell = segment_cell(gl_GlobalInvocationID.x, level);
     int side = voxel_grid >> level;
     // The corner the 8 children share, in the finer level's texture coordinates: a trilinear
     // lookup there weighs each child 1/8, one fetch where 8 would do the same.

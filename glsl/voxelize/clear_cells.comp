@@ -4,17 +4,14 @@
 // list is rebuilt), or the voxels a voxelization touched (`entry_level` 0), so cells no surface
 // covers any more read empty, and the cells whose surfaces changed read empty until the face
 // views' mipmap builds them again (faces/mipmap_face_views.comp writes only faces with coverage).
-#include "lib/voxel.glsl"
+#include "lib/segment_cells.glsl"
 
 layout(local_size_x = LIST_GROUP) in;
 layout(binding = IMG_FACES_OUT, rgba16f) uniform writeonly image3D faces_out;
-layout(std430, binding = SSBO_CELLS) readonly buffer Cells { uint cells[]; };
-#include "lib/list_segment.glsl"
 uniform int level;
-uniform int entry_level;  // the level of the list's entries: `level` for cells, 0 for voxels
 
 void main() {
     if (gl_GlobalInvocationID.x >= segment_count()) return;
-    ivec3 cell = unpack_voxel(cells[segment_first() + gl_GlobalInvocationID.x]) >> (level - entry_level);
+    ivec3 cell = segment_cell(gl_GlobalInvocationID.x, level);
     for (int f = 0; f < VOXEL_FACES; ++f) imageStore(faces_out, face_texel(cell, f, voxel_grid >> level), vec4(0.0));
 }

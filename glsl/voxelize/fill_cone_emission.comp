@@ -6,16 +6,14 @@
 // of its 8 voxels' emission (rgb) and coverage (a; 1 where covered), as a mip level of a volume
 // of the voxels would hold; glGenerateMipmap builds the coarser levels.
 #include "lib/voxel_surface.glsl"
+#include "lib/segment_cells.glsl"
 
 layout(local_size_x = LIST_GROUP) in;
 layout(binding = IMG_CONE_EMISSION_OUT, rgba16f) uniform writeonly image3D cone_emission_out;
-layout(std430, binding = SSBO_CELLS) readonly buffer Cells { uint cells[]; };
-#include "lib/list_segment.glsl"
-uniform int entry_level;  // the level of the list's entries: 1 for cells, 0 for voxels
 
 void main() {
     if (gl_GlobalInvocationID.x >= segment_count()) return;
-    ivec3 cell = unpack_voxel(cells[segment_first() + gl_GlobalInvocationID.x]) >> (1 - entry_level);
+    ivec3 cell = segment_cell(gl_GlobalInvocationID.x, 1);
     vec4 sum = vec4(0.0);
     for (int k = 0; k < 8; ++k) {
         uint record = voxel_record(2 * cell + ivec3(k & 1, (k >> 1) & 1, k >> 2));
