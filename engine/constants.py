@@ -18,7 +18,7 @@ TEXTURE_UNIT = {
     "GBUF_ALBEDO": 2,
     "GBUF_EMISSION": 3,
     "SHADOW_ATLAS": 4,
-    "VOXEL_FACES": 11,      # the face views cones read (+x, -x, +y, -y, +z, -z), stacked along z
+    "VOXEL_FACES": 11,      # the face views cones read (+x, -x, +y, -y, +z, -z) from mip level 1 up, stacked along z
     "HDR_INPUT": 12,
     "DIRECT_LIGHT": 13,
     "VOXEL_INSPECT": 14,    # the volume a voxel view or a readback reads
@@ -33,7 +33,6 @@ TEXTURE_UNIT = {
 # Image units. Each program binds at most 8 images, at units 0..7.
 IMAGE_UNIT = {
     "FACES_OUT": 0,
-    "TOUCHED_FACES_OUT": 6, # level 0 of the face views, zeroed where a voxelization touched (resolve)
     "CONE_EMISSION_OUT": 4,
     "INSPECT_OUT": 0,       # a dense volume made from a record array, for inspection
     "IMAGE_OUT": 0,         # a screen target a compute pass adds to
@@ -87,6 +86,7 @@ STORAGE_BINDING = {
     "VOXEL_EMITTER_IRRADIANCE": 42,  # the emitters' shadowed irradiance (rgb), its visible fraction (a)
     "VOXEL_SKY_IRRADIANCE": 43,      # the sky's irradiance through the voxels (rgb), filtered
     "VOXEL_TRACED_SKY_IRRADIANCE": 44,  # the same as the anchors' cones traced it and the others interpolated it
+    "VOXEL_REFLECTED": 46,    # the light each voxel's surface reflects (rgb), a = 1: level 0 of the face views
     "INSPECT_VALUES": 45,     # an array of values made a volume for inspection (voxel_grid/scatter_values.comp)
 }
 

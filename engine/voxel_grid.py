@@ -12,13 +12,16 @@ engine/voxel_records.py; an empty voxel reads zero):
 - the light arriving at each voxel's surface: `emitter_irradiance`, the emitters' shadowed
   irradiance (a: the fraction of it that arrives); `sky_irradiance`, the environment's through
   the voxels, and `traced_sky_irradiance`, the same as the anchors' cones brought it;
-- the radiance: `base` (emission + injected direct light) and the diffuse light `gathered` by
-  each voxel (two arrays, the latest and the one before, for closing the bounce series).
+- the radiance: `base` (emission + injected direct light), the diffuse light `gathered` by
+  each voxel (two arrays, the latest and the one before, for closing the bounce series) and
+  the light its surface `reflected` in the last composition, what cones read at level 0.
 
-Volumes (RGBA16F with their mip chains, what cones read): the six one-sided face views, stacked
-along z in one volume `faces` (n x n x 6n, view f at z in [f n, (f + 1) n)), and, where surfaces
-emit, `cone_emission` (emission, a: coverage): the emission the specular cones see, from mip
-level 1 up ((n/2)^3 and coarser: the cones that read it are at least 4 voxels wide). The voxel views and `read_level` see an array as a volume made from it (`dense`).
+Volumes (RGBA16F with their mip chains, what cones read from mip level 1 up, where cells hold
+several voxels: level 0 is the voxels' own records, their reflected light and mean normal):
+the six one-sided face views, stacked along z in one volume `faces` ((n/2) x (n/2) x 6(n/2) at
+level 1, view f at z in [f n/2, (f + 1) n/2)), and, where surfaces emit, `cone_emission`
+(emission, a: coverage): the emission the specular cones see ((n/2)^3 and coarser: the cones
+that read it are at least 4 voxels wide). The voxel views and `read_level` see an array as a volume made from it (`dense`).
 
 Lists (voxel_lists.py): `covered` (the voxel of each record handed out, or NO_VOXEL at a free
 one: lib/covered_voxels.glsl), `touched` (by the last voxelization), `newly_covered` (the
@@ -52,8 +55,8 @@ LIST_HEADROOM = 5 / 4  # a grown list's room over what it needed
 # voxelization of a closed box (6.5 n^2) is one chunk.
 SUM_ROOM = 8
 # The arrays of values a grid may hold per record (see the module's docstring).
-RECORD_ARRAYS = ("albedo", "normal", "emission", "base", "gathered", "gathered_previous", "emitter_irradiance",
-                 "sky_irradiance", "traced_sky_irradiance")
+RECORD_ARRAYS = ("albedo", "normal", "emission", "base", "gathered", "gathered_previous", "reflected",
+                 "emitter_irradiance", "sky_irradiance", "traced_sky_irradiance")
 
 
 def voxel_memory_bytes(n):
@@ -63,7 +66,7 @@ def voxel_memory_bytes(n):
     inspection volume) and the lists."""
     voxels = n ** 3
     per_voxel = 4                                            # the records' index
-    volumes = TEXEL_BYTES * (VOXEL_FACES + 1 + 1 / 8) * MIP_CHAIN  # faces, an inspection volume, cone emission
+    volumes = TEXEL_BYTES * (VOXEL_FACES / 8 + 1 + 1 / 8) * MIP_CHAIN  # faces, an inspection volume, cone emission
     lists = 2 * 4 / 7 + 2 * 4 / 8                            # cells, stamps; level-1 cells' classes, cells by class
     room = new_grid_room(n)
     listed = 4 * 9 * room                                     # touched x2 and their records x2, covered x2, stale, classes, anchors
@@ -104,6 +107,9 @@ def check_grid(ctx, n, source=None):
 class VoxelGrid:
     # What a program reading the voxels' surface (glsl/lib/voxel_surface.glsl) declares.
     SURFACE_READS = ("SSBO_VOXEL_RECORD", "SSBO_VOXEL_ALBEDO", "SSBO_VOXEL_NORMAL", "SSBO_VOXEL_EMISSION")
+    # What a program tracing cones (glsl/lib/cone.glsl) declares besides the emission volume:
+    # level 0 is the voxels' records.
+    CONE_READS = (*SURFACE_READS, "SSBO_VOXEL_REFLECTED", "TEX_VOXEL_FACES")
 
     def __init__(self, ctx, programs):
         self.ctx = ctx
@@ -154,11 +160,11 @@ class VoxelGrid:
         self._mipmapped = set()  # the volumes whose mip chain is allocated
         self._inspection = None  # the volume `dense` makes
         self.records = self._keep(VoxelRecords(ctx, n, room))
-        self.albedo, self.normal, self.emission, self.base = (self._values() for _ in range(4))
+        self.albedo, self.normal, self.emission, self.base, self.reflected = (self._values() for _ in range(5))
         self.gathered = [self._values() for _ in range(2)]
         self.emitter_irradiance = self.sky_irradiance = self.traced_sky_irradiance = None  # hold_light_arrays
         self.cone_emission = None  # hold_cone_emission
-        self.faces = self._volume(mipmapped=True, views=VOXEL_FACES)
+        self.faces = self._volume(mipmapped=True, views=VOXEL_FACES, side=n // 2)
         self.touched = self._keep(VoxelList(ctx, self.touched_room))
         self.covered, self.newly_covered = (self._keep(VoxelList(ctx, room)) for _ in range(2))
         self.covered.clear()  # no record handed out yet
@@ -331,7 +337,10 @@ class VoxelGrid:
                 bind_values(values, name)
 
     def use_faces(self):
-        """The face views and the emission volume: what cones read."""
+        """What cones read: the voxels' records with their surface and reflected light
+        (level 0), the face views and the emission volume (level 1 up)."""
+        self.use_surface()
+        bind_values(self.reflected, "VOXEL_REFLECTED")
         self.faces.use(TEXTURE_UNIT["VOXEL_FACES"])
         if self.cone_emission is not None:
             self.cone_emission.use(TEXTURE_UNIT["VOXEL_CONE_EMISSION"])
@@ -347,8 +356,13 @@ class VoxelGrid:
         surfaces emit."""
         self.cone_emission.build_mipmaps()
 
-    def bind_faces(self, level=0):
-        bind_image(self.faces, IMAGE_UNIT["FACES_OUT"], level=level)
+    def bind_faces(self, level):
+        """Mip level `level` (1 up) of the face views, to write."""
+        bind_image(self.faces, IMAGE_UNIT["FACES_OUT"], level=level - 1)
+
+    def read_faces(self, level):
+        """Mip level `level` (1 up) of the face views, as read_level reads a volume."""
+        return self.read_level(self.faces, level - 1)
 
     def dispatch(self, handle, segment):
         """Run a compute program once per entry of a list segment (a VoxelSegment: its row

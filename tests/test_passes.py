@@ -79,10 +79,10 @@ def test_a_mip_cell_is_the_mean_of_its_eight_children(gl):
     maps = lights(gl, Light("directional", np.full(3, 2.0), direction=np.array([-1.0, 0.0, 0.0]), cast_shadows=False))
     gl["inject"].run(grid, maps, gl["emitters"], gl["environment"], every_voxel(gl))
     gl["faces"].compose(grid, None, every_voxel(gl))
-    faces = gl["faces"].mipmap(grid)
+    gl["faces"].mipmap(grid)
     radiance = 0.8 / np.pi * 2.0
     for level, fraction in ((1, 3 / 8), (2, 3 / 64)):
-        views = grid.read_level(faces, level).reshape(6, N >> level, N >> level, N >> level, 4)
+        views = grid.read_faces(level).reshape(6, N >> level, N >> level, N >> level, 4)
         cell = 4 >> level
         assert views[0, cell, cell, cell] == pytest.approx([fraction * radiance] * 3 + [fraction], rel=2e-3)
         views[0, cell, cell, cell] = 0.0
@@ -124,11 +124,11 @@ def test_mips_rebuilt_over_one_interleave_class_equal_mips_rebuilt_everywhere(gl
         gl["faces"].compose(grid, None, segment)
         if intensity == 2.0:
             gl["faces"].mipmap(grid)
-            before = grid.read_level(grid.faces, 1)
+            before = grid.read_faces(1)
     gl["faces"].mipmap(grid, [(segment, 1) for segment in classes.cell_segments(1)])
-    partial = [grid.read_level(grid.faces, level) for level in range(1, grid.mip_count)]
+    partial = [grid.read_faces(level) for level in range(1, grid.mip_count)]
     gl["faces"].mipmap(grid)
-    full = [grid.read_level(grid.faces, level) for level in range(1, grid.mip_count)]
+    full = [grid.read_faces(level) for level in range(1, grid.mip_count)]
     assert not np.array_equal(partial[0], before)
     for level, (a, b) in enumerate(zip(partial, full), start=1):
         assert np.array_equal(a, b), f"level {level} differs"

@@ -24,7 +24,7 @@ class ConeTracePass:
         self.programs = {(lit, sky): programs.program(
             {name: 1 for name, on in (("EMITTERS", lit), ("SKY", sky)) if on} or None,
             vertex_shader="lib/fullscreen.vert", fragment_shader="cone_trace/shade_pixels.frag",
-            reads=(*GBuffer.READS, "TEX_DIRECT_LIGHT", *VoxelGrid.SURFACE_READS, "TEX_VOXEL_FACES", "SSBO_VOXEL_GATHERED",
+            reads=(*GBuffer.READS, "TEX_DIRECT_LIGHT", *VoxelGrid.CONE_READS, "SSBO_VOXEL_GATHERED",
                    "SSBO_VOXEL_EMITTER_IRRADIANCE", "SSBO_VOXEL_SKY_IRRADIANCE", "TEX_ENVIRONMENT", "SSBO_EMITTER_TRIANGLES",
                    "SSBO_EMITTER_PATCHES", "SSBO_UNSHARED_PIXELS"),
             writes=("SSBO_CONE_PIXELS", "SSBO_SHARED_PIXELS", "IMG_DIFFUSE_IN"))
@@ -32,12 +32,12 @@ class ConeTracePass:
         # The traced pixels' programs: the cone pixels', then the unshared pixels'.
         self.traced_programs = [programs.compute(
             "cone_trace/trace_listed_pixels.comp", defines,
-            reads=(*GBuffer.READS, "TEX_VOXEL_FACES", "TEX_VOXEL_CONE_EMISSION", "TEX_ENVIRONMENT", "SSBO_CONE_PIXELS",
+            reads=(*GBuffer.READS, *VoxelGrid.CONE_READS, "TEX_VOXEL_CONE_EMISSION", "TEX_ENVIRONMENT", "SSBO_CONE_PIXELS",
                    "SSBO_SHARED_PIXELS", "SSBO_UNSHARED_PIXELS"),
             writes=("IMG_IMAGE_OUT", "IMG_DIFFUSE_IN", "IMG_SPECULAR_IN")) for defines in (None, {"TRACE_UNSHARED": 1})]
         self.shared_program = programs.compute(
-            "cone_trace/share_anchor_cones.comp", reads=(*GBuffer.READS, "SSBO_CONE_PIXELS", "SSBO_SHARED_PIXELS", "IMG_DIFFUSE_IN",
-                                                          "IMG_SPECULAR_IN"),
+            "cone_trace/share_anchor_cones.comp", reads=(*GBuffer.READS, *VoxelGrid.CONE_READS, "SSBO_CONE_PIXELS", "SSBO_SHARED_PIXELS",
+                                                          "IMG_DIFFUSE_IN", "IMG_SPECULAR_IN"),
             writes=("SSBO_UNSHARED_PIXELS", "IMG_IMAGE_OUT"))
         self.target = ScreenTarget(ctx, size)
         self.cone_pixels = self.shared_pixels = self.unshared_pixels = self.specular_in = self.diffuse_in = None

@@ -11,7 +11,7 @@ class EmitterLightPass:
     def __init__(self, ctx, programs):
         self.program = programs.compute(
             "emitter_light/light_voxels.comp", writes=("SSBO_VOXEL_EMITTER_IRRADIANCE",),
-            reads=("SSBO_VOXEL_LIST", "SSBO_SEGMENTS", *VoxelGrid.SURFACE_READS, "TEX_VOXEL_FACES", "SSBO_EMITTER_TRIANGLES",
+            reads=("SSBO_VOXEL_LIST", "SSBO_SEGMENTS", *VoxelGrid.CONE_READS, "SSBO_EMITTER_TRIANGLES",
                    "SSBO_EMITTER_PATCHES"))
 
     def run(self, grid, emitters, cone_uniforms, segment):

@@ -1,6 +1,7 @@
 """The face views cones read: composed per covered voxel from its base radiance and the light
-it gathered, L = L_base + rho G (rho: its reflectance), times the coverage of each face
-direction; then their mip levels, built over the covered cells of each level only."""
+it gathered, L = L_base + rho G (rho: its reflectance), which cones see times the coverage of
+each face direction (level 0); then their mip levels, built over the covered cells of each
+level only."""
 import numpy as np
 
 from ..constants import STORAGE_BINDING, VOXEL_FACES
@@ -11,26 +12,26 @@ class FaceViewsPass:
     def __init__(self, ctx, programs):
         self.ctx = ctx
         self.compose_program = programs.compute(
-            "faces/compose_face_views.comp", writes=("IMG_FACES_OUT",),
+            "faces/compose_face_views.comp", writes=("SSBO_VOXEL_REFLECTED",),
             reads=("SSBO_VOXEL_LIST", "SSBO_SEGMENTS", *VoxelGrid.SURFACE_READS, "SSBO_VOXEL_BASE", "SSBO_VOXEL_GATHERED"))
-        self.mipmap_program = programs.compute("faces/mipmap_face_views.comp", reads=("SSBO_CELLS", "SSBO_SEGMENTS", "TEX_VOXEL_FACES"),
+        self.mipmap_program = programs.compute("faces/mipmap_face_views.comp", reads=("SSBO_CELLS", "SSBO_SEGMENTS", *VoxelGrid.CONE_READS),
                                                writes=("IMG_FACES_OUT",))
         self.totals_program = programs.compute("faces/sum_face_views.comp", reads=("TEX_VOXEL_FACES",), writes=("SSBO_READBACK",))
         self.totals_buffer = ctx.buffer(reserve=16 * VOXEL_FACES)
 
     def compose(self, grid, gathered, segment):
-        """Level 0 of the face views from the base radiance plus rho times `gathered` (an
-        array of the grid, or None before the first bounce), for the voxels of `segment` (a
-        VoxelSegment). Returns the face views (grid.faces)."""
+        """Level 0 of the face views, the light the voxels reflect (grid.reflected), from the
+        base radiance plus rho times `gathered` (an array of the grid, or None before the
+        first bounce), for the voxels of `segment` (a VoxelSegment). Returns grid.reflected."""
         grid.use_surface()
         bind_values(grid.base, "VOXEL_BASE")
         if gathered is not None:
             bind_values(gathered, "VOXEL_GATHERED")
+        bind_values(grid.reflected, "VOXEL_REFLECTED")
         segment.buffer.bind_to_storage_buffer(STORAGE_BINDING["VOXEL_LIST"])
-        grid.bind_faces()
         self.compose_program.set(**grid.uniforms(), include_gathered=gathered is not None)
         grid.dispatch(self.compose_program, segment)
-        return grid.faces
+        return grid.reflected
 
     def mipmap(self, grid, level_one=None):
         """Every coarser level of the face views, level after level: level 1 over the cells
@@ -54,7 +55,7 @@ class FaceViewsPass:
         summed over the six faces (from the 1^3 levels), into a buffer read_totals reads."""
         grid.use_faces()
         self.totals_buffer.bind_to_storage_buffer(STORAGE_BINDING["READBACK"])
-        self.totals_program.set(top_level=grid.mip_count - 1)
+        self.totals_program.set(top_level=grid.mip_count - 2)  # the face views hold levels 1 and up
         self.totals_program.program.run(1)
         self.ctx.memory_barrier(self.ctx.SHADER_STORAGE_BARRIER_BIT)
 

@@ -18,7 +18,7 @@ class GatherPass:
         self.ctx = ctx
         self.trace_program = programs.compute(
             "gather/trace_anchor_cones.comp", writes=("SSBO_GATHERED_OUT",),
-            reads=("SSBO_CLASS_LIST", "SSBO_SEGMENTS", *VoxelGrid.SURFACE_READS, "TEX_VOXEL_FACES"))
+            reads=("SSBO_CLASS_LIST", "SSBO_SEGMENTS", *VoxelGrid.CONE_READS))
         self.mark_stale_program = programs.compute("gather/mark_stale_anchors.comp", reads=("SSBO_TOUCHED", *VoxelGrid.SURFACE_READS),
                                                    writes=("SSBO_GATHER_ANCHORS", "SSBO_STALE_VOXELS"))
         self.find_anchors_program = programs.compute(

@@ -14,7 +14,7 @@ class SkyLightPass:
     def __init__(self, ctx, programs):
         self.program = programs.compute(
             "sky_light/trace_sky_cones.comp", writes=("SSBO_VOXEL_TRACED_SKY_IRRADIANCE",),
-            reads=("SSBO_VOXEL_LIST", "SSBO_SEGMENTS", *VoxelGrid.SURFACE_READS, "TEX_VOXEL_FACES", "TEX_ENVIRONMENT"))
+            reads=("SSBO_VOXEL_LIST", "SSBO_SEGMENTS", *VoxelGrid.CONE_READS, "TEX_ENVIRONMENT"))
         self.filter_program = programs.compute(
             "sky_light/filter_sky_light.comp", writes=("SSBO_VOXEL_SKY_IRRADIANCE",),
             reads=("SSBO_COVERED", *VoxelGrid.SURFACE_READS, "SSBO_VOXEL_TRACED_SKY_IRRADIANCE"))

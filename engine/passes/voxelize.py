@@ -37,12 +37,12 @@ class VoxelizePass:
         self.resolve = programs.compute(
             "voxelize/resolve_sums.comp", reads=("SSBO_TOUCHED",),
             writes=("SSBO_VOXEL_SUMS", "SSBO_FRONT_KEYS", "SSBO_TOUCHED_RECORDS", "SSBO_VOXEL_RECORD", "SSBO_RECORD_POOL", "SSBO_VOXEL_ALBEDO",
-                    "SSBO_VOXEL_NORMAL", "SSBO_VOXEL_EMISSION", "IMG_TOUCHED_FACES_OUT", "SSBO_COVERED",
+                    "SSBO_VOXEL_NORMAL", "SSBO_VOXEL_EMISSION", "SSBO_COVERED",
                     "SSBO_NEWLY_COVERED"))
         self.clear_new_records = programs.compute(
             "voxelize/clear_new_records.comp", reads=("SSBO_NEWLY_COVERED", "SSBO_VOXEL_RECORD"),
-            writes=("SSBO_VOXEL_BASE", "SSBO_VOXEL_GATHERED", "SSBO_GATHERED_OUT", "SSBO_VOXEL_EMITTER_IRRADIANCE", "SSBO_VOXEL_SKY_IRRADIANCE",
-                    "SSBO_VOXEL_TRACED_SKY_IRRADIANCE"))
+            writes=("SSBO_VOXEL_BASE", "SSBO_VOXEL_GATHERED", "SSBO_GATHERED_OUT", "SSBO_VOXEL_REFLECTED", "SSBO_VOXEL_EMITTER_IRRADIANCE",
+                    "SSBO_VOXEL_SKY_IRRADIANCE", "SSBO_VOXEL_TRACED_SKY_IRRADIANCE"))
         self.list_cells = programs.compute("voxelize/list_cells.comp", reads=("SSBO_COVERED",),
                                            writes=("SSBO_CELLS", "SSBO_CELL_STAMPS"))
         self.fill_emission = programs.compute("voxelize/fill_cone_emission.comp", reads=("SSBO_CELLS", "SSBO_SEGMENTS", *VoxelGrid.SURFACE_READS),
@@ -142,7 +142,6 @@ class VoxelizePass:
         grid.records.bind()
         for name, values in (("VOXEL_ALBEDO", grid.albedo), ("VOXEL_NORMAL", grid.normal), ("VOXEL_EMISSION", grid.emission)):
             bind_values(values, name)
-        bind_image(grid.faces, IMAGE_UNIT["TOUCHED_FACES_OUT"])
         self.resolve.set(**grid.uniforms(), chunk_first=chunk_first)
         for freeing in (True, False):
             self.resolve.set(freeing=freeing)
@@ -164,6 +163,7 @@ class VoxelizePass:
         record, which the resolve wrote) sized, and the cells of every level listed again."""
         grid.size_list(grid.newly_covered)
         for name, values in (("VOXEL_BASE", grid.base), ("VOXEL_GATHERED", grid.gathered[0]), ("GATHERED_OUT", grid.gathered[1]),
+                             ("VOXEL_REFLECTED", grid.reflected),
                              ("VOXEL_EMITTER_IRRADIANCE", grid.emitter_irradiance), ("VOXEL_SKY_IRRADIANCE", grid.sky_irradiance),
                              ("VOXEL_TRACED_SKY_IRRADIANCE", grid.traced_sky_irradiance)):
             if values is not None:

@@ -1,20 +1,19 @@
 #version 450 core
-// The radiance cones read, over a segment of a voxel list (the class list: every voxel, or in
-// progressive frames one interleave class; or the voxels a voxelization touched, of which
-// those no surface covers any more are left as the voxelization emptied them): the light each
-// voxel's surface reflects, its base radiance less its emission plus the light it gathered,
-// L = L_base - L_e + rho sum_j w_j L_in(p, w_j) (rho: its reflectance), into the six one-sided
-// face views premultiplied by how much of the voxel's surface faces each way (coverage in a),
-// level 0; faces/mipmap_face_views.comp builds the coarser levels. Only the faces the surface covers are
-// written: the others are zero since the voxel was resolved (voxelize/resolve_sums.comp), which saves
-// a third of the pass (most voxels of a wall face one way). Emitted light reaches the surfaces as
-// direct light (lib/emitters.glsl) and the specular cones from the emission volume.
+// The radiance cones read at level 0, over a segment of a voxel list (the class list: every
+// voxel, or in progressive frames one interleave class; or the voxels a voxelization touched,
+// of which those no surface covers any more hold no record): the light each voxel's surface
+// reflects, its base radiance less its emission plus the light it gathered,
+// L = L_base - L_e + rho sum_j w_j L_in(p, w_j) (rho: its reflectance), into its record. Cones
+// see it in the six one-sided face views premultiplied by how much of the voxel's surface faces
+// each way (lib/cone.glsl voxel_faces_at_level_zero); faces/mipmap_face_views.comp builds the
+// coarser levels from it. Emitted light reaches the surfaces as direct light
+// (lib/emitters.glsl) and the specular cones from the emission volume.
 #include "lib/voxel_surface.glsl"
 
 layout(local_size_x = LIST_GROUP) in;
 layout(std430, binding = SSBO_VOXEL_BASE) readonly buffer VoxelBase { uvec2 voxel_base[]; };
 layout(std430, binding = SSBO_VOXEL_GATHERED) readonly buffer VoxelGathered { uvec2 voxel_gathered[]; };
-layout(binding = IMG_FACES_OUT, rgba16f) uniform writeonly image3D faces_out;
+layout(std430, binding = SSBO_VOXEL_REFLECTED) writeonly buffer VoxelReflected { uvec2 reflected_out[]; };
 #include "lib/voxel_list.glsl"
 uniform bool include_gathered;  // false before the first bounce
 
@@ -24,10 +23,6 @@ void main() {
     uint record = voxel_record(v);
     if (record == NO_RECORD) return;
     vec3 radiance = max(unpack_value(voxel_base[record]).rgb - unpack_value(voxel_emission[record]).rgb, vec3(0.0));
-    vec3 mean_normal = unpack_value(voxel_normal[record]).xyz;
     if (include_gathered) radiance += unpack_value(voxel_albedo[record]).rgb * unpack_value(voxel_gathered[record]).rgb;
-    for (int f = 0; f < VOXEL_FACES; ++f) {
-        float coverage = face_coverage(mean_normal, f);
-        if (coverage > 0.0) imageStore(faces_out, face_texel(v, f, voxel_grid), vec4(radiance * coverage, coverage));
-    }
+    reflected_out[record] = pack_value(vec4(radiance, 1.0));
 }

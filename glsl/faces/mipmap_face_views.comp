@@ -4,11 +4,13 @@
 // gather/sort_class_cells.comp), or the voxels a voxelization touched (`entry_level` 0): each
 // cell is the mean of its 8 children one level finer (a box filter, as glGenerateMipmap), so a
 // level-m cell holds the mean premultiplied radiance and coverage of the 2^m voxels along each
-// side. Cells no surface covers are zero and stay zero (voxelize/clear_cells.comp).
+// side. At level 1 the children are voxels, seen as cones see level 0 (lib/cone.glsl
+// voxel_face): their reflected light times the coverage of each face. Cells no surface covers
+// are zero and stay zero (voxelize/clear_cells.comp).
 #include "lib/segment_cells.glsl"
+#include "lib/cone.glsl"
 
 layout(local_size_x = LIST_GROUP) in;
-layout(binding = TEX_VOXEL_FACES) uniform sampler3D voxel_faces;
 layout(binding = IMG_FACES_OUT, rgba16f) uniform writeonly image3D faces_out;
 uniform int level;
 
@@ -16,14 +18,28 @@ void main() {
     if (gl_GlobalInvocationID.x >= segment_count()) return;
     ivec3 cell = segment_cell(gl_GlobalInvocationID.x, level);
     int side = voxel_grid >> level;
-    // The corner the 8 children share, in the finer level's texture coordinates: a trilinear
-    // lookup there weighs each child 1/8, one fetch where 8 would do the same.
-    vec3 finer_size = vec3(2 * side, 2 * side, 2 * side * VOXEL_FACES);
-    for (int f = 0; f < VOXEL_FACES; ++f) {
-        vec3 corner = vec3(face_texel(2 * cell + 1, f, 2 * side));
-        vec4 mean = textureLod(voxel_faces, corner / finer_size, float(level - 1));
-        // A face no surface of the cell covers is zero, as it has been since the cell was
-        // cleared: not written (most cells of a wall face one way).
-        if (mean.a > 0.0) imageStore(faces_out, face_texel(cell, f, side), mean);
+    vec4 mean[VOXEL_FACES];
+    if (level == 1) {
+        for (int f = 0; f < VOXEL_FACES; ++f) mean[f] = vec4(0.0);
+        for (int child = 0; child < 8; ++child) {
+            ivec3 v = 2 * cell + ivec3(child & 1, (child >> 1) & 1, child >> 2);
+            uint record = voxel_record(v);
+            if (record == NO_RECORD) continue;
+            vec3 reflected = unpack_value(voxel_reflected[record]).rgb;
+            vec3 mean_normal = unpack_value(voxel_normal[record]).xyz;
+            for (int f = 0; f < VOXEL_FACES; ++f) mean[f] += 0.125 * voxel_face(reflected, face_coverage(mean_normal, f));
+        }
+    } else {
+        // The corner the 8 children share, in the finer level's texture coordinates: a
+        // trilinear lookup there weighs each child 1/8, one fetch where 8 would do the same.
+        vec3 finer_size = vec3(2 * side, 2 * side, 2 * side * VOXEL_FACES);
+        for (int f = 0; f < VOXEL_FACES; ++f) {
+            vec3 corner = vec3(face_texel(2 * cell + 1, f, 2 * side));
+            mean[f] = textureLod(voxel_faces, corner / finer_size, float(level - 2));  // it holds levels 1 and up
+        }
     }
+    // A face no surface of the cell covers is zero, as it has been since the cell was cleared:
+    // not written (most cells of a wall face one way).
+    for (int f = 0; f < VOXEL_FACES; ++f)
+        if (mean[f].a > 0.0) imageStore(faces_out, face_texel(cell, f, side), mean[f]);
 }

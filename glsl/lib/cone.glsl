@@ -1,10 +1,13 @@
 // Cone marching through the mipmapped face views of the voxel radiance (premultiplied rgb,
 // coverage in a). The face views hold the light surfaces reflect; emitted light reaches the
 // diffuse cones' receivers as direct light (lib/emitters.glsl), and the specular cones add it
-// from the emission volume.
-#include "lib/voxel.glsl"
+// from the emission volume. Level 0 is the voxels' records (their reflected light and mean
+// normal, from which each face follows: voxel_face), the coarser levels a mipmapped volume.
+#include "lib/voxel_surface.glsl"
 
-layout(binding = TEX_VOXEL_FACES) uniform sampler3D voxel_faces;      // the face views, stacked along z
+// The light each voxel's surface reflects (rgb; faces/compose_face_views.comp), a = 1.
+layout(std430, binding = SSBO_VOXEL_REFLECTED) readonly buffer VoxelReflected { uvec2 voxel_reflected[]; };
+layout(binding = TEX_VOXEL_FACES) uniform sampler3D voxel_faces;      // the face views from level 1 up, stacked along z
 // Emission (rgb) and coverage (a) from mip level 1 (cells of 2 voxels) up: what `emitted` cones
 // add, which are at least SPECULAR_CONE_MIN_DIAMETER voxels wide (mip >= 1).
 layout(binding = TEX_VOXEL_CONE_EMISSION) uniform sampler3D voxel_cone_emission;
@@ -59,13 +62,46 @@ FaceWeights face_weights(vec3 w, float spread) {
     return f;
 }
 
-// One face view around uvw at a mip level (a fractional one blends the two levels around it),
-// filtered within the view: the depth coordinate is clamped to the coarser level's own texels
-// (the views are stacked along z).
+// A voxel's face view: its reflected light premultiplied by the coverage of that face
+// (face_coverage), coverage in a.
+vec4 voxel_face(vec3 reflected, float coverage) {
+    return coverage * vec4(reflected, 1.0);
+}
+
+// One face view around uvw at a mip level of 1 or more (a fractional one blends the two levels
+// around it), filtered within the view: the depth coordinate is clamped to the coarser level's
+// own texels (the views are stacked along z).
 vec4 face_lod(int face, vec3 uvw, float mip) {
     float side = float(voxel_grid >> int(ceil(mip)));
     float w = clamp(uvw.z, 0.5 / side, 1.0 - 0.5 / side);
-    return textureLod(voxel_faces, vec3(uvw.xy, (float(face) + w) / float(VOXEL_FACES)), mip);
+    return textureLod(voxel_faces, vec3(uvw.xy, (float(face) + w) / float(VOXEL_FACES)), mip - 1.0);  // it holds levels 1 and up
+}
+
+// The face views at level 0 around uvw, read as a trilinear lookup would read them from a
+// volume: the 8 voxels around uvw (clamped to the grid, as the lookups clamp), each weighted by
+// its share of the lookup and seen through the face weights: front_share times the faces the
+// cone looks into, and the back faces where `backs`.
+vec4 faces_at_level_zero(vec3 uvw, FaceWeights f, float front_share, bool backs, bool wide) {
+    vec3 texel = uvw * float(voxel_grid) - 0.5;
+    ivec3 corner = ivec3(floor(texel));
+    vec3 t = texel - vec3(corner);
+    vec4 sum = vec4(0.0);
+    for (int k = 0; k < 8; ++k) {
+        ivec3 offset = ivec3(k & 1, (k >> 1) & 1, k >> 2);
+        uint record = voxel_record(clamp(corner + offset, ivec3(0), ivec3(voxel_grid - 1)));
+        if (record == NO_RECORD) continue;
+        vec3 share = mix(1.0 - t, t, vec3(offset));
+        vec3 n = unpack_value(voxel_normal[record]).xyz;
+        float seen = front_share * (f.weight.x * face_coverage(n, f.face.x) + f.weight.y * face_coverage(n, f.face.y)
+                                    + f.weight.z * face_coverage(n, f.face.z));
+        if (backs) {
+            if (f.back_weight.x > 0.0) seen += f.back_weight.x * face_coverage(n, f.back.x);
+            if (f.back_weight.y > 0.0) seen += f.back_weight.y * face_coverage(n, f.back.y);
+            if (wide && f.back_weight.z > 0.0) seen += f.back_weight.z * face_coverage(n, f.back.z);
+        }
+        sum += share.x * share.y * share.z * voxel_face(unpack_value(voxel_reflected[record]).rgb, seen);
+    }
+    return sum;
 }
 
 // Premultiplied radiance (rgb) and coverage (a) of the cell around uvw at a mip level, as seen
@@ -76,12 +112,20 @@ vec4 face_lod(int face, vec3 uvw, float mip) {
 // faces read at the nearest level too make coarse grids read bright: docs/PERFORMANCE.md.)
 vec4 sample_faces(vec3 uvw, float mip, FaceWeights f, bool wide) {
     float nearest = round(mip);
-    vec4 sum = f.weight.x * face_lod(f.face.x, uvw, mip) + f.weight.y * face_lod(f.face.y, uvw, mip)
-             + f.weight.z * face_lod(f.face.z, uvw, mip);
+    float level_zero_share = max(1.0 - mip, 0.0);  // of the front faces' lookups, blended
+    vec4 sum = vec4(0.0);
+    if (mip > 0.0) {
+        float coarse = max(mip, 1.0);
+        sum += (1.0 - level_zero_share) * (f.weight.x * face_lod(f.face.x, uvw, coarse) + f.weight.y * face_lod(f.face.y, uvw, coarse)
+                                           + f.weight.z * face_lod(f.face.z, uvw, coarse));
+    }
     // A back face no ray diverges to (|w_k| >= spread) is not read: most cones have one or none.
-    if (f.back_weight.x > 0.0) sum += f.back_weight.x * face_lod(f.back.x, uvw, nearest);
-    if (f.back_weight.y > 0.0) sum += f.back_weight.y * face_lod(f.back.y, uvw, nearest);
-    if (wide && f.back_weight.z > 0.0) sum += f.back_weight.z * face_lod(f.back.z, uvw, nearest);
+    if (nearest > 0.0) {
+        if (f.back_weight.x > 0.0) sum += f.back_weight.x * face_lod(f.back.x, uvw, nearest);
+        if (f.back_weight.y > 0.0) sum += f.back_weight.y * face_lod(f.back.y, uvw, nearest);
+        if (wide && f.back_weight.z > 0.0) sum += f.back_weight.z * face_lod(f.back.z, uvw, nearest);
+    }
+    if (level_zero_share > 0.0 || nearest == 0.0) sum += faces_at_level_zero(uvw, f, level_zero_share, nearest == 0.0, wide);
     return sum;
 }
 

@@ -1,7 +1,7 @@
 #version 450 core
 // After a resolve, over the voxels it listed as newly covered:
 // the light at their records starts at zero, as at an empty voxel (the records were another
-// voxel's before): base radiance, both gathers, and where the scene has them the emitters'
+// voxel's before): base radiance, both gathers, the reflected light, and where the scene has them the emitters'
 // and the sky's light.
 #include "lib/voxel_records.glsl"
 #include "lib/list_append.glsl"
@@ -11,6 +11,7 @@ layout(std430, binding = SSBO_NEWLY_COVERED) readonly buffer NewlyCovered { uint
 layout(std430, binding = SSBO_VOXEL_BASE) writeonly buffer VoxelBase { uvec2 base_out[]; };
 layout(std430, binding = SSBO_VOXEL_GATHERED) writeonly buffer VoxelGathered { uvec2 gathered_out[]; };
 layout(std430, binding = SSBO_GATHERED_OUT) writeonly buffer VoxelGatheredPrevious { uvec2 previous_gathered_out[]; };
+layout(std430, binding = SSBO_VOXEL_REFLECTED) writeonly buffer VoxelReflected { uvec2 reflected_out[]; };
 layout(std430, binding = SSBO_VOXEL_EMITTER_IRRADIANCE) writeonly buffer VoxelEmitterIrradiance { uvec2 emitter_irradiance_out[]; };
 layout(std430, binding = SSBO_VOXEL_SKY_IRRADIANCE) writeonly buffer VoxelSkyIrradiance { uvec2 sky_irradiance_out[]; };
 layout(std430, binding = SSBO_VOXEL_TRACED_SKY_IRRADIANCE) writeonly buffer VoxelTracedSky { uvec2 traced_sky_out[]; };
@@ -18,7 +19,7 @@ layout(std430, binding = SSBO_VOXEL_TRACED_SKY_IRRADIANCE) writeonly buffer Voxe
 void main() {
     if (gl_GlobalInvocationID.x >= LISTED(new_count, newly_covered)) return;
     uint record = voxel_record(unpack_voxel(newly_covered[gl_GlobalInvocationID.x]));
-    base_out[record] = gathered_out[record] = previous_gathered_out[record] = uvec2(0u);
+    base_out[record] = gathered_out[record] = previous_gathered_out[record] = reflected_out[record] = uvec2(0u);
     if (voxel_emitters) emitter_irradiance_out[record] = uvec2(0u);
     if (voxel_sky) traced_sky_out[record] = sky_irradiance_out[record] = uvec2(0u);
 }

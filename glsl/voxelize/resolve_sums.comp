@@ -6,9 +6,9 @@
 // list holds it at that record, and it is listed as newly covered), and the
 // fixed-point sums divided by the fragment count become its surface: albedo, mean normal,
 // emission with the surface offset in a. Both zero the sums and front-layer keys
-// for the next update, put back the voxel's word of the record index (its record now, or none:
-// lib/voxel_slots.glsl), and zero the voxel's six faces at level 0 of the face views
-// (faces/compose_face_views.comp writes only the faces its new surface covers). Freeing first
+// for the next update and put back the voxel's word of the record index (its record now, or
+// none: lib/voxel_slots.glsl), so that cones see at once the surfaces it holds, and none where
+// it holds none (level 0 is the records: lib/cone.glsl). Freeing first
 // keeps the records an update holds at once to the more of the voxels covered before it and
 // after it, within each chunk; a voxel the pool has no record for is counted short (the grid
 // is then made anew with more room: VoxelizePass.update).
@@ -20,7 +20,6 @@ layout(std430, binding = SSBO_RECORD_POOL) buffer RecordPool { int free_count; u
 layout(std430, binding = SSBO_VOXEL_ALBEDO) writeonly buffer VoxelAlbedo { uvec2 albedo_out[]; };
 layout(std430, binding = SSBO_VOXEL_NORMAL) writeonly buffer VoxelNormal { uvec2 normal_out[]; };
 layout(std430, binding = SSBO_VOXEL_EMISSION) writeonly buffer VoxelEmission { uvec2 emission_out[]; };
-layout(binding = IMG_TOUCHED_FACES_OUT, rgba16f) uniform writeonly image3D faces_out;
 layout(std430, binding = SSBO_NEWLY_COVERED) buffer NewlyCovered { uint new_count; uint newly_covered[]; };
 uniform bool freeing;
 
@@ -81,8 +80,5 @@ void main() {
     }
     for (int channel = 0; channel < VOXEL_SUM_CHANNELS; ++channel) voxel_sums[sum_entry(i, channel)] = 0u;
     voxel_records[voxel_index(v)] = record + 1u;  // its record, no longer flagged (0: none)
-    for (int f = 0; f < VOXEL_FACES; ++f) {
-        front_keys[key_entry(i, f)] = 0u;
-        imageStore(faces_out, face_texel(v, f, voxel_grid), vec4(0.0));
-    }
+    for (int f = 0; f < VOXEL_FACES; ++f) front_keys[key_entry(i, f)] = 0u;
 }
