@@ -5,7 +5,7 @@
 // reflects, its base radiance less its emission plus the light it gathered,
 // L = L_base - L_e + rho sum_j w_j L_in(p, w_j) (rho: its reflectance), into its record. Cones
 // see it in the six one-sided face views premultiplied by how much of the voxel's surface faces
-// each way (lib/cone.glsl voxel_faces_at_level_zero); faces/mipmap_face_views.comp builds the
+// each way (lib/cone.glsl faces_at_level_zero); faces/mipmap_face_views.comp builds the
 // coarser levels from it. Emitted light reaches the surfaces as direct light
 // (lib/emitters.glsl) and the specular cones from the emission volume.
 #include "lib/voxel_surface.glsl"
