@@ -77,10 +77,22 @@ vec4 face_lod(int face, vec3 uvw, float mip) {
     return textureLod(voxel_faces, vec3(uvw.xy, (float(face) + w) / float(VOXEL_FACES)), mip - 1.0);  // it holds levels 1 and up
 }
 
+// How much of a voxel with mean normal n a cone sees through its face weights: front_share of
+// the faces it looks into, and the back faces where `backs` (as sample_faces weighs the views).
+float seen_coverage(vec3 n, FaceWeights f, float front_share, bool backs, bool wide) {
+    float seen = front_share * (f.weight.x * face_coverage(n, f.face.x) + f.weight.y * face_coverage(n, f.face.y)
+                                + f.weight.z * face_coverage(n, f.face.z));
+    if (backs) {
+        if (f.back_weight.x > 0.0) seen += f.back_weight.x * face_coverage(n, f.back.x);
+        if (f.back_weight.y > 0.0) seen += f.back_weight.y * face_coverage(n, f.back.y);
+        if (wide && f.back_weight.z > 0.0) seen += f.back_weight.z * face_coverage(n, f.back.z);
+    }
+    return seen;
+}
+
 // The face views at level 0 around uvw, read as a trilinear lookup would read them from a
 // volume: the 8 voxels around uvw (clamped to the grid, as the lookups clamp), each weighted by
-// its share of the lookup and seen through the face weights: front_share times the faces the
-// cone looks into, and the back faces where `backs`.
+// its share of the lookup and seen through the face weights (seen_coverage).
 vec4 faces_at_level_zero(vec3 uvw, FaceWeights f, float front_share, bool backs, bool wide) {
     vec3 texel = uvw * float(voxel_grid) - 0.5;
     ivec3 corner = ivec3(floor(texel));
@@ -91,14 +103,7 @@ vec4 faces_at_level_zero(vec3 uvw, FaceWeights f, float front_share, bool backs,
         uint record = voxel_record(clamp(corner + offset, ivec3(0), ivec3(voxel_grid - 1)));
         if (record == NO_RECORD) continue;
         vec3 share = mix(1.0 - t, t, vec3(offset));
-        vec3 n = unpack_value(voxel_normal[record]).xyz;
-        float seen = front_share * (f.weight.x * face_coverage(n, f.face.x) + f.weight.y * face_coverage(n, f.face.y)
-                                    + f.weight.z * face_coverage(n, f.face.z));
-        if (backs) {
-            if (f.back_weight.x > 0.0) seen += f.back_weight.x * face_coverage(n, f.back.x);
-            if (f.back_weight.y > 0.0) seen += f.back_weight.y * face_coverage(n, f.back.y);
-            if (wide && f.back_weight.z > 0.0) seen += f.back_weight.z * face_coverage(n, f.back.z);
-        }
+        float seen = seen_coverage(unpack_value(voxel_normal[record]).xyz, f, front_share, backs, wide);
         sum += share.x * share.y * share.z * voxel_face(unpack_value(voxel_reflected[record]).rgb, seen);
     }
     return sum;
