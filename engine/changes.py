@@ -127,6 +127,14 @@ class Casters:
         return isinstance(other, Casters) and len(self.draws) == len(other.draws) and \
             all(a.same_caster(b) for a, b in zip(self.draws, other.draws))
 
+    def changed_bounds(self, other):
+        """World boxes (lo, hi) of the draws that differ from `other`'s as shadow maps see
+        them, as they were and as they are: a shadow view none of them reaches is unchanged."""
+        before = {d.key: d for d in other.draws}
+        after = {d.key: d for d in self.draws}
+        return [d.bounds for key, d in before.items() if key not in after or not after[key].same_caster(d)] + \
+               [d.bounds for key, d in after.items() if key not in before or not before[key].same_caster(d)]
+
     __hash__ = None
 
 

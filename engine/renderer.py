@@ -289,17 +289,20 @@ class Renderer:
                                           environment, s.cone_uniforms(), camera, s.image_terms(), s.ao_distance)
 
     def _shadows(self, frame, source):
-        """Shadow maps: the tiles of the lights that changed; all of them when a shadow caster
-        moved, the scene bounds changed or lights came or went."""
+        """Shadow maps: the tiles of the lights that changed, or of the views that see a
+        shadow caster that moved; all of them when both changed, the scene bounds changed or
+        lights came or went."""
         stage = self.stages["shadows"]
         inputs = dict(casters=frame.casters(), bounds=_bytes(frame.bounds), lights=frame.light_values)
         changed = stage.changed(inputs, self.track_changes)
         if changed:
-            redraw = None
+            redraw = changed_casters = None
             if changed == {"lights"} and len(stage.last("lights")) == len(inputs["lights"]):
                 redraw = {i for i, (a, b) in enumerate(zip(stage.last("lights"), inputs["lights"])) if a != b}
+            if changed == {"casters"}:
+                redraw, changed_casters = set(), inputs["casters"].changed_bounds(stage.last("casters"))
             with self.timed("shadow"):
-                self.shadow.render(frame.lights, frame.draws, frame.bounds, redraw, source)
+                self.shadow.render(frame.lights, frame.draws, frame.bounds, redraw, source, changed_casters)
             stage.ran(inputs)
         return self.shadow.maps
 

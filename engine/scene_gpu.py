@@ -123,10 +123,7 @@ class MeshClusters:
             if box is not None:
                 keep &= np.all(world_corners.min(axis=1) <= box[1], axis=1) & np.all(world_corners.max(axis=1) >= box[0], axis=1)
             if view_projection is not None:
-                clip = np.concatenate([world_corners, np.ones(world_corners.shape[:2] + (1,))], axis=2) @ view_projection.T
-                w = clip[..., 3:]
-                outside = np.any(np.all(clip[..., :3] > w, axis=1) | np.all(clip[..., :3] < -w, axis=1), axis=1)
-                keep &= ~outside
+                keep &= ~transforms.outside_frustum(world_corners, view_projection)
         ranges = []
         for first, count in zip(self.first[keep], self.count[keep]):
             if ranges and ranges[-1][0] + ranges[-1][1] == first:

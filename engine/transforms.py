@@ -65,6 +65,16 @@ def box_corners(lo, hi):
     return np.stack([np.where([(k >> axis) & 1 for axis in range(3)], hi, lo) for k in range(8)], axis=-2)
 
 
+def outside_frustum(corners, view_projection):
+    """Whether boxes given by their corners (..., 8, 3) lie outside a view's frustum: all of a
+    box's corners beyond one clip plane (-w <= x, y, z <= w). The conditions are linear in the
+    homogeneous point, so the whole box is then beyond it; a box across the frustum's edges
+    counts as inside."""
+    clip = np.concatenate([corners, np.ones(corners.shape[:-1] + (1,))], axis=-1) @ np.asarray(view_projection, float).T
+    w = clip[..., 3:]
+    return np.any(np.all(clip[..., :3] > w, axis=-2) | np.all(clip[..., :3] < -w, axis=-2), axis=-1)
+
+
 def euler_deg_from_rotation(r):
     """Angles [x, y, z] in degrees with rotate_euler_deg(angles)[:3, :3] == r, for a 3x3 rotation
     matrix r (R = Rz Ry Rx; y in [-90, 90]; at y = +-90 degrees the x angle is taken as 0)."""

@@ -63,6 +63,21 @@ def render_sequence(track_changes, progressive=False, grid=32, frames_per_edit=1
     return images, passes
 
 
+def test_a_moved_object_redraws_only_the_shadow_views_that_see_it():
+    """The Cornell box's omni light hangs 0.7 m above the centre; the short box stands on the
+    floor: of the light's six cube faces only the one looking down sees it, before and after it
+    moves, so that tile alone is drawn again (the frames stay those of a full recompute:
+    test_tracked_frames_equal_recomputed_frames_bit_for_bit)."""
+    scene = engine.load_scene(SCENES / "cornell_box.json")
+    with engine.Renderer(64, 64) as r:
+        r.render(scene, grid=32, mode="direct")
+        assert r.shadow.drawn_tiles == [0, 1, 2, 3, 4, 5]
+        box = scene.root.find("Short Box")
+        box.translation = box.translation + [0.1, 0.0, -0.05]
+        r.render(scene, grid=32, mode="direct")
+        assert r.shadow.drawn_tiles == [3]  # CUBE_FACES: +x, -x, +y, -y, +z, -z
+
+
 def test_tracked_frames_equal_recomputed_frames_bit_for_bit():
     """Converged bounces: camera, light, material and object edits, each frame rendered with
     change tracking equals the same frame with every stage recomputed, bit for bit (integer

@@ -1,7 +1,7 @@
 """Shadow maps for every light in one depth atlas: six cube faces per point light, one
 perspective view per spot light, one orthographic view per directional light. Returns the
 ShadowMaps that the lighting and light-injection passes read. Only the tiles of the lights
-whose inputs changed are redrawn."""
+whose inputs changed are redrawn, and of the views that see a caster that changed."""
 import math
 
 import numpy as np
@@ -83,6 +83,7 @@ class ShadowPass:
         self.cut_out_program = programs.program({"VERTEX_EXTRAS": 1}, vertex_shader="shadow/draw_depth.vert", fragment_shader="shadow/cut_out.frag",
                                                 reads=("TEX_BASE_COLOR_MAP",))
         self.maps = ShadowMaps(ctx, tile_size)
+        self.drawn_tiles = []  # the tiles (views) the last render drew, in atlas order
 
     def _views(self, light, bounds):
         """[(view_projection, texel_world_per_w)] of one light."""
@@ -109,9 +110,10 @@ class ShadowPass:
         return [(proj @ transforms.look_at(light.position, light.position + np.array(d), up), 2.0 * tan_half / self.maps.tile_size)
                 for d, up in CUBE_FACES]
 
-    def render(self, lights, draws, bounds, redraw=None, source=None):
+    def render(self, lights, draws, bounds, redraw=None, source=None, changed_casters=None):
         """Pack the lights and their views; draw the tiles of the lights whose indices are in
-        `redraw` (every light when None, or when the atlas had to be remade). Returns the maps."""
+        `redraw` and of the views that see one of the world boxes `changed_casters` (every tile
+        when both are None, or when the atlas had to be remade). Returns the maps."""
         if len(lights) > MAX_LIGHTS:
             raise VctError(f"{len(lights)} lights, at most {MAX_LIGHTS} are supported", source=source, field="lights")
         maps = self.maps
@@ -131,7 +133,9 @@ class ShadowPass:
         if light_rows:
             maps.light_buffer.write(np.array(light_rows, struct_dtype("Light")).tobytes())
         if maps.ensure_atlas(len(views)):
-            redraw = None
+            redraw = changed_casters = None
+        everything = redraw is None and changed_casters is None
+        changed_corners = transforms.box_corners(*np.array(changed_casters).transpose(1, 0, 2)) if changed_casters else None
         cut_out = [draw for draw in draws if draw.material.alpha_tested]
         opaque = [draw for draw in draws if not draw.material.alpha_tested]
         rows = []
@@ -139,9 +143,12 @@ class ShadowPass:
         self.ctx.enable_only(self.ctx.DEPTH_TEST)
         atlas_w, atlas_h = maps.atlas.size
         tile = maps.tile_size
+        self.drawn_tiles = []
         for index, ((view_projection, texel_world), owner) in enumerate(zip(views, owners)):
             x, y = maps.tile_origin(index)
-            if redraw is None or owner in redraw:
+            sees_change = changed_corners is not None and not np.all(transforms.outside_frustum(changed_corners, view_projection))
+            if everything or owner in (redraw or ()) or sees_change:
+                self.drawn_tiles.append(index)
                 self.ctx.viewport = (x, y, tile, tile)
                 maps.framebuffer.clear(depth=1.0, viewport=(x, y, tile, tile))
                 for program, subset in ((self.depth_program, opaque), (self.cut_out_program, cut_out)):
@@ -158,3 +165,4 @@ class ShadowPass:
         self.maps.release()
         self.depth_program.release()
         self.cut_out_program.release()
+
