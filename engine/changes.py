@@ -130,10 +130,8 @@ class Casters:
     def changed_bounds(self, other):
         """World boxes (lo, hi) of the draws that differ from `other`'s as shadow maps see
         them, as they were and as they are: a shadow view none of them reaches is unchanged."""
-        before = {d.key: d for d in other.draws}
-        after = {d.key: d for d in self.draws}
-        return [d.bounds for key, d in before.items() if key not in after or not after[key].same_caster(d)] + \
-               [d.bounds for key, d in after.items() if key not in before or not before[key].same_caster(d)]
+        removed, added = changed_draws(other.draws, self.draws, Draw.same_caster)
+        return [d.bounds for d in removed + added]
 
     __hash__ = None
 
@@ -174,15 +172,22 @@ class VoxelUpdate:
         return np.min([b[0] for b in boxes], axis=0) - margin, np.max([b[1] for b in boxes], axis=0) + margin
 
 
+def changed_draws(previous, current, same):
+    """(removed, added): the draws of `previous` that `current` holds no longer or holds
+    otherwise, and the draws of `current` new or changed, matched by key and compared by
+    `same(a, b)`."""
+    before = {d.key: d for d in previous}
+    after = {d.key: d for d in current}
+    removed = [d for key, d in before.items() if key not in after or not same(after[key], d)]
+    added = [d for key, d in after.items() if key not in before or not same(before[key], d)]
+    return removed, added
+
+
 def voxel_update(previous, current):
     """The update from the draws a grid holds (`previous`, None for an empty grid) to `current`."""
     if previous is None:
         return VoxelUpdate(True, [], list(current))
-    before = {d.key: d for d in previous}
-    after = {d.key: d for d in current}
-    removed = [d for key, d in before.items() if after.get(key) != d]
-    added = [d for key, d in after.items() if before.get(key) != d]
-    return VoxelUpdate(False, removed, added)
+    return VoxelUpdate(False, *changed_draws(previous, current, Draw.__eq__))
 
 
 class Stage:

@@ -165,4 +165,3 @@ class ShadowPass:
         self.maps.release()
         self.depth_program.release()
         self.cut_out_program.release()
-
