@@ -65,22 +65,17 @@ struct VoxelInterpolation {
 };
 
 VoxelInterpolation interpolate_voxels(Surface s, bool want_gathered, bool want_visibility, bool want_sky) {
-    vec3 c = voxel_uvw(s.position) * float(voxel_grid) - 0.5;  // in units of voxels, from voxel centres
-    ivec3 base = ivec3(floor(c));
-    vec3 f = c - vec3(base);
+    TrilinearVoxels lookup = trilinear_voxels(voxel_uvw(s.position));
     vec3 gathered_sum = vec3(0.0), sky_sum = vec3(0.0);
     float gathered_total = 0.0, visibility_sum = 0.0, surface_total = 0.0;
     for (int k = 0; k < 8; ++k) {
-        ivec3 corner = ivec3(k & 1, (k >> 1) & 1, k >> 2);
-        ivec3 v = base + corner;
-        uint record = voxel_record(v);
+        uint record = voxel_record(lookup.first + corner_offset(k));
         if (record == NO_RECORD) continue;  // no surface
         vec4 g = want_gathered ? unpack_value(voxel_gathered[record]) : vec4(0.0);
         if (g.a <= 0.0 && !want_visibility && !want_sky) continue;  // none that reflects diffuse light
         vec3 n_v = unpack_value(voxel_normal[record]).xyz;
         if (dot(n_v, n_v) <= 0.0) continue;  // no surface
-        vec3 trilinear = mix(1.0 - f, f, vec3(corner));
-        float weight = trilinear.x * trilinear.y * trilinear.z * facing_weight(s.normal, n_v);
+        float weight = trilinear_weight(lookup, k) * facing_weight(s.normal, n_v);
         if (g.a > 0.0) {
             gathered_sum += weight * g.rgb;
             gathered_total += weight;

@@ -22,7 +22,7 @@ void main() {
     if (level == 1) {
         for (int f = 0; f < VOXEL_FACES; ++f) mean[f] = vec4(0.0);
         for (int child = 0; child < 8; ++child) {
-            ivec3 v = 2 * cell + ivec3(child & 1, (child >> 1) & 1, child >> 2);
+            ivec3 v = 2 * cell + corner_offset(child);
             uint record = voxel_record(v);
             if (record == NO_RECORD) continue;
             vec3 reflected = unpack_value(voxel_reflected[record]).rgb;

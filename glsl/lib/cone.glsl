@@ -94,17 +94,13 @@ float seen_coverage(vec3 n, FaceWeights f, float front_share, bool backs, bool w
 // volume: the 8 voxels around uvw (clamped to the grid, as the lookups clamp), each weighted by
 // its share of the lookup and seen through the face weights (seen_coverage).
 vec4 faces_at_level_zero(vec3 uvw, FaceWeights f, float front_share, bool backs, bool wide) {
-    vec3 texel = uvw * float(voxel_grid) - 0.5;
-    ivec3 corner = ivec3(floor(texel));
-    vec3 t = texel - vec3(corner);
+    TrilinearVoxels lookup = trilinear_voxels(uvw);
     vec4 sum = vec4(0.0);
     for (int k = 0; k < 8; ++k) {
-        ivec3 offset = ivec3(k & 1, (k >> 1) & 1, k >> 2);
-        uint record = voxel_record(clamp(corner + offset, ivec3(0), ivec3(voxel_grid - 1)));
+        uint record = voxel_record(clamp(lookup.first + corner_offset(k), ivec3(0), ivec3(voxel_grid - 1)));
         if (record == NO_RECORD) continue;
-        vec3 share = mix(1.0 - t, t, vec3(offset));
         float seen = seen_coverage(unpack_value(voxel_normal[record]).xyz, f, front_share, backs, wide);
-        sum += share.x * share.y * share.z * voxel_face(unpack_value(voxel_reflected[record]).rgb, seen);
+        sum += trilinear_weight(lookup, k) * voxel_face(unpack_value(voxel_reflected[record]).rgb, seen);
     }
     return sum;
 }

@@ -17,6 +17,33 @@ vec3 voxel_center(ivec3 v) {
     return voxel_region_min + (vec3(v) + 0.5) * voxel_size;
 }
 
+// Corner k (0..7, x fastest) of a cube of 2 x 2 x 2 cells: the children of a mip cell, or the
+// voxels a trilinear lookup reads.
+ivec3 corner_offset(int k) {
+    return ivec3(k & 1, (k >> 1) & 1, k >> 2);
+}
+
+// The 8 voxels a trilinear lookup at uvw reads: voxel k is first + corner_offset(k), and t the
+// fraction of the way from first's centre to the next voxel's along each axis.
+struct TrilinearVoxels {
+    ivec3 first;
+    vec3 t;
+};
+
+TrilinearVoxels trilinear_voxels(vec3 uvw) {
+    vec3 c = uvw * float(voxel_grid) - 0.5;  // in voxels, from the voxels' centres
+    TrilinearVoxels lookup;
+    lookup.first = ivec3(floor(c));
+    lookup.t = c - vec3(lookup.first);
+    return lookup;
+}
+
+// The weight the trilinear lookup gives voxel k: the product of its shares along the axes.
+float trilinear_weight(TrilinearVoxels lookup, int k) {
+    vec3 share = mix(1.0 - lookup.t, lookup.t, vec3(corner_offset(k)));
+    return share.x * share.y * share.z;
+}
+
 // Index of cell c of a grid `side` cells wide in a buffer of one entry per cell (x fastest).
 uint grid_index(ivec3 c, int side) {
     return uint(c.x) + uint(side) * (uint(c.y) + uint(side) * uint(c.z));

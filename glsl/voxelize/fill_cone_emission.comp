@@ -16,7 +16,7 @@ void main() {
     ivec3 cell = segment_cell(gl_GlobalInvocationID.x, 1);
     vec4 sum = vec4(0.0);
     for (int k = 0; k < 8; ++k) {
-        uint record = voxel_record(2 * cell + ivec3(k & 1, (k >> 1) & 1, k >> 2));
+        uint record = voxel_record(2 * cell + corner_offset(k));
         if (record != NO_RECORD) sum += vec4(unpack_value(voxel_emission[record]).rgb, 1.0);
     }
     imageStore(cone_emission_out, cell, sum / 8.0);
