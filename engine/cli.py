@@ -403,7 +403,7 @@ def check_outputs(args, frames):
 
 
 def render_command(args):
-    from .output import hdr_writer, png_writer, write_files
+    from .output import HDR_WRITERS, hdr_writer, png_writer, write_files
     from .progress import progress
     from .sequence import describe_times, frame_path, frame_times, orbit, video_file
 
@@ -419,6 +419,8 @@ def render_command(args):
     with open_renderer(width, height, settings, args) as renderer:
         for path, flag in named:
             check_not_an_input(frame_path(path, 0), flag, renderer.inputs(scene))
+        if args.out and Path(frame_path(args.out, 0)).suffix.lower() != ".png":  # an output that is an input is named first
+            raise VctError(f"must end in .png (linear radiance: --hdr FILE{' or FILE'.join(HDR_WRITERS)})", source=args.out, field="--out")
         video = video_file(args.video, (width, height), args.fps) if args.video else contextlib.nullcontext()
         with video as video, progress(frames, "render", "frame", summary=frames > 1) as bar:
             for index, t in enumerate(times):

@@ -201,6 +201,15 @@ def test_output_that_is_a_device_exits_2_and_leaves_the_device_alone(out_dir, fl
     assert Path("/dev/null").is_char_device() and list(out_dir.iterdir()) == []
 
 
+@pytest.mark.parametrize("name", ["x.npy", "x.exr", "x.jpg", "x"])
+def test_out_that_is_not_a_png_exits_2_naming_the_flag_and_writes_nothing(out_dir, name):
+    """--out is the tone-mapped PNG; linear radiance goes to --hdr, so `--out x.npy` is a mistake
+    to report, not PNG bytes to write under an .npy name."""
+    result = vct("render", CORNELL, "--out", out_dir / name, *SMALL)
+    assert_one_line_error(result, name, "--out", ".png", "--hdr")
+    assert list(out_dir.iterdir()) == []
+
+
 def test_hdr_and_png_on_the_same_path_exits_2(out_dir):
     result = vct("render", CORNELL, "--out", out_dir / "x.png", "--hdr", out_dir / "x.png", *SMALL)
     assert_one_line_error(result, "--hdr")
