@@ -159,7 +159,7 @@ def benchmark(scene, renderer, settings, grids, frames, warmup, kinds=FRAME_KIND
                       "height": renderer.size[1], **time_frames(scene, renderer, s, kind, frames, warmup)}
             settle(scene, renderer, s)  # back to the settled scene for the next kind
             voxel_bytes = renderer.voxel_memory_bytes() if uses_voxels else 0
-            record.update(voxel_bytes=voxel_bytes, voxel_bytes_per_voxel=voxel_bytes / grid ** 3 if uses_voxels else 0.0,
+            record.update(voxel_bytes=voxel_bytes, voxel_bytes_per_voxel=voxel_bytes / renderer.grid.voxel_count if uses_voxels else 0.0,
                           texture_bytes=renderer.geometry.textures.memory_bytes(), peak_rss_mb=peak_rss_mb())
             rows.append(record)
         if reference is not None and uses_voxels:  # the accuracy of this grid, converged within one frame

@@ -147,6 +147,9 @@ VOXEL_MEMORY_BUDGET = 4 * 2 ** 30
 VOXEL_FACES = 6
 
 GRID_SIZES = (16, 32, 64, 128, 256)
+# A grid holds 1..MAX_VOXEL_LEVELS levels of N^3 (a clipmap's nested cubes; lib/voxel.glsl),
+# stacked along z in voxel space: L N <= 4096 fits the packed z (VOXEL_PACK_BITS).
+MAX_VOXEL_LEVELS = 10
 
 # Compute shader local sizes: passes over a list of voxels, and over a whole volume.
 LIST_GROUP = 64
@@ -258,7 +261,8 @@ SHADER_ENUMS = {
     "MAP": {"base_color": 0, "metal_rough": 1, "emissive": 2, "normal": 3},  # lib/material.glsl: a texture's
 }                                                              # index in its per-map arrays (scene_gpu order)
 
-# Voxel coordinates packed into one uint for the voxel lists: x | y << 10 | z << 20 (N <= 1024).
+# Voxel coordinates packed into one uint for the voxel lists: x | y << 10 | z << 20 (N <= 1024;
+# z, which spans the levels, < 4096).
 VOXEL_PACK_BITS = 10
 # While an update runs, a touched voxel's word of the record index holds TOUCHED_FLAG and its
 # place on the touched list, or UNLISTED_PLACE where the list had no room left
@@ -308,6 +312,7 @@ def glsl_header():
         f"#define VOXEL_FACES {VOXEL_FACES}",
         f"#define VOLUME_GROUP {VOLUME_GROUP}",
         f"#define MAX_INTERLEAVE {MAX_INTERLEAVE}",
+        f"#define MAX_VOXEL_LEVELS {MAX_VOXEL_LEVELS}",
         f"#define CLASS_BLOCK {CLASS_BLOCK}",
         f"#define CLASS_FACINGS {CLASS_FACINGS}",
         f"#define CLASS_PARTS {CLASS_PARTS}",

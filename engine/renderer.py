@@ -194,7 +194,8 @@ class Renderer:
 
     @_current
     def voxels(self, name="radiance", level=0):
-        """A voxel volume of the last frame as float32 (n, n, n, 4), indexed [z, y, x]:
+        """A voxel volume of the last frame as float32 (L n, n, n, 4), indexed [z, y, x] (the
+        grid's L levels one after the other along z):
         "radiance" (emission + direct light, a = opacity), "normal" (mean normal, its length
         the coherence), "albedo", "gathered" (the diffuse light each voxel gathered in the latest
         bounce, G = sum_j w_j L(p, w_j)); levels above 0 (up to log2 n, one voxel) come from hardware
@@ -352,7 +353,7 @@ class Renderer:
         ones the grid holds (all of them on a new grid); where surfaces emit, the emission
         volume's mip chain follows."""
         stage = self.stages["voxels"]
-        if self.grid.ensure(s.grid, frame.region, source):
+        if self.grid.ensure(s.grid, (frame.region,), source):
             stage.forget()
         if self.grid.hold_cone_emission(emitters.count > 0):  # the first emitter of a grid holding voxels
             with self.timed("voxelize"):

@@ -1,5 +1,9 @@
-"""The voxel grid: the N^3 grid over a region of the scene and what it holds, owned by the
-renderer and passed to the passes that read and write it. Its owner keeps these invariants:
+"""The voxel grid: L levels of N^3 voxels, each over a cube of the scene (one level over the
+scene's voxel region, or a clipmap's nested cubes, level k's voxels 2^k times the finest), and
+what they hold, owned by the renderer and passed to the passes that read and write it. The
+levels are stacked along z in voxel space (glsl/lib/voxel.glsl): voxel (x, y, z) of level k is
+(x, y, z + k N) of an N x N x LN stack, which the records, lists and cells address alike, and
+each volume below stacks its levels along z the same way. Its owner keeps these invariants:
 every volume starts zero and every empty voxel stays zero (passes touch only listed voxels);
 a voxel holds a record exactly while some surface covers it, and a record's values start zero;
 the covered list holds the voxel of each record (the voxels some surface covers), and its state
@@ -18,16 +22,17 @@ engine/voxel_records.py; an empty voxel reads zero):
 
 Volumes (RGBA16F with their mip chains, what cones read from mip level 1 up, where cells hold
 several voxels: level 0 is the voxels' own records, their reflected light and mean normal):
-the six one-sided face views, stacked along z in one volume `faces` ((n/2) x (n/2) x 6(n/2) at
-level 1, view f at z in [f n/2, (f + 1) n/2)), and, where surfaces emit, `cone_emission`
-(emission, a: coverage): the emission the specular cones see ((n/2)^3 and coarser: the cones
-that read it are at least 4 voxels wide). The voxel views and `read_level` see an array as a volume made from it (`dense`).
+the six one-sided face views, stacked along z in one volume `faces` ((n/2) x (n/2) x 6L(n/2) at
+mip level 1, view f at z in [f L n/2, (f + 1) L n/2)), and, where surfaces emit, `cone_emission`
+(emission, a: coverage): the emission the specular cones see ((n/2) x (n/2) x L(n/2) and
+coarser: the cones that read it are at least 4 voxels wide). The voxel views and `read_level`
+see an array as a volume made from it (`dense`).
 
 Lists (voxel_lists.py): `covered` (the voxel of each record handed out, or NO_VOXEL at a free
 one: lib/covered_voxels.glsl), `touched` (by the last voxelization), `newly_covered` (the
 voxels it covered that were empty) and the covered `cells` of every mip level. The voxel lists have room for `list_room` covered
 voxels (the touched list twice that: the voxels covered before and after an update):
-NEW_GRID_ROOM n^2 in a new grid, or LIST_HEADROOM of what a voxelization needed when it last
+NEW_GRID_ROOM n^2 per level in a new grid, or LIST_HEADROOM of what a voxelization needed when it last
 grew. A voxelization that needs more room makes the grid anew with more (`list_counts`,
 `grow_lists`). Scratch storage of one pass (the voxelizer's sums, the gather's anchors and
 class lists) belongs to that pass.
@@ -37,8 +42,8 @@ import math
 import moderngl
 import numpy as np
 
-from .constants import (GL_IMAGE_FORMAT, GRID_SIZES, IMAGE_UNIT, LIST_GROUP, STORAGE_BINDING, TEXTURE_UNIT, VOLUME_GROUP, VOXEL_FACES,
-                        VOXEL_FORMAT, VOXEL_MEMORY_BUDGET, VOXEL_PACK_BITS, VOXEL_SUM_CHANNELS)
+from .constants import (GL_IMAGE_FORMAT, GRID_SIZES, IMAGE_UNIT, LIST_GROUP, MAX_VOXEL_LEVELS, STORAGE_BINDING, TEXTURE_UNIT,
+                        VOLUME_GROUP, VOXEL_FACES, VOXEL_FORMAT, VOXEL_MEMORY_BUDGET, VOXEL_PACK_BITS, VOXEL_SUM_CHANNELS)
 from .errors import VctError
 from .voxel_lists import SEGMENT, CellLists, Epoch, VoxelList
 from .voxel_records import VALUE_BYTES, VoxelRecords
@@ -46,7 +51,7 @@ from .voxel_room import ListBound
 
 TEXEL_BYTES = 8  # RGBA16F
 MIP_CHAIN = 8 / 7  # a full mip chain adds a seventh
-# The list room of a new n^3 grid, per n^2: a closed box or Sponza covers 6.4-6.7 n^2 voxels,
+# The list room of a new grid, per n^2 of each level: a closed box or Sponza covers 6.4-6.7 n^2 voxels,
 # and the room left over takes the bound of a moved object's voxels (engine/voxel_room.py), so
 # that moving one reads nothing back.
 NEW_GRID_ROOM = 16
@@ -59,25 +64,25 @@ RECORD_ARRAYS = ("albedo", "normal", "emission", "base", "gathered", "gathered_p
                  "emitter_irradiance", "sky_irradiance", "traced_sky_irradiance")
 
 
-def voxel_memory_bytes(n):
-    """GPU bytes a grid of n^3 may need, the passes' storage sized by it included: the
+def voxel_memory_bytes(n, levels=1):
+    """GPU bytes a grid of `levels` levels of n^3 may need, the passes' storage sized by it included: the
     voxelizer's sums of a chunk and the touched voxels' records, the records (with the emitters' and the
     sky's light, as a scene may have), the volumes (faces and cone emission with their mips, an
     inspection volume) and the lists."""
-    voxels = n ** 3
+    voxels = levels * n ** 3
     per_voxel = 4                                            # the records' index
     volumes = TEXEL_BYTES * (VOXEL_FACES / 8 + 1 + 1 / 8) * MIP_CHAIN  # faces, an inspection volume, cone emission
     lists = 2 * 4 / 7 + 2 * 4 / 8                            # cells, stamps; level-1 cells' classes, cells by class
-    room = new_grid_room(n)
+    room = new_grid_room(n, levels)
     listed = 4 * 9 * room                                     # touched x2 and their records x2, covered x2, stale, classes, anchors
     records = (VALUE_BYTES * len(RECORD_ARRAYS) + 4) * room   # the arrays and the pool
     sums = 4 * (len(VOXEL_SUM_CHANNELS) + VOXEL_FACES) * sum_room(n)  # and the front-layer keys
     return int(voxels * (per_voxel + volumes + lists) + listed + records + sums)
 
 
-def new_grid_room(n):
-    """The list room of a new n^3 grid (VoxelGrid.list_room)."""
-    return min(NEW_GRID_ROOM * n * n, n ** 3)
+def new_grid_room(n, levels):
+    """The list room of a new grid of `levels` levels of n^3 (VoxelGrid.list_room)."""
+    return levels * min(NEW_GRID_ROOM * n * n, n ** 3)
 
 
 def sum_room(n):
@@ -85,22 +90,22 @@ def sum_room(n):
     return min(SUM_ROOM * n * n, n ** 3)
 
 
-def list_room(needed, n):
-    """Room for `needed` covered voxels of an n^3 grid and LIST_HEADROOM more, in whole
-    dispatch groups, at most every voxel."""
-    return min(-(-int(needed * LIST_HEADROOM) // LIST_GROUP) * LIST_GROUP, n ** 3)
+def list_room(needed, n, levels):
+    """Room for `needed` covered voxels of a grid of `levels` levels of n^3 and LIST_HEADROOM
+    more, in whole dispatch groups, at most every voxel."""
+    return min(-(-int(needed * LIST_HEADROOM) // LIST_GROUP) * LIST_GROUP, levels * n ** 3)
 
 
-def check_grid(ctx, n, source=None):
+def check_grid(ctx, n, levels=1, source=None):
     """Refuse a grid size before anything is allocated."""
     if n not in GRID_SIZES:
         raise VctError(f"grid must be a power of two from {GRID_SIZES[0]} to {GRID_SIZES[-1]}, got {n}", source=source, field="grid")
     max_size = ctx.info.get("GL_MAX_3D_TEXTURE_SIZE", 2048)
     if n > max_size:
         raise VctError(f"grid {n} exceeds GL_MAX_3D_TEXTURE_SIZE {max_size}", source=source, field="grid")
-    need = voxel_memory_bytes(n)
+    need = voxel_memory_bytes(n, levels)
     if need > VOXEL_MEMORY_BUDGET:
-        raise VctError(f"grid {n} needs {need / 2**30:.1f} GiB of voxel memory, over the budget of "
+        raise VctError(f"grid {n}{f' x {levels} levels' if levels > 1 else ''} needs {need / 2**30:.1f} GiB of voxel memory, over the budget of "
                        f"{VOXEL_MEMORY_BUDGET / 2**30:.1f} GiB", source=source, field="grid")
 
 
@@ -114,7 +119,7 @@ class VoxelGrid:
     def __init__(self, ctx, programs):
         self.ctx = ctx
         self.n = 0
-        self.region = None
+        self.regions = ()  # a VoxelRegion per level, finest first
         self.list_room = 0
         self._resources = []
         self.epoch = Epoch()  # of the covered list: a new one whenever it changes (covered_changed)
@@ -126,17 +131,20 @@ class VoxelGrid:
 
     # -- allocation ----------------------------------------------------------------------
 
-    def ensure(self, n, region, source=None):
-        """Hold an empty n^3 grid over `region` unless it already does; True when (re)made."""
-        if n == self.n and self.region is not None and _same_region(region, self.region):
+    def ensure(self, n, regions, source=None):
+        """Hold an empty grid of n^3 voxels per level over `regions` (a cube per level, finest
+        first) unless it already does; True when (re)made."""
+        regions = tuple(regions)
+        if n == self.n and len(regions) == self.levels and all(map(_same_region, regions, self.regions)):
             return False
-        check_grid(self.ctx, n, source)
-        room = new_grid_room(n)
+        levels = len(regions)
+        check_grid(self.ctx, n, levels, source)
+        room = new_grid_room(n, levels)
         if self.n:  # the room the last grid grew to, scaled to the new size: surfaces cover n^2
-            room = min(max(room, self.list_room * n * n // (self.n * self.n)), n ** 3)
+            room = min(max(room, self.list_room * n * n * levels // (self.n * self.n * self.levels)), levels * n ** 3)
         self._release_resources()
+        self.regions = regions
         self._allocate(n, room)
-        self.region = region
         return True
 
     def list_counts(self):
@@ -151,7 +159,7 @@ class VoxelGrid:
         the light arrays are made again with their light: hold_light_arrays)."""
         emits = self.cone_emission is not None
         self._release_resources()
-        self._allocate(self.n, list_room(needed, self.n))
+        self._allocate(self.n, list_room(needed, self.n, self.levels))
         self.hold_cone_emission(emits)
 
     def _allocate(self, n, room):
@@ -159,35 +167,35 @@ class VoxelGrid:
         self.n, self.list_room = n, room
         self._mipmapped = set()  # the volumes whose mip chain is allocated
         self._inspection = None  # the volume `dense` makes
-        self.records = self._keep(VoxelRecords(ctx, n, room))
+        self.records = self._keep(VoxelRecords(ctx, n, self.levels, room))
         self.albedo, self.normal, self.emission, self.base, self.reflected = (self._values() for _ in range(5))
         self.gathered = [self._values() for _ in range(2)]
         self.emitter_irradiance = self.sky_irradiance = self.traced_sky_irradiance = None  # hold_light_arrays
         self.cone_emission = None  # hold_cone_emission
-        self.faces = self._volume(mipmapped=True, views=VOXEL_FACES, side=n // 2)
+        self.faces = self._volume(mipmapped=True, slabs=VOXEL_FACES, side=n // 2)
         self.touched = self._keep(VoxelList(ctx, self.touched_room))
         self.covered, self.newly_covered = (self._keep(VoxelList(ctx, room)) for _ in range(2))
         self.covered.clear()  # no record handed out yet
-        self.cells = self._keep(CellLists(ctx, n))
+        self.cells = self._keep(CellLists(ctx, n, self.levels))
         self.epoch = Epoch()  # a new grid: nothing was computed from its lists yet
 
     def load(self, albedo, normal, emission=None):
-        """Hold surfaces given per voxel instead of voxelized ones: float arrays (n, n, n, 3)
-        indexed [z, y, x] of reflectance, mean normal (a voxel is covered where it is nonzero;
+        """Hold surfaces given per voxel instead of voxelized ones: float arrays (L n, n, n, 3)
+        indexed [z, y, x] (the levels stacked along z) of reflectance, mean normal (a voxel is covered where it is nonzero;
         its length is the normals' coherence) and emission, each surface through its voxel's
         centre. The covered list and cells follow (a new epoch); the radiance volumes are
         zero. For grids made by hand, such as the tests of single passes."""
-        n = self.n
+        n, depth = self.n, self.levels * self.n
         if not n:
-            raise VctError("no grid to load: ensure(n, region) makes one first", field="VoxelGrid.load")
+            raise VctError("no grid to load: ensure(n, regions) makes one first", field="VoxelGrid.load")
         for name, array in (("albedo", albedo), ("normal", normal), ("emission", emission)):
-            if array is not None and np.shape(array) != (n, n, n, 3):
-                raise VctError(f"must be an array of shape ({n}, {n}, {n}, 3), got {np.shape(array)}", field=name)
+            if array is not None and np.shape(array) != (depth, n, n, 3):
+                raise VctError(f"must be an array of shape ({depth}, {n}, {n}, 3), got {np.shape(array)}", field=name)
         normal = np.asarray(normal, np.float32)
         covered = np.any(normal != 0.0, axis=-1)
         emission = np.zeros_like(normal) if emission is None else np.asarray(emission, np.float32)
         self._release_resources()
-        self._allocate(n, max(new_grid_room(n), list_room(np.count_nonzero(covered), n)))
+        self._allocate(n, max(new_grid_room(n, self.levels), list_room(np.count_nonzero(covered), n, self.levels)))
         flag = covered[..., None].astype(np.float32)
         z, y, x = np.nonzero(covered)
         coords = np.stack([x, y, z], axis=-1)
@@ -197,7 +205,7 @@ class VoxelGrid:
             values = np.concatenate([np.asarray(rgb, np.float32), a], axis=-1)[z, y, x]
             array.write(values.astype(VOXEL_FORMAT).tobytes())
         if self.cone_emission is not None:  # its level 1: the mean of each cell's 8 voxels
-            level_one = np.concatenate([emission * flag, flag], axis=-1).reshape(n // 2, 2, n // 2, 2, n // 2, 2, 4).mean(axis=(1, 3, 5))
+            level_one = np.concatenate([emission * flag, flag], axis=-1).reshape(depth // 2, 2, n // 2, 2, n // 2, 2, 4).mean(axis=(1, 3, 5))
             self.cone_emission.write(level_one.astype(VOXEL_FORMAT).tobytes())
         self.covered.buffer.write(np.concatenate([[len(coords)], pack_voxels(coords)]).astype("u4").tobytes())
         self.covered.table.write(0, 1, len(coords))
@@ -209,12 +217,12 @@ class VoxelGrid:
             self.cells.table.write(level, first, len(cells))
 
     def write_values(self, values, volume):
-        """Set an array of values from a volume given per voxel: float (n, n, n, 4) indexed
+        """Set an array of values from a volume given per voxel: float (L n, n, n, 4) indexed
         [z, y, x], taken at the covered voxels (for grids made by hand, as `load`)."""
-        n = self.n
-        if np.shape(volume) != (n, n, n, 4):
-            raise VctError(f"must be an array of shape ({n}, {n}, {n}, 4), got {np.shape(volume)}", field="volume")
-        index = np.frombuffer(self.records.index.read(), "u4").reshape(n, n, n)
+        n, depth = self.n, self.levels * self.n
+        if np.shape(volume) != (depth, n, n, 4):
+            raise VctError(f"must be an array of shape ({depth}, {n}, {n}, 4), got {np.shape(volume)}", field="volume")
+        index = np.frombuffer(self.records.index.read(), "u4").reshape(depth, n, n)
         held = index > 0
         data = np.zeros((self.records.room, 4), VOXEL_FORMAT)
         data[index[held] - 1] = np.asarray(volume, np.float32)[held]
@@ -225,7 +233,7 @@ class VoxelGrid:
         none where none does. True when made now: zero, its covered cells still to fill
         (VoxelizePass.fill_cone_emission)."""
         if emits and self.cone_emission is None:
-            self.cone_emission = self._volume(mipmapped=True, side=self.n // 2)
+            self.cone_emission = self._volume(mipmapped=True, side=self.n // 2)  # its mip level 1
             return True
         if not emits and self.cone_emission is not None:
             self._drop(self.cone_emission)
@@ -260,13 +268,13 @@ class VoxelGrid:
         return volume
 
     def dense(self, values, mips=True):
-        """An array of values as an n^3 volume (zero where no surface covers a voxel), with its
+        """An array of values as a volume of the stacked levels, n x n x L n (zero where no surface covers a voxel), with its
         hardware mip chain built where `mips`, for the voxel views and Renderer.voxels: one
         volume, made again at each call."""
         if self._inspection is None:
             self._inspection = self._volume(mipmapped=True)
         volume = self._inspection
-        volume.write(bytes(TEXEL_BYTES * self.n ** 3))
+        volume.write(bytes(TEXEL_BYTES * self.voxel_count))
         self.records.bind()
         values.bind_to_storage_buffer(STORAGE_BINDING["INSPECT_VALUES"])
         self.covered.bind("COVERED")
@@ -288,11 +296,11 @@ class VoxelGrid:
         """An array of values per record, zero."""
         return self._keep(self.records.array())
 
-    def _volume(self, mipmapped=False, views=1, side=None):
-        """A side x side x (views side) RGBA16F volume of zeros, side n unless given (with a full
-        mip chain if asked)."""
-        n = side or self.n
-        volume = self.ctx.texture3d((n, n, views * n), 4, data=bytes(TEXEL_BYTES * views * n ** 3), dtype=VOXEL_FORMAT)
+    def _volume(self, mipmapped=False, slabs=1, side=None):
+        """A side x side x (slabs L side) RGBA16F volume of zeros, side n unless given: `slabs`
+        stacks of the levels along z (with a full mip chain if asked)."""
+        n, depth = side or self.n, slabs * self.levels * (side or self.n)
+        volume = self.ctx.texture3d((n, n, depth), 4, data=bytes(TEXEL_BYTES * n * n * depth), dtype=VOXEL_FORMAT)
         volume.filter = (self.ctx.LINEAR, self.ctx.LINEAR)
         volume.repeat_x = volume.repeat_y = volume.repeat_z = False
         if mipmapped:
@@ -302,7 +310,16 @@ class VoxelGrid:
     @property
     def touched_room(self):
         """The touched list's room: the voxels covered before and after an update."""
-        return min(2 * self.list_room, self.n ** 3)
+        return min(2 * self.list_room, self.voxel_count)
+
+    @property
+    def levels(self):
+        return len(self.regions)
+
+    @property
+    def voxel_count(self):
+        """The voxels of every level."""
+        return self.levels * self.n ** 3
 
     @property
     def mip_count(self):
@@ -310,12 +327,22 @@ class VoxelGrid:
 
     @property
     def voxel_size(self):
-        return float(self.region.size) / self.n
+        """The finest level's voxel size."""
+        return self.level_voxel_size(0)
+
+    def level_voxel_size(self, level):
+        return float(self.regions[level].size) / self.n
+
+    def level_bounds(self, level):
+        """A level's cube as a world box (lo, hi)."""
+        region = self.regions[level]
+        lo = np.asarray(region.center, float) - region.size / 2.0
+        return lo, lo + region.size
 
     def bounds(self):
-        """The region as a world box (lo, hi)."""
-        lo = np.asarray(self.region.center, float) - self.region.size / 2.0
-        return lo, lo + self.region.size
+        """The box of every level's cube (lo, hi)."""
+        boxes = [self.level_bounds(level) for level in range(self.levels)]
+        return np.min([lo for lo, _ in boxes], axis=0), np.max([hi for _, hi in boxes], axis=0)
 
     def memory_bytes(self):
         """GPU bytes the grid holds now: its volumes (their mip chains where allocated) and lists."""
@@ -324,8 +351,12 @@ class VoxelGrid:
     # -- binding ---------------------------------------------------------------------------
 
     def uniforms(self):
-        return dict(voxel_region_min=tuple(self.bounds()[0]), voxel_region_size=float(self.region.size),
-                    voxel_grid=self.n, voxel_size=self.voxel_size, voxel_max_mip=float(self.mip_count - 1))
+        corners = np.zeros((MAX_VOXEL_LEVELS, 3), "f4")
+        sizes = np.zeros(MAX_VOXEL_LEVELS, "f4")
+        for level in range(self.levels):
+            corners[level], sizes[level] = self.level_bounds(level)[0], self.level_voxel_size(level)
+        return dict(voxel_grid=self.n, voxel_levels=self.levels, level_region_min=corners.tobytes(), level_voxel_size=sizes.tobytes(),
+                    voxel_size=self.voxel_size, voxel_max_mip=float(self.mip_count - 1))
 
     def use_surface(self):
         """The voxels' records, their resolved surface and the emitters' and the sky's light at
@@ -399,8 +430,8 @@ class VoxelGrid:
 
     def read_level(self, volume, level=0):
         """One mip level of a volume (or of an array of values, made `dense`) as float32
-        (depth, n, n, 4), indexed [z, y, x] (the face views' depth holds their six views one
-        after the other)."""
+        (depth, n, n, 4), indexed [z, y, x] (the levels one after the other along z, and the
+        face views' depth holds their six stacks of levels one after the other)."""
         if isinstance(volume, moderngl.Buffer):
             volume = self.dense(volume, mips=level > 0)
         width, height, depth = (max(1, side >> level) for side in volume.size)
@@ -426,7 +457,7 @@ class VoxelGrid:
     def release(self):
         self._release_resources()
         self.n = 0
-        self.region = None
+        self.regions = ()
         self.read_program.release()
         self.scatter_program.release()
         self.size_program.release()

@@ -154,13 +154,13 @@ class VoxelList:
 
 
 class CellLists:
-    """The covered cells of mip levels 1..log2 n in one buffer: a count per level
+    """The covered cells of mip levels 1..log2 n (of every level of the grid) in one buffer: a count per level
     (CELL_LIST_LEVELS of them), then the cells of each level in a run of its own; a stamp per
     cell and rebuild lists each cell once (voxelize/list_cells.comp). Row `level` of `table` is
     the level's segment, sized on the GPU after it is listed."""
 
-    def __init__(self, ctx, n):
-        sizes = [(n >> level) ** 3 for level in range(n.bit_length())]
+    def __init__(self, ctx, n, levels):
+        sizes = [levels * (n >> level) ** 3 for level in range(n.bit_length())]
         self.first = [int(sum(sizes[1:level])) for level in range(len(sizes))]  # a level's first entry after the counts
         self.buffer = ctx.buffer(data=bytes(4 * (CELL_LIST_LEVELS + sum(sizes[1:]))))
         self.stamps = ctx.buffer(data=bytes(4 * sum(sizes[1:])))

@@ -1,7 +1,7 @@
 """Per-voxel data of the covered voxels: a record each, so that the grid's per-voxel values
 take room for the voxels surfaces cover rather than for all n^3 (glsl/lib/voxel_records.glsl).
 
-- `index`: per voxel of the grid, its record + 1, or 0 where no surface covers it;
+- `index`: per voxel of the grid (of every level), its record + 1, or 0 where no surface covers it;
 - `pool`: the records no voxel holds, a stack: its height (int), how many records a
   voxelization asked of it in vain (uint), then the free records;
 - the arrays of values (`array()`): an RGBA16F value per record, two halves to a uint.
@@ -25,11 +25,12 @@ def pool_words(room, held=0):
 
 
 class VoxelRecords:
-    """The records of an n^3 grid's covered voxels: room for `room` of them."""
+    """The records of the covered voxels of a grid of `levels` levels of n^3: room for `room` of
+    them."""
 
-    def __init__(self, ctx, n, room):
-        self.ctx, self.n, self.room = ctx, n, room
-        self.index = ctx.buffer(data=bytes(4 * n ** 3))
+    def __init__(self, ctx, n, levels, room):
+        self.ctx, self.n, self.levels, self.room = ctx, n, levels, room
+        self.index = ctx.buffer(data=bytes(4 * levels * n ** 3))
         self.pool = ctx.buffer(data=pool_words(room).tobytes())
 
     def array(self):
@@ -44,7 +45,7 @@ class VoxelRecords:
         """Give the voxels at `coords` (k, 3: x, y, z) records 0..k-1, in order, as a grid
         made by hand holds them (VoxelGrid.load)."""
         n = self.n
-        index = np.zeros(n ** 3, "u4")
+        index = np.zeros(self.levels * n ** 3, "u4")
         x, y, z = np.asarray(coords, np.int64).reshape(-1, 3).T
         index[x + n * (y + n * z)] = np.arange(1, len(x) + 1)
         self.index.write(index.tobytes())

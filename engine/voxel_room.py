@@ -60,7 +60,7 @@ class CoveredBound:
         self.epoch = None
         self.covered = 0
         self.draws = {}
-        self._bounds = {}  # (positions, indices, world, grid) -> (positions, indices, bound)
+        self._bounds = {}  # (positions, indices, world, grid's levels) -> (positions, indices, bound)
 
     def bound(self, grid, update, draws):
         """The ListBound of `update` (a changes.VoxelUpdate to `draws`) to the grid; None
@@ -72,12 +72,14 @@ class CoveredBound:
                          touched=sum(self._bound(d, grid) for d in update.removed + update.added))
 
     def _bound(self, draw, grid):
+        """The draw's fragment_bound summed over the grid's levels (it is rasterized into each)."""
         positions, indices = draw.mesh_arrays[0], draw.mesh_arrays[2]
-        lo = grid.bounds()[0]
-        key = (id(positions), id(indices), draw.world.tobytes(), grid.n, grid.voxel_size, lo.tobytes())
+        levels = [(grid.level_bounds(level)[0], grid.level_voxel_size(level)) for level in range(grid.levels)]
+        key = (id(positions), id(indices), draw.world.tobytes(), grid.n, tuple((lo.tobytes(), size) for lo, size in levels))
         entry = self._bounds.get(key)
         if entry is None or entry[0] is not positions or entry[1] is not indices:
-            entry = self._bounds[key] = (positions, indices, fragment_bound(draw, lo, grid.voxel_size, grid.n))
+            bound = sum(fragment_bound(draw, lo, size, grid.n) for lo, size in levels)
+            entry = self._bounds[key] = (positions, indices, bound)
         return entry[2]
 
     def voxelized(self, grid, draws, covered=None):

@@ -27,7 +27,7 @@ def gl():
                       environment=EnvironmentMap(ctx), inject=InjectPass(ctx, programs), faces=FaceViewsPass(ctx, programs),
                       gather=GatherPass(ctx, programs))
         passes["shadow"] = ShadowPass(ctx, programs, passes["geometry"], 64)
-        passes["grid"].ensure(N, REGION)
+        passes["grid"].ensure(N, (REGION,))
         yield passes
         for resource in passes.values():
             resource.release()

@@ -118,7 +118,7 @@ def test_an_alpha_masked_grille_casts_a_shadow_with_holes_and_voxelizes_with_hol
         voxels = r.voxels("albedo")[..., 3] > 0
         r.render(opaque_scene, mode="voxel-albedo", grid=32)
         opaque_voxels = r.voxels("albedo")[..., 3] > 0
-        region_floor, voxel_size = r.grid.region.center[1] - r.grid.region.size / 2, r.grid.voxel_size
+        region_floor, voxel_size = r.grid.level_bounds(0)[0][1], r.grid.voxel_size
     lit = 0.8 / np.pi * 3.0 * np.cos(np.radians(45.0))
     assert len(masked) > 1000 and len(opaque) > 1000
     assert np.all(opaque < 0.05 * lit)

@@ -10,7 +10,7 @@ from conftest import SCENES
 
 def voxel_index(renderer, point):
     """Index (x, y, z) of the voxel holding a world point in the renderer's last grid."""
-    region, n = renderer.grid.region, renderer.grid.n
+    region, n = renderer.grid.regions[0], renderer.grid.n
     lo = np.asarray(region.center) - region.size / 2.0
     return tuple(int(i) for i in np.floor((np.asarray(point) - lo) / (region.size / n)))
 

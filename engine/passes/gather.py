@@ -13,6 +13,12 @@ from ..voxel_grid import GridStorage, VoxelGrid, bind_values
 from ..voxel_lists import ClassIndex, SegmentTable, VoxelList
 
 
+def class_buckets(grid):
+    """The buckets of the class sort per class and part: a (block, facing) each, the blocks of
+    every level."""
+    return grid.levels * max(grid.n // CLASS_BLOCK, 1) ** 3 * CLASS_FACINGS
+
+
 class GatherPass:
     def __init__(self, ctx, programs):
         self.ctx = ctx
@@ -43,19 +49,19 @@ class GatherPass:
         covered voxels sorted by class and the covered level-1 cells sorted by class (what a
         ClassIndex points into); the buckets of those counting sorts, and the classes of the
         voxels in each level-1 cell."""
-        n = grid.n
-        if self._storage.holds((n, grid.list_room)):
+        n, levels = grid.n, grid.levels
+        if self._storage.holds((n, levels, grid.list_room)):
             return
         self._storage.release()
-        ctx, cells = self.ctx, (n >> 1) ** 3
+        ctx, cells = self.ctx, levels * (n >> 1) ** 3
         self.anchors = ctx.buffer(reserve=4 * grid.list_room)
         self.stale = VoxelList(ctx, grid.list_room)
         self.class_list = ctx.buffer(reserve=4 * grid.list_room)
-        self.class_buckets = ctx.buffer(reserve=4 * CLASS_PARTS * MAX_INTERLEAVE * max(n // CLASS_BLOCK, 1) ** 3 * CLASS_FACINGS)
+        self.class_buckets = ctx.buffer(reserve=4 * CLASS_PARTS * MAX_INTERLEAVE * class_buckets(grid))
         self.cell_class_bits = ctx.buffer(reserve=4 * cells)
         self.cells_by_class = ctx.buffer(reserve=4 * cells)
         self.voxel_rows, self.cell_rows = SegmentTable(ctx, MAX_SEGMENT_ROWS), SegmentTable(ctx, MAX_INTERLEAVE + 1)
-        self._storage.hold((n, grid.list_room), [self.anchors, self.stale, self.class_list, self.class_buckets, self.cell_class_bits,
+        self._storage.hold((n, levels, grid.list_room), [self.anchors, self.stale, self.class_list, self.class_buckets, self.cell_class_bits,
                                self.cells_by_class, self.voxel_rows, self.cell_rows])
         self.anchors_epoch = None
 
@@ -69,7 +75,7 @@ class GatherPass:
         the covered level-1 cells by class: counting sorts whose prefix sums and segments the
         GPU computes (gather/scan_buckets.comp). Returns the ClassIndex of the sorted lists."""
         self._ensure_storage(grid)
-        buckets = max(grid.n // CLASS_BLOCK, 1) ** 3 * CLASS_FACINGS  # per class and part: (block, facing)
+        buckets = class_buckets(grid)
         total = interleave * CLASS_PARTS * buckets
         grid.use_surface()
         self._find_anchors(grid)

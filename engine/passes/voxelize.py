@@ -108,7 +108,8 @@ class VoxelizePass:
             self.mark_covered.set(**grid.uniforms())
             grid.dispatch(self.mark_covered, grid.covered.segment())
         else:
-            box, marked = update.touched_bounds(margin=grid.voxel_size), update.removed + update.added
+            # The draws within a voxel of the coarsest level of the changed ones reach the voxels they touch.
+            box, marked = update.touched_bounds(margin=grid.level_voxel_size(grid.levels - 1)), update.removed + update.added
         reaching = [d for d in draws if np.all(d.bounds[0] <= box[1]) and np.all(d.bounds[1] >= box[0])]
         self._rasterize(grid, marked, "mark", box, 0)
         grid.size_list(grid.touched)
@@ -123,15 +124,22 @@ class VoxelizePass:
 
     def _rasterize(self, grid, draws, stage, box, chunk_first):
         """Rasterize the parts of `draws` inside the world `box` in one of the fragment stages,
-        into the sums of the chunk of the touched list from `chunk_first`."""
+        into the sums of the chunk of the touched list from `chunk_first`: once into each level."""
         self.framebuffer.use()
         self.ctx.viewport = (0, 0, grid.n, grid.n)
         self.ctx.disable(self.ctx.DEPTH_TEST | self.ctx.CULL_FACE | self.ctx.BLEND)
         for extras, program in self.programs.items():
             subset = [draw for draw in draws if vertex_extras(draw) == extras]
-            if subset:
-                program.set(**grid.uniforms(), stage=SHADER_ENUMS["VOXELIZE"][stage], chunk_first=chunk_first)
-                self.geometry.draw(program, subset, materials=True, box=box)
+            if not subset:
+                continue
+            program.set(**grid.uniforms(), stage=SHADER_ENUMS["VOXELIZE"][stage], chunk_first=chunk_first)
+            for level in range(grid.levels):
+                lo, hi = grid.level_bounds(level)
+                level_box = np.maximum(box[0], lo), np.minimum(box[1], hi)
+                if np.any(level_box[0] > level_box[1]):
+                    continue  # the change lies outside this level
+                program.set(voxelize_level=level)
+                self.geometry.draw(program, subset, materials=True, box=level_box)
         self.ctx.memory_barrier(self.ctx.SHADER_STORAGE_BARRIER_BIT | self.ctx.SHADER_IMAGE_ACCESS_BARRIER_BIT)
 
     def _resolve(self, grid, chunk_first):

@@ -51,11 +51,10 @@ def overlay_lines(frames, process, renderer, vsync):
 
 def voxel_memory_line(renderer):
     """The voxel grid's GPU memory, in all and per voxel of the grid."""
-    n = renderer.grid.n
-    if not n:
+    if not renderer.grid.n:
         return "voxels -"
     total = renderer.voxel_memory_bytes()
-    return f"voxels {total / 2 ** 20:.0f} MB ({total / n ** 3:.0f} B/voxel)"
+    return f"voxels {total / 2 ** 20:.0f} MB ({total / renderer.grid.voxel_count:.0f} B/voxel)"
 
 
 def draw_overlay(lines, rect):

@@ -65,11 +65,11 @@ struct VoxelInterpolation {
 };
 
 VoxelInterpolation interpolate_voxels(Surface s, bool want_gathered, bool want_visibility, bool want_sky) {
-    TrilinearVoxels lookup = trilinear_voxels(voxel_uvw(s.position));
+    TrilinearVoxels lookup = trilinear_voxels(level_uvw(s.position, 0));
     vec3 gathered_sum = vec3(0.0), sky_sum = vec3(0.0);
     float gathered_total = 0.0, visibility_sum = 0.0, surface_total = 0.0;
     for (int k = 0; k < 8; ++k) {
-        uint record = voxel_record(lookup.first + corner_offset(k));
+        uint record = level_record(lookup.first + corner_offset(k), 0);
         if (record == NO_RECORD) continue;  // no surface
         vec4 g = want_gathered ? unpack_value(voxel_gathered[record]) : vec4(0.0);
         if (g.a <= 0.0 && !want_visibility && !want_sky) continue;  // none that reflects diffuse light

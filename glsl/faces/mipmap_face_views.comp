@@ -32,7 +32,7 @@ void main() {
     } else {
         // The corner the 8 children share, in the finer level's texture coordinates: a
         // trilinear lookup there weighs each child 1/8, one fetch where 8 would do the same.
-        vec3 finer_size = vec3(2 * side, 2 * side, 2 * side * VOXEL_FACES);
+        vec3 finer_size = vec3(2 * side, 2 * side, 2 * side * VOXEL_FACES * voxel_levels);
         for (int f = 0; f < VOXEL_FACES; ++f) {
             vec3 corner = vec3(face_texel(2 * cell + 1, f, 2 * side));
             mean[f] = textureLod(voxel_faces, corner / finer_size, float(level - 2));  // it holds levels 1 and up

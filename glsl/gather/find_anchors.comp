@@ -32,7 +32,7 @@ void main() {
             float total = 0.0;
             for (int k = 0; k < 26; ++k) {
                 ivec3 u = neighbour(v, k);
-                uint u_record = voxel_record(u);
+                uint u_record = neighbour_record(v, u);
                 if (u_record == NO_RECORD) continue;
                 vec3 n_u = unpack_value(voxel_normal[u_record]).xyz;
                 if (dot(n, n_u) <= 0.0 || !on_anchor_lattice(u, n_u) || !reflects_light(u_record, n_u)) continue;

@@ -15,7 +15,7 @@ void main() {
     ivec3 v = unpack_voxel(touched[gl_GlobalInvocationID.x]);
     for (int k = 0; k < 27; ++k) {
         ivec3 u = v + ivec3(k % 3, (k / 3) % 3, k / 9) - 1;
-        uint record = voxel_record(u);
+        uint record = neighbour_record(v, u);
         if (record == NO_RECORD) continue;
         if (atomicExchange(gather_anchors[record], ANCHOR_STALE) == ANCHOR_STALE) continue;  // listed by another invocation
         APPEND(stale_count, stale, pack_voxel(u));

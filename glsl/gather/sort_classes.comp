@@ -25,7 +25,7 @@ void main() {
     uint record = gl_GlobalInvocationID.x;
     ivec3 v;
     if (!covered_voxel(record, v)) return;
-    int blocks = max(voxel_grid / CLASS_BLOCK, 1);
+    int blocks = max(voxel_grid / CLASS_BLOCK, 1);  // per side of a level; the levels' blocks follow along z
     ivec3 block = v / CLASS_BLOCK;
     uint anchors = gather_anchors[record];
     bool anchor = (anchors & ANCHOR_SELF) != 0u;

@@ -68,13 +68,12 @@ vec4 voxel_face(vec3 reflected, float coverage) {
     return coverage * vec4(reflected, 1.0);
 }
 
-// One face view around uvw at a mip level of 1 or more (a fractional one blends the two levels
-// around it), filtered within the view: the depth coordinate is clamped to the coarser level's
-// own texels (the views are stacked along z).
-vec4 face_lod(int face, vec3 uvw, float mip) {
+// One face view around uvw (in level `level`'s cube) at a mip level of 1 or more (a fractional
+// one blends the two levels around it), filtered within the view and level: the depth
+// coordinate is clamped to the coarser mip level's own texels (stacked_uvw).
+vec4 face_lod(int face, vec3 uvw, int level, float mip) {
     float side = float(voxel_grid >> int(ceil(mip)));
-    float w = clamp(uvw.z, 0.5 / side, 1.0 - 0.5 / side);
-    return textureLod(voxel_faces, vec3(uvw.xy, (float(face) + w) / float(VOXEL_FACES)), mip - 1.0);  // it holds levels 1 and up
+    return textureLod(voxel_faces, stacked_uvw(uvw, level, face, VOXEL_FACES, side), mip - 1.0);  // it holds levels 1 and up
 }
 
 // How much of a voxel with mean normal n a cone sees through its face weights: front_share of
@@ -90,14 +89,15 @@ float seen_coverage(vec3 n, FaceWeights f, float front_share, bool backs, bool w
     return seen;
 }
 
-// The face views at level 0 around uvw, read as a trilinear lookup would read them from a
-// volume: the 8 voxels around uvw (clamped to the grid, as the lookups clamp), each weighted by
-// its share of the lookup and seen through the face weights (seen_coverage).
-vec4 faces_at_level_zero(vec3 uvw, FaceWeights f, float front_share, bool backs, bool wide) {
+// The face views at mip level 0 around uvw (in level `level`'s cube), read as a trilinear lookup
+// would read them from a volume: the 8 voxels around uvw (clamped to the level, as the lookups
+// clamp), each weighted by its share of the lookup and seen through the face weights
+// (seen_coverage).
+vec4 faces_at_level_zero(vec3 uvw, int level, FaceWeights f, float front_share, bool backs, bool wide) {
     TrilinearVoxels lookup = trilinear_voxels(uvw);
     vec4 sum = vec4(0.0);
     for (int k = 0; k < 8; ++k) {
-        uint record = voxel_record(clamp(lookup.first + corner_offset(k), ivec3(0), ivec3(voxel_grid - 1)));
+        uint record = level_record(clamp(lookup.first + corner_offset(k), ivec3(0), ivec3(voxel_grid - 1)), level);
         if (record == NO_RECORD) continue;
         float seen = seen_coverage(unpack_value(voxel_normal[record]).xyz, f, front_share, backs, wide);
         sum += trilinear_weight(lookup, k) * voxel_face(unpack_value(voxel_reflected[record]).rgb, seen);
@@ -111,22 +111,23 @@ vec4 faces_at_level_zero(vec3 uvw, FaceWeights f, float front_share, bool backs,
 // take the small shares of the rays that diverge sideways, the nearest level: a blended lookup
 // reads twice the texels, and the back faces' jumps between levels do not show. (The front
 // faces read at the nearest level too make coarse grids read bright: docs/PERFORMANCE.md.)
-vec4 sample_faces(vec3 uvw, float mip, FaceWeights f, bool wide) {
+vec4 sample_faces(vec3 uvw, int level, float mip, FaceWeights f, bool wide) {
     float nearest = round(mip);
     float level_zero_share = max(1.0 - mip, 0.0);  // of the front faces' lookups, blended
     vec4 sum = vec4(0.0);
     if (mip > 0.0) {
         float coarse = max(mip, 1.0);
-        sum += (1.0 - level_zero_share) * (f.weight.x * face_lod(f.face.x, uvw, coarse) + f.weight.y * face_lod(f.face.y, uvw, coarse)
-                                           + f.weight.z * face_lod(f.face.z, uvw, coarse));
+        sum += (1.0 - level_zero_share) * (f.weight.x * face_lod(f.face.x, uvw, level, coarse)
+                                           + f.weight.y * face_lod(f.face.y, uvw, level, coarse)
+                                           + f.weight.z * face_lod(f.face.z, uvw, level, coarse));
     }
     // A back face no ray diverges to (|w_k| >= spread) is not read: most cones have one or none.
     if (nearest > 0.0) {
-        if (f.back_weight.x > 0.0) sum += f.back_weight.x * face_lod(f.back.x, uvw, nearest);
-        if (f.back_weight.y > 0.0) sum += f.back_weight.y * face_lod(f.back.y, uvw, nearest);
-        if (wide && f.back_weight.z > 0.0) sum += f.back_weight.z * face_lod(f.back.z, uvw, nearest);
+        if (f.back_weight.x > 0.0) sum += f.back_weight.x * face_lod(f.back.x, uvw, level, nearest);
+        if (f.back_weight.y > 0.0) sum += f.back_weight.y * face_lod(f.back.y, uvw, level, nearest);
+        if (wide && f.back_weight.z > 0.0) sum += f.back_weight.z * face_lod(f.back.z, uvw, level, nearest);
     }
-    if (level_zero_share > 0.0 || nearest == 0.0) sum += faces_at_level_zero(uvw, f, level_zero_share, nearest == 0.0, wide);
+    if (level_zero_share > 0.0 || nearest == 0.0) sum += faces_at_level_zero(uvw, level, f, level_zero_share, nearest == 0.0, wide);
     return sum;
 }
 
@@ -172,12 +173,12 @@ vec4 trace_cone(vec3 p, vec3 n, vec3 direction, float tan_half_angle, float max_
         float diameter = max(min_diameter * voxel_size, narrowing * cone_diameter);
         float mip = min(max(log2(diameter / voxel_size) - 1.0, 0.0), voxel_max_mip);  // 1^3 spans the region
         if (!blend_levels) mip = round(mip);
-        vec3 uvw = voxel_uvw(start + direction * t);
+        vec3 uvw = level_uvw(start + direction * t, 0);
         // Stop half a cell past [0,1]^3: the lookups clamp to the outer cells, which hold the
         // surfaces at the region's edge once; further out they would repeat them.
-        float footprint = 0.25 * diameter / voxel_region_size;
+        float footprint = 0.25 * diameter / (voxel_size * float(voxel_grid));
         if (any(lessThan(uvw, vec3(-footprint))) || any(greaterThan(uvw, vec3(1.0 + footprint)))) break;
-        vec4 s = sample_faces(uvw, mip, weights, wide);
+        vec4 s = sample_faces(uvw, 0, mip, weights, wide);
         float step_length = cone_step * (narrow_steps ? diameter : cone_diameter);
         if (s.a > 0.0) {
             // Covered fraction of the cross-section added by this step, front to back.
@@ -185,7 +186,8 @@ vec4 trace_cone(vec3 p, vec3 n, vec3 direction, float tan_half_angle, float max_
             float alpha = min(coverage, 1.0 - gathered.a);
             vec3 radiance = s.rgb / s.a;
             if (emitted && voxel_emitters) {
-                vec4 e = textureLod(voxel_cone_emission, uvw, mip - 1.0);  // it holds levels 1 and up
+                vec3 e_uvw = stacked_uvw(uvw, 0, 0, 1, float(voxel_grid >> int(ceil(mip))));
+                vec4 e = textureLod(voxel_cone_emission, e_uvw, mip - 1.0);  // it holds levels 1 and up
                 if (e.a > 0.0) radiance += e.rgb / e.a;
             }
             gathered.rgb += alpha * radiance;

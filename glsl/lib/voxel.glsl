@@ -1,20 +1,47 @@
-// The voxel grid: a cube of side voxel_region_size at voxel_region_min, split into voxel_grid^3.
+// The voxel grid: voxel_levels levels of voxel_grid^3 voxels, level k a cube at
+// level_region_min[k] of voxels level_voxel_size[k] wide (a single grid is one level; a
+// clipmap's levels nest, each twice as coarse as the one inside it). The levels are stacked
+// along z in voxel space: voxel (x, y, z) of level k is v = (x, y, z + k N), so that lists,
+// records and cells address every level alike.
 #include "engine_constants.glsl"
-uniform vec3 voxel_region_min;
-uniform float voxel_region_size;
-uniform int voxel_grid;       // N voxels per side
-uniform float voxel_size;     // voxel_region_size / N
+uniform int voxel_grid;       // N voxels per side of a level
+uniform int voxel_levels;     // L levels, 1..MAX_VOXEL_LEVELS
+uniform vec3 level_region_min[MAX_VOXEL_LEVELS];
+uniform float level_voxel_size[MAX_VOXEL_LEVELS];
+uniform float voxel_size;     // the finest level's voxel size: the unit of the cones' footprints
 uniform bool voxel_emitters;  // whether any surface emits (the emission volume and the emitters' light are built)
 uniform bool voxel_sky;       // whether the scene has an environment (the sky's light is built)
 
-// World position -> texture coordinates in [0,1]^3 (voxel i covers [i, i+1) / N).
-vec3 voxel_uvw(vec3 p) {
-    return (p - voxel_region_min) / voxel_region_size;
+// The level voxel v belongs to.
+int voxel_level(ivec3 v) {
+    return v.z / voxel_grid;
+}
+
+// Voxel v of the stack from its coordinates `local` within level `level`.
+ivec3 level_voxel(ivec3 local, int level) {
+    return ivec3(local.xy, local.z + level * voxel_grid);
+}
+
+// Whether v lies in the stack of levels.
+bool inside_levels(ivec3 v) {
+    return all(greaterThanEqual(v, ivec3(0))) && all(lessThan(v, ivec3(voxel_grid, voxel_grid, voxel_levels * voxel_grid)));
+}
+
+// World position -> texture coordinates in [0,1]^3 of a level's cube (voxel i covers
+// [i, i+1) / N).
+vec3 level_uvw(vec3 p, int level) {
+    return (p - level_region_min[level]) / (level_voxel_size[level] * float(voxel_grid));
+}
+
+// The side of voxel v.
+float voxel_extent(ivec3 v) {
+    return level_voxel_size[voxel_level(v)];
 }
 
 // Centre of voxel v in world space.
 vec3 voxel_center(ivec3 v) {
-    return voxel_region_min + (vec3(v) + 0.5) * voxel_size;
+    int level = voxel_level(v);
+    return level_region_min[level] + (vec3(v.xy, v.z - level * voxel_grid) + 0.5) * level_voxel_size[level];
 }
 
 // Corner k (0..7, x fastest) of a cube of 2 x 2 x 2 cells: the children of a mip cell, or the
@@ -23,8 +50,9 @@ ivec3 corner_offset(int k) {
     return ivec3(k & 1, (k >> 1) & 1, k >> 2);
 }
 
-// The 8 voxels a trilinear lookup at uvw reads: voxel k is first + corner_offset(k), and t the
-// fraction of the way from first's centre to the next voxel's along each axis.
+// The 8 voxels a trilinear lookup at uvw (within a level: level_uvw) reads: voxel k is
+// first + corner_offset(k) in the level's own coordinates, and t the fraction of the way from
+// first's centre to the next voxel's along each axis.
 struct TrilinearVoxels {
     ivec3 first;
     vec3 t;
@@ -44,12 +72,13 @@ float trilinear_weight(TrilinearVoxels lookup, int k) {
     return share.x * share.y * share.z;
 }
 
-// Index of cell c of a grid `side` cells wide in a buffer of one entry per cell (x fastest).
+// Index of cell c of the stack of levels at a mip level whose levels are `side` cells wide, in a
+// buffer of one entry per cell of every level (x fastest, so level after level).
 uint grid_index(ivec3 c, int side) {
     return uint(c.x) + uint(side) * (uint(c.y) + uint(side) * uint(c.z));
 }
 
-// Index of voxel v in the channel-major per-voxel buffers.
+// Index of voxel v in the per-voxel buffers (the records' index).
 uint voxel_index(ivec3 v) {
     return grid_index(v, voxel_grid);
 }
@@ -57,10 +86,19 @@ uint voxel_index(ivec3 v) {
 // Cones read VOXEL_FACES one-sided views of the radiance, one per face direction (+x, -x, +y,
 // -y, +z, -z): view f holds the surfaces that face along f, i.e. those a cone travelling
 // against f can see. Surfaces are one-sided (they face into the room, or out of a solid).
-// The views are stacked along z in one volume: at a mip level whose grid is `side` cells
-// wide, cell v of view f is texel (v.x, v.y, v.z + f side).
+// The views are stacked along z in one volume, each a stack of the levels: at a mip level whose
+// levels are `side` cells wide, cell v of view f is texel (v.x, v.y, v.z + f L side).
 ivec3 face_texel(ivec3 v, int face, int side) {
-    return ivec3(v.xy, v.z + face * side);
+    return ivec3(v.xy, v.z + face * voxel_levels * side);
+}
+
+// Texture coordinates in a volume of `slabs` stacks of the levels along z (the face views:
+// VOXEL_FACES; the emission volume: 1) of a lookup at uvw within level `level`'s cube in slab
+// `slab`, at a mip level whose levels are `side` texels wide: the depth coordinate is clamped to
+// the level's own texels, so a lookup filters within its view and level.
+vec3 stacked_uvw(vec3 uvw, int level, int slab, int slabs, float side) {
+    float w = clamp(uvw.z, 0.5 / side, 1.0 - 0.5 / side);
+    return vec3(uvw.xy, (float(slab * voxel_levels + level) + w) / float(slabs * voxel_levels));
 }
 
 // The axis along which v is longest (the first of equals).
@@ -97,7 +135,8 @@ float face_coverage(vec3 mean_normal, int face) {
     return coherence * projected + (1.0 - coherence);
 }
 
-// Voxel coordinates packed into one uint for the voxel lists (N <= 2^VOXEL_PACK_BITS).
+// Voxel coordinates packed into one uint for the voxel lists (N <= 2^VOXEL_PACK_BITS; z, which
+// spans the levels, takes the remaining bits).
 uint pack_voxel(ivec3 v) {
     return uint(v.x) | (uint(v.y) << VOXEL_PACK_BITS) | (uint(v.z) << (2 * VOXEL_PACK_BITS));
 }

@@ -9,8 +9,22 @@ layout(std430, binding = SSBO_VOXEL_RECORD) buffer VoxelRecord { uint voxel_reco
 
 // The record of voxel v, or NO_RECORD where no surface covers it (or v lies outside the grid).
 uint voxel_record(ivec3 v) {
-    if (any(lessThan(v, ivec3(0))) || any(greaterThanEqual(v, ivec3(voxel_grid)))) return NO_RECORD;
+    if (!inside_levels(v)) return NO_RECORD;
     return voxel_records[voxel_index(v)] - 1u;
+}
+
+// The record of the voxel at `local` within level `level`, or NO_RECORD where no surface covers
+// it or it lies outside the level's cube.
+uint level_record(ivec3 local, int level) {
+    if (any(lessThan(local, ivec3(0))) || any(greaterThanEqual(local, ivec3(voxel_grid)))) return NO_RECORD;
+    return voxel_records[voxel_index(level_voxel(local, level))] - 1u;
+}
+
+// The record of u, a neighbour of voxel v, or NO_RECORD where no surface covers it or it lies
+// in another level (outside v's cube).
+uint neighbour_record(ivec3 v, ivec3 u) {
+    if (u.z < 0 || voxel_level(u) != voxel_level(v)) return NO_RECORD;
+    return voxel_record(u);
 }
 
 vec4 unpack_value(uvec2 halves) {

@@ -22,6 +22,6 @@ VoxelSurface voxel_surface(ivec3 v, uint record) {
     s.emission = emission.rgb;
     float length_n = length(s.mean_normal);
     // Surface point = centre + n * mean(dot(p_i - centre, n_i)): the centre projected onto a plane.
-    s.position = voxel_center(v) + (length_n > 0.0 ? s.mean_normal / length_n * emission.a * voxel_size : vec3(0.0));
+    s.position = voxel_center(v) + (length_n > 0.0 ? s.mean_normal / length_n * emission.a * voxel_extent(v) : vec3(0.0));
     return s;
 }

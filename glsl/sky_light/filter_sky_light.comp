@@ -27,7 +27,7 @@ void main() {
         for (int dy = -SKY_FILTER_RADIUS; dy <= SKY_FILTER_RADIUS; ++dy)
         for (int dx = -SKY_FILTER_RADIUS; dx <= SKY_FILTER_RADIUS; ++dx) {
             ivec3 u = v + ivec3(dx, dy, dz);
-            uint neighbour = voxel_record(u);
+            uint neighbour = neighbour_record(v, u);
             if (neighbour == NO_RECORD) continue;  // no surface
             vec4 traced = unpack_value(sky_traced[neighbour]);
             if (traced.a <= 0.0) continue;  // not lit by the sky: a surface that reflects nothing

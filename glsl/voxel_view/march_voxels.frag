@@ -9,25 +9,27 @@
 layout(binding = TEX_VOXEL_INSPECT) uniform sampler3D volume;
 uniform int show;
 uniform float mip;
+uniform int shown_level;  // the level of the grid shown
 uniform vec2 viewport_size;
 layout(location = 0) out vec4 out_value;
 
 void main() {
     vec3 origin, direction;
     camera_ray(gl_FragCoord.xy / viewport_size * 2.0 - 1.0, origin, direction);
-    // Clip the ray to the region's box.
-    vec3 box_min = voxel_region_min, box_max = voxel_region_min + voxel_region_size;
+    // Clip the ray to the level's cube.
+    float cell = level_voxel_size[shown_level] * exp2(mip);
+    vec3 box_min = level_region_min[shown_level], box_max = box_min + level_voxel_size[shown_level] * float(voxel_grid);
     vec3 t0 = (box_min - origin) / direction, t1 = (box_max - origin) / direction;
     float t_enter = max(max(min(t0.x, t1.x), min(t0.y, t1.y)), max(min(t0.z, t1.z), 0.0));
     float t_exit = min(min(max(t0.x, t1.x), max(t0.y, t1.y)), max(t0.z, t1.z));
-    float cell = voxel_size * exp2(mip);
     float step_length = 0.25 * cell;
     vec4 sum = vec4(0.0);
     for (float t = t_enter; t < t_exit && sum.a < 0.99; t += step_length) {
-        vec3 uvw = voxel_uvw(origin + direction * t);
+        vec3 uvw = level_uvw(origin + direction * t, shown_level);
         // Nearest-texel lookup shows the voxels as blocks.
-        vec3 texel = (floor(uvw * float(textureSize(volume, int(mip)).x)) + 0.5) / float(textureSize(volume, int(mip)).x);
-        vec4 s = textureLod(volume, texel, mip);
+        float side = float(textureSize(volume, int(mip)).x);
+        vec3 texel = (floor(uvw * side) + 0.5) / side;
+        vec4 s = textureLod(volume, stacked_uvw(texel, shown_level, 0, 1, side), mip);
         if (s.a <= 0.0) continue;
         vec3 value = s.rgb / s.a;
         if (show == SHOW_NORMAL) value = 0.5 * normalize(value) + 0.5;

@@ -35,6 +35,7 @@ const vec2 gs_texcoord1 = vec2(0.0);
 #endif
 flat in vec4 gs_pixel_bounds;
 uniform int stage;
+uniform int voxelize_level;  // the level drawn into
 
 // The offset of a surface along its normal from the voxel centre, in voxels, as an ordered key.
 uint layer_key(float offset) {
@@ -64,8 +65,9 @@ void main() {
     // Dilation grows the triangle at acute corners; clip it to its own bounding box.
     vec2 pixel = gl_FragCoord.xy;
     if (any(lessThan(pixel, gs_pixel_bounds.xy)) || any(greaterThan(pixel, gs_pixel_bounds.zw))) discard;
-    ivec3 voxel = ivec3(floor(voxel_uvw(gs_position) * float(voxel_grid)));
-    if (any(lessThan(voxel, ivec3(0))) || any(greaterThanEqual(voxel, ivec3(voxel_grid)))) discard;
+    ivec3 local = ivec3(floor(level_uvw(gs_position, voxelize_level) * float(voxel_grid)));
+    if (any(lessThan(local, ivec3(0))) || any(greaterThanEqual(local, ivec3(voxel_grid)))) discard;
+    ivec3 voxel = level_voxel(local, voxelize_level);
     if (stage == VOXELIZE_MARK) {
         touch_voxel(voxel);
         return;
@@ -73,7 +75,7 @@ void main() {
     int slot = sum_slot(voxel);
     if (slot < 0) discard;
     vec3 n = normalize(gs_normal);
-    float offset = dot(gs_position - voxel_center(voxel), n) / voxel_size;  // in [-0.87, 0.87]
+    float offset = dot(gs_position - voxel_center(voxel), n) / voxel_extent(voxel);  // in [-0.87, 0.87]
     uint key = key_entry(slot, facing_face(n));
     if (stage == VOXELIZE_FRONT) {
         atomicMax(front_keys[key], layer_key(offset));

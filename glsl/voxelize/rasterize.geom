@@ -1,6 +1,6 @@
 #version 450 core
 // Voxelization, geometry stage: project each triangle along its dominant normal axis onto an
-// N x N viewport and dilate it by half a pixel (conservative rasterization, OpenGL Insights
+// N x N viewport over the cube of level `voxelize_level` (one draw per level) and dilate it by half a pixel (conservative rasterization, OpenGL Insights
 // ch. 22) so thin and grazing triangles leave no holes; attributes are extrapolated with the
 // barycentric coordinates of the dilated corners.
 #include "lib/voxel.glsl"
@@ -20,6 +20,7 @@ out vec3 gs_color;
 out vec2 gs_texcoord1;
 #endif
 flat out vec4 gs_pixel_bounds;  // the undilated triangle's bounding box in pixels, grown by half a pixel
+uniform int voxelize_level;     // the level drawn into
 
 // Voxel-space coordinates swizzled so the dominant axis becomes depth.
 vec3 project(vec3 uvw, int axis) {
@@ -36,7 +37,7 @@ void main() {
     vec2 corner[3];
     float depth[3];
     for (int i = 0; i < 3; ++i) {
-        vec3 q = project(voxel_uvw(vs_position[i]), axis);
+        vec3 q = project(level_uvw(vs_position[i], voxelize_level), axis);
         corner[i] = q.xy * 2.0 - 1.0;   // NDC
         depth[i] = q.z * 2.0 - 1.0;
     }
