@@ -159,7 +159,8 @@ def benchmark(scene, renderer, settings, grids, frames, warmup, kinds=FRAME_KIND
                       "height": renderer.size[1], **time_frames(scene, renderer, s, kind, frames, warmup)}
             settle(scene, renderer, s)  # back to the settled scene for the next kind
             voxel_bytes = renderer.voxel_memory_bytes() if uses_voxels else 0
-            record.update(voxel_bytes=voxel_bytes, voxel_bytes_per_voxel=voxel_bytes / renderer.grid.voxel_count if uses_voxels else 0.0,
+            record.update(levels=renderer.grid.levels if uses_voxels else None, voxel_count=renderer.grid.voxel_count if uses_voxels else 0,
+                          voxel_bytes=voxel_bytes, voxel_bytes_per_voxel=voxel_bytes / renderer.grid.voxel_count if uses_voxels else 0.0,
                           texture_bytes=renderer.geometry.textures.memory_bytes(), peak_rss_mb=peak_rss_mb())
             rows.append(record)
         if reference is not None and uses_voxels:  # the accuracy of this grid, converged within one frame
@@ -176,7 +177,8 @@ def format_table(rows):
     header = ["grid", "frame"] + names + ["total", "voxel B/voxel"] + (["relMAE", "lum ratio"] if has_error else [])
     lines = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
     for r in rows:
-        cells = [f"{r['grid']}^3" if r["grid"] else "-", r["frame"]]
+        levels = f" x {r['levels']}" if r["grid"] and r["levels"] > 1 else ""
+        cells = [f"{r['grid']}^3{levels}" if r["grid"] else "-", r["frame"]]
         cells += [f"{r['passes'][n]:.1f}" if n in r["passes"] else "-" for n in names] + [f"**{r['total_ms']:.1f}**"]
         cells += [f"{r['voxel_bytes_per_voxel']:.0f} ({r['voxel_bytes'] / 2 ** 20:.0f} MiB)" if r["grid"] else "-"]
         if has_error:

@@ -86,7 +86,7 @@ class Draw:
 
 
 class FrameInputs:
-    """A snapshot of the scene for one frame: draws, world-space lights, bounds, voxel region."""
+    """A snapshot of the scene for one frame: draws, world-space lights, bounds, voxel region or clipmap."""
 
     def __init__(self, scene, bounds_cache):
         self.draws = []
@@ -107,6 +107,7 @@ class FrameInputs:
         else:
             self.bounds = (np.zeros(3), np.zeros(3))
         self.region = scene.region(self.bounds)
+        self.clipmap = scene.clipmap
 
     def emissive_draws(self):
         """The draws whose material emits light."""

@@ -15,6 +15,7 @@ import time
 import warnings
 from pathlib import Path
 
+from .constants import MAX_VOXEL_LEVELS
 from .errors import VctError, VctWarning, one_line
 from .settings import MAX_BOUNCES, MAX_EXPOSURE, MODES, TONEMAPS, RenderSettings
 
@@ -85,6 +86,10 @@ def _add_settings_arguments(parser, default_mode="gi"):
                              "direct; indirect (diffuse); specular; ao; albedo/normal/depth (G-buffer); "
                              "voxels/voxel-normals/voxel-albedo (the voxel grid at --mip)")
     parser.add_argument("--grid", type=int, default=d.grid, help=f"voxels per side: 16, 32, 64, 128 or 256 (default {d.grid})")
+    parser.add_argument("--clipmap", type=_whole_number(0, MAX_VOXEL_LEVELS), default=d.clipmap_levels, metavar="LEVELS",
+                        help="voxelize into this many levels of --grid^3 centred on the camera, each twice as large as "
+                             "the one inside it, the coarsest twice the scene's size (instead of the scene file's "
+                             f"voxel_region; at most {MAX_VOXEL_LEVELS}; default 0: one grid over the scene)")
     parser.add_argument("--bounces", type=_nonnegative_int, default=d.bounces,
                         help=f"diffuse bounces: 1 = direct + one indirect bounce, K = K bounces (at most {MAX_BOUNCES}), "
                              "0 = iterate until converged, which also stops after at most "
@@ -94,6 +99,8 @@ def _add_settings_arguments(parser, default_mode="gi"):
                              "(and takes a moved light's direct light), the others keep theirs "
                              f"(default {d.bounce_interleave}; 1 = all)")
     parser.add_argument("--mip", type=_nonnegative_int, default=d.voxel_mip, help="mip level for the voxel views (default 0)")
+    parser.add_argument("--level", type=_nonnegative_int, default=d.voxel_level,
+                        help="clipmap level for the voxel views (default 0, the finest)")
     parser.add_argument("--cone-step", type=_finite_float, default=d.cone_step,
                         help=f"cone march step as a fraction of the cone diameter (default {d.cone_step})")
     parser.add_argument("--cone-offset", type=_finite_float, default=d.cone_offset,
@@ -114,8 +121,8 @@ def _add_settings_arguments(parser, default_mode="gi"):
 
 
 def settings_from_args(args):
-    return RenderSettings(mode=args.mode, grid=args.grid, bounces=args.bounces, bounce_interleave=args.bounce_interleave,
-                          voxel_mip=args.mip,
+    return RenderSettings(mode=args.mode, grid=args.grid, clipmap_levels=args.clipmap, bounces=args.bounces,
+                          bounce_interleave=args.bounce_interleave, voxel_mip=args.mip, voxel_level=args.level,
                           cone_step=args.cone_step, cone_offset=args.cone_offset, ao_distance=args.ao_distance,
                           direct=not args.no_direct, indirect_diffuse=not args.no_diffuse,
                           indirect_specular=not args.no_specular, exposure=args.exposure,

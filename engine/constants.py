@@ -150,6 +150,9 @@ GRID_SIZES = (16, 32, 64, 128, 256)
 # A grid holds 1..MAX_VOXEL_LEVELS levels of N^3 (a clipmap's nested cubes; lib/voxel.glsl),
 # stacked along z in voxel space: L N <= 4096 fits the packed z (VOXEL_PACK_BITS).
 MAX_VOXEL_LEVELS = 10
+# Lookups within this many voxels of a level's border (past the lookup's own reach) blend into
+# the next coarser level, so a clipmap's level borders draw no seams (lib/voxel.glsl level_share).
+LEVEL_BLEND_VOXELS = 4.0
 
 # Compute shader local sizes: passes over a list of voxels, and over a whole volume.
 LIST_GROUP = 64
@@ -313,6 +316,7 @@ def glsl_header():
         f"#define VOLUME_GROUP {VOLUME_GROUP}",
         f"#define MAX_INTERLEAVE {MAX_INTERLEAVE}",
         f"#define MAX_VOXEL_LEVELS {MAX_VOXEL_LEVELS}",
+        f"#define LEVEL_BLEND_VOXELS {LEVEL_BLEND_VOXELS:.1f}",
         f"#define CLASS_BLOCK {CLASS_BLOCK}",
         f"#define CLASS_FACINGS {CLASS_FACINGS}",
         f"#define CLASS_PARTS {CLASS_PARTS}",

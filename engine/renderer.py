@@ -19,6 +19,7 @@ import numpy as np
 from . import transforms
 from . import bounces
 from .changes import BoundsCache, FrameInputs, Stage, voxel_update
+from .clipmap import frame_levels
 from .emitters import frame_emitters
 from .errors import VctError
 from .gl import create_headless_context
@@ -271,7 +272,7 @@ class Renderer:
         environment = self._environment(frame)
         if not s.shown.uses_voxels(emitters.count > 0 or frame.environment is not None):
             return direct
-        self._voxels(frame, s, scene.source, emitters)
+        self._voxels(frame, s, scene.source, emitters, camera)
         for stage in self.grid.hold_light_arrays(emitters=emitters.count > 0, sky=environment.environment is not None):
             self.stages[stage].forget()
         work = WorkResources(shadow_maps, emitters, environment, s.cone_uniforms())
@@ -284,10 +285,17 @@ class Renderer:
             self._bounces(s, work)
         if s.shown.stage == "voxel_view":
             with self.timed("voxel_view"):
-                return self.voxel_view.render(self.grid, s.mode, s.voxel_mip, camera)
+                return self.voxel_view.render(self.grid, s.mode, s.voxel_mip, self._shown_level(s), camera)
         with self.timed("cone_trace"):
             return self.cone_trace.render(gbuffer, direct, self.grid, self._gathered(), emitters,
                                           environment, s.cone_uniforms(), camera, s.image_terms(), s.ao_distance)
+
+    def _shown_level(self, s):
+        """The level the voxel views show; VctError where the grid has no such level."""
+        if s.voxel_level >= self.grid.levels:
+            raise VctError(f"must be in 0..{self.grid.levels - 1} for {self.grid.levels} voxel level(s), got {s.voxel_level}",
+                           field="level")
+        return s.voxel_level
 
     def _shadows(self, frame, source):
         """Shadow maps: the tiles of the lights that changed, or of the views that see a
@@ -348,17 +356,19 @@ class Renderer:
             stage.ran(inputs)
         return self.environment
 
-    def _voxels(self, frame, s, source, emitters):
+    def _voxels(self, frame, s, source, emitters, camera):
         """Voxelize what changed: the draws whose mesh, transform or material differ from the
-        ones the grid holds (all of them on a new grid); where surfaces emit, the emission
-        volume's mip chain follows."""
+        ones the grid holds (all of them on a new grid, or where the levels moved with the
+        camera); where surfaces emit, the emission volume's mip chain follows."""
         stage = self.stages["voxels"]
-        if self.grid.ensure(s.grid, (frame.region,), source):
+        n, regions = frame_levels(frame, s, camera.position)
+        field = "voxel_region.clipmap" if frame.clipmap is not None and not s.clipmap_levels else "grid"
+        if self.grid.ensure(n, regions, source, field):
             stage.forget()
         if self.grid.hold_cone_emission(emitters.count > 0):  # the first emitter of a grid holding voxels
             with self.timed("voxelize"):
                 self.voxelize.fill_cone_emission(self.grid)
-        inputs = dict(grid=s.grid, region=_bytes((frame.region.center, frame.region.size)), draws=tuple(frame.draws))
+        inputs = dict(grid=n, regions=_bytes([value for r in regions for value in (r.center, r.size)]), draws=tuple(frame.draws))
         if stage.changed(inputs, self.track_changes):
             held = stage.last("draws") if self.track_changes else None
             update = voxel_update(held, frame.draws)

@@ -240,8 +240,19 @@ class Node:
 
 @dataclass
 class VoxelRegion:
+    """The cube one voxel grid spans."""
     center: np.ndarray
     size: float
+
+
+@dataclass(frozen=True)
+class Clipmap:
+    """Voxel levels around the camera for scenes larger than one grid: `levels` cubes of
+    `resolution`^3 voxels, level k's voxels 2^k `voxel_size` wide, each twice as large as the
+    one inside it (engine/clipmap.py places them)."""
+    levels: int
+    resolution: int
+    voxel_size: float
 
 
 @dataclass(eq=False)
@@ -277,6 +288,7 @@ class Scene:
     camera: Camera
     materials: dict = field(default_factory=dict)  # a scene file's materials by name
     voxel_region: VoxelRegion = None  # None: derived from the geometry's bounds
+    clipmap: Clipmap = None           # levels around the camera instead of one grid over voxel_region
     environment: Environment = None   # None: black beyond the scene
     source: str = None
     files: tuple = ()  # every file the scene was read from (resolved paths): outputs must not overwrite one

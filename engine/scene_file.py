@@ -19,7 +19,7 @@ from .errors import SceneError, warn
 from .input_files import InputFiles, os_problem, read_radiance_map
 from .limits import MATERIAL_RANGES, MAX_DEPTH, MAX_SCENE_BYTES, check_material, check_placement
 from .mesh_files import load_mesh_file
-from .scene import Camera, Environment, Light, Material, Node, Scene, VoxelRegion, box_mesh, quad_mesh, sphere_mesh
+from .scene import Camera, Clipmap, Environment, Light, Material, Node, Scene, VoxelRegion, box_mesh, quad_mesh, sphere_mesh
 
 GLTF_SUFFIXES = (".gltf", ".glb")
 # The image of a camera that a glTF file gives no size: this wide, its aspect ratio the
@@ -159,14 +159,26 @@ class _SceneFile:
         for key in ("objects", "lights"):
             for i, spec in enumerate(data.get(key, [])):
                 root.children.append(self.node(spec, f"{key}[{i}]", np.eye(4), 1))
-        region = None
-        if "voxel_region" in data:
-            region = VoxelRegion(np.array(data["voxel_region"]["center"], float), float(data["voxel_region"]["size"]))
+        region, clipmap = self.voxel_region(data["voxel_region"]) if "voxel_region" in data else (None, None)
         environment = self.environment(data["environment"]) if "environment" in data else None
-        scene = Scene(name=name, root=root, camera=None, materials=self.materials, voxel_region=region,
+        scene = Scene(name=name, root=root, camera=None, materials=self.materials, voxel_region=region, clipmap=clipmap,
                       environment=environment, source=str(self.path), files=tuple(self.inputs.paths))
         scene.camera = self.camera(data["camera"]) if "camera" in data else self.file_camera(scene)
         return scene
+
+    def voxel_region(self, spec):
+        """(VoxelRegion or None, Clipmap or None) of a `voxel_region`: a grid's cube (center and
+        size) or a clipmap, not both."""
+        if "clipmap" in spec:
+            other = next((key for key in ("center", "size") if key in spec), None)
+            if other is not None:
+                self.fail(f"voxel_region.{other}", f"a clipmap is centred on the camera: give {other} or clipmap, not both")
+            c = spec["clipmap"]
+            return None, Clipmap(int(c["levels"]), int(c["resolution"]), float(c["voxel_size"]))
+        for key in ("center", "size"):
+            if key not in spec:
+                self.fail(f"voxel_region.{key}", "missing (a grid's cube takes center and size)")
+        return VoxelRegion(np.array(spec["center"], float), float(spec["size"])), None
 
     def gltf_scene(self):
         """A glTF/GLB file as a whole scene: its nodes, cameras and lights, under a root node

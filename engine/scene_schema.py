@@ -14,6 +14,7 @@ import json
 
 import jsonschema
 
+from .constants import GRID_SIZES, MAX_VOXEL_LEVELS
 from .errors import SceneError
 from .limits import MAX_EMISSION, MAX_MAGNITUDE, MIN_FOV_DEG, MIN_SCALE
 
@@ -77,10 +78,19 @@ ENVIRONMENT = _object("The light from beyond the scene: a uniform sky, or an equ
     "scale": _number("multiplies the radiance or the map", 0.0, MAX_EMISSION, default=1.0),
     "rotation_y_deg": _number("turns the sky about +y, degrees (right-handed)", default=0.0),
 })
-VOXEL_REGION = _object("The cube the voxel grid spans (default: the scene's bounds padded by 5 %)", {
-    "center": _vector(f"its centre, {POSITION}"),
-    "size": _number("its side, metres", MIN_SCALE),
-}, required=("center", "size"))
+CLIPMAP = _object("Voxel levels centred on the camera, for scenes larger than one grid: level k a cube of "
+                  "resolution^3 voxels 2^k voxel_size wide (engine/clipmap.py)", {
+    "levels": {"type": "integer", "description": "how many levels, each twice as large as the one inside it",
+               "minimum": 1, "maximum": MAX_VOXEL_LEVELS},
+    "resolution": {"enum": list(GRID_SIZES), "description": "voxels per side of each level"},
+    "voxel_size": _number("the finest level's voxel side, metres", positive=True),
+}, required=("levels", "resolution", "voxel_size"))
+VOXEL_REGION = _object("Where the voxels lie: the cube one grid spans (center and size; default: the scene's bounds "
+                       "padded by 5 %), or a clipmap", {
+    "center": _vector(f"the grid's centre, {POSITION}"),
+    "size": _number("the grid's side, metres", MIN_SCALE),
+    "clipmap": {"$ref": "#/$defs/clipmap", "description": "levels around the camera instead of one grid"},
+})
 
 NODE_FIELDS = {
     "name": {"type": "string", "description": "the node's name in the scene graph"},
@@ -148,7 +158,8 @@ SCHEMA = {
         "voxel_region": {"$ref": "#/$defs/voxel_region"},
         "environment": {"$ref": "#/$defs/environment"},
     }),
-    "$defs": {"camera": CAMERA, "material": MATERIAL, "voxel_region": VOXEL_REGION, "environment": ENVIRONMENT,
+    "$defs": {"camera": CAMERA, "material": MATERIAL, "voxel_region": VOXEL_REGION, "clipmap": CLIPMAP,
+              "environment": ENVIRONMENT,
               "node": _node(GEOMETRY_TYPES + LIGHT_TYPES), "light": _node(LIGHT_TYPES)},
 }
 _VALIDATOR = jsonschema.Draft202012Validator(SCHEMA)
@@ -253,7 +264,7 @@ def reference_text():
              "one; the loader checks what a schema cannot say (materials named but not defined, degenerate",
              "quads, world transforms: engine/scene_file.py).", ""]
     lines += _reference_table("The scene file", SCHEMA["properties"], SCHEMA.get("required", ()))
-    for name in ("camera", "material", "environment", "voxel_region"):
+    for name in ("camera", "material", "environment", "voxel_region", "clipmap"):
         definition = SCHEMA["$defs"][name]
         lines += _reference_table(f"`{name}`: {definition['description']}", definition["properties"],
                                   definition.get("required", ()))

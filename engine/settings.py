@@ -3,7 +3,7 @@ import math
 import numbers
 from dataclasses import dataclass, fields
 
-from .constants import GRID_SIZES, MAX_INTERLEAVE, MAX_SHADOW_VIEWS
+from .constants import GRID_SIZES, MAX_INTERLEAVE, MAX_SHADOW_VIEWS, MAX_VOXEL_LEVELS
 from .errors import VctError
 
 # Most diffuse bounces one change of the scene costs (converging, bounces 0, stops after as many).
@@ -75,9 +75,11 @@ TYPE_NAMES = {str: "a string", bool: "True or False", int: "a whole number (int)
 class RenderSettings:
     mode: str = "gi"
     grid: int = 128                 # voxels per side, a power of two in 16..256
+    clipmap_levels: int = 0         # > 0: that many levels of grid^3 around the camera (engine/clipmap.py)
     bounces: int = 0                # diffuse bounces through the voxels; 0 = iterate to convergence
     bounce_interleave: int = 4      # progressive (viewer), bounces 0: 1 in K voxels is updated each frame
     voxel_mip: int = 0              # mip level shown by the voxel views
+    voxel_level: int = 0            # the clipmap level the voxel views show
     cone_step: float = 0.5          # march step as a fraction of the cone diameter
     cone_offset: float = 1.0        # cone start offset along the normal, in voxels
     ao_distance: float = 1.0        # AO cones stop after this distance (world units)
@@ -101,6 +103,11 @@ class RenderSettings:
             raise VctError(f'unknown mode "{self.mode}" (expected one of {", ".join(MODES)})', field="mode")
         if self.grid not in GRID_SIZES:
             raise VctError(f"grid must be a power of two from 16 to 256, got {self.grid}", field="grid")
+        if not 0 <= self.clipmap_levels <= MAX_VOXEL_LEVELS:
+            raise VctError(f"must be 0 (one grid) or a level count up to {MAX_VOXEL_LEVELS}, got {self.clipmap_levels}",
+                           field="clipmap")
+        if not 0 <= self.voxel_level < MAX_VOXEL_LEVELS:
+            raise VctError(f"must be in 0..{MAX_VOXEL_LEVELS - 1}, got {self.voxel_level}", field="level")
         if not 0 <= self.bounces <= MAX_BOUNCES:
             raise VctError(f"must be 0 (converge) or a count up to {MAX_BOUNCES}, got {self.bounces}", field="bounces")
         if not 1 <= self.bounce_interleave <= MAX_INTERLEAVE:

@@ -96,17 +96,21 @@ def list_room(needed, n, levels):
     return min(-(-int(needed * LIST_HEADROOM) // LIST_GROUP) * LIST_GROUP, levels * n ** 3)
 
 
-def check_grid(ctx, n, levels=1, source=None):
-    """Refuse a grid size before anything is allocated."""
+def check_grid(ctx, n, levels=1, source=None, field="grid"):
+    """Refuse a grid of `levels` levels of n^3 before anything is allocated (VctError naming
+    `field`)."""
+    name = f"grid {n}" + (f" x {levels} levels" if levels > 1 else "")
     if n not in GRID_SIZES:
-        raise VctError(f"grid must be a power of two from {GRID_SIZES[0]} to {GRID_SIZES[-1]}, got {n}", source=source, field="grid")
+        raise VctError(f"grid must be a power of two from {GRID_SIZES[0]} to {GRID_SIZES[-1]}, got {n}", source=source, field=field)
     max_size = ctx.info.get("GL_MAX_3D_TEXTURE_SIZE", 2048)
-    if n > max_size:
-        raise VctError(f"grid {n} exceeds GL_MAX_3D_TEXTURE_SIZE {max_size}", source=source, field="grid")
+    depth = VOXEL_FACES * levels * n // 2  # the face views' level 1, stacked along z
+    if max(n, depth) > max_size:
+        raise VctError(f"{name} needs 3D textures {max(n, depth)} texels deep, over the driver's "
+                       f"GL_MAX_3D_TEXTURE_SIZE {max_size}", source=source, field=field)
     need = voxel_memory_bytes(n, levels)
     if need > VOXEL_MEMORY_BUDGET:
-        raise VctError(f"grid {n}{f' x {levels} levels' if levels > 1 else ''} needs {need / 2**30:.1f} GiB of voxel memory, over the budget of "
-                       f"{VOXEL_MEMORY_BUDGET / 2**30:.1f} GiB", source=source, field="grid")
+        raise VctError(f"{name} needs {need / 2**30:.1f} GiB of voxel memory, over the budget of "
+                       f"{VOXEL_MEMORY_BUDGET / 2**30:.1f} GiB", source=source, field=field)
 
 
 class VoxelGrid:
@@ -131,14 +135,17 @@ class VoxelGrid:
 
     # -- allocation ----------------------------------------------------------------------
 
-    def ensure(self, n, regions, source=None):
-        """Hold an empty grid of n^3 voxels per level over `regions` (a cube per level, finest
-        first) unless it already does; True when (re)made."""
+    def ensure(self, n, regions, source=None, field="grid"):
+        """Hold a grid of n^3 voxels per level over `regions` (a cube per level, finest first):
+        an empty one where it holds another size or level count, the same one moved where only
+        the regions differ. True when made or moved (its voxels are to be voxelized anew)."""
         regions = tuple(regions)
-        if n == self.n and len(regions) == self.levels and all(map(_same_region, regions, self.regions)):
-            return False
+        if n == self.n and len(regions) == self.levels:
+            moved = not all(map(_same_region, regions, self.regions))
+            self.regions = regions
+            return moved
         levels = len(regions)
-        check_grid(self.ctx, n, levels, source)
+        check_grid(self.ctx, n, levels, source, field)
         room = new_grid_room(n, levels)
         if self.n:  # the room the last grid grew to, scaled to the new size: surfaces cover n^2
             room = min(max(room, self.list_room * n * n * levels // (self.n * self.n * self.levels)), levels * n ** 3)

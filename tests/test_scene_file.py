@@ -473,7 +473,7 @@ def test_the_published_schema_is_the_one_the_loader_checks():
 def test_the_format_reference_is_generated_from_the_schema_and_names_every_field():
     reference = (ROOT / "docs" / "SCENE_FORMAT.md").read_text()
     assert reference == reference_text()
-    for definition in ("camera", "material", "environment", "voxel_region"):
+    for definition in ("camera", "material", "environment", "voxel_region", "clipmap"):
         for field in SCHEMA["$defs"][definition]["properties"]:
             assert f"| `{field}`" in reference, (definition, field)
     assert "| `roughness` | number | 0..1 | `1.0` |" in reference

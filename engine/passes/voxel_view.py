@@ -1,5 +1,5 @@
-"""Voxel views: the grid ray-marched from the camera at one mip level, as blocks: the base
-radiance (emission + injected direct light), the mean normals or the albedo."""
+"""Voxel views: one level of the grid ray-marched from the camera at one mip level, as blocks:
+the base radiance (emission + injected direct light), the mean normals or the albedo."""
 from ..constants import SHADER_ENUMS, TEXTURE_UNIT
 from .target import ScreenTarget
 
@@ -22,10 +22,10 @@ class VoxelViewPass:
     def resize(self, size):
         self.target.resize(size)
 
-    def render(self, grid, view, mip, camera):
+    def render(self, grid, view, mip, level, camera):
         volume = grid.dense(shown_values(grid, view))  # an inspection volume, with its hardware mip chain
         volume.use(TEXTURE_UNIT["VOXEL_INSPECT"])
-        self.program.set(**grid.uniforms(), **camera.uniforms(), show=SHOW[view], mip=float(mip),
+        self.program.set(**grid.uniforms(), **camera.uniforms(), show=SHOW[view], mip=float(mip), shown_level=level,
                          viewport_size=tuple(float(x) for x in self.target.size))
         self.target.draw(self.program)
         return self.target

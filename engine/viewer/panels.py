@@ -6,7 +6,7 @@ rectangle of the layout (engine.viewer.layout), fixed there; what does not fit s
 """
 from imgui_bundle import imgui
 
-from ..constants import GRID_SIZES, MAX_INTERLEAVE
+from ..constants import GRID_SIZES, MAX_INTERLEAVE, MAX_VOXEL_LEVELS
 from ..settings import MODES, TONEMAPS
 from . import inspector
 from .layout import MARGIN
@@ -37,7 +37,7 @@ def overlay_lines(frames, process, renderer, vsync):
     lines = [(f"FPS {frames.fps:6.1f}  SPF {frames.ms_per_frame:7.1f} ms", False),
              (f"CPU {cpu:>5} %  RAM {process.ram_mb:7.0f} MB", False),
              (f"{voxel_memory_line(renderer)}  textures {renderer.geometry.textures.memory_bytes() / 2 ** 20:.0f} MB", False),
-             (f"{renderer.size[0]}x{renderer.size[1]} {s.mode} grid {s.grid}{' vsync' if vsync else ''}", True)]
+             (f"{renderer.size[0]}x{renderer.size[1]} {s.mode} {grid_line(renderer)}{' vsync' if vsync else ''}", True)]
     if renderer.timings:
         lines.append(None)
         lines += [(f"{name:<16}{ms:8.1f} ms", False) for name, ms in renderer.timings.items()]
@@ -47,6 +47,14 @@ def overlay_lines(frames, process, renderer, vsync):
         state = "settled" if renderer.schedule.settled else "converging"
         lines.append((f"bounces {state} ({renderer.bounce_iterations} so far)", True))
     return lines
+
+
+def grid_line(renderer):
+    """The voxel grid the last frame used: `grid N`, or `clipmap L x N^3` for a clipmap."""
+    grid = renderer.grid
+    if grid.levels > 1:
+        return f"clipmap {grid.levels} x {grid.n}^3"
+    return f"grid {grid.n or renderer.frame_settings.grid}"
 
 
 def voxel_memory_line(renderer):
@@ -194,8 +202,9 @@ def _light(scene, node):
 
 # ---- renderer -------------------------------------------------------------------------------
 
-def draw_renderer_panel(settings, rect, message=None):
-    """Render settings; returns the changed RenderSettings (not yet validated) or None."""
+def draw_renderer_panel(settings, rect, levels, message=None):
+    """Render settings (`levels`: how many voxel levels the last frame's grid held); returns the
+    changed RenderSettings (not yet validated) or None."""
     _dock(rect)
     changes = {}
     if imgui.begin("Renderer", None, DOCKED)[0]:
@@ -205,9 +214,18 @@ def draw_renderer_panel(settings, rect, message=None):
             changed, mip = imgui.slider_int("Mip level", settings.voxel_mip, 0, settings.grid.bit_length() - 1)
             if changed:
                 changes["voxel_mip"] = mip
+            if levels > 1:
+                changed, level = imgui.slider_int("Voxel level", min(settings.voxel_level, levels - 1), 0, levels - 1)
+                if changed:
+                    changes["voxel_level"] = level
         grid = _combo("Grid", settings.grid, GRID_SIZES, changes, "grid")
         if grid is not None:
             changes["voxel_mip"] = min(settings.voxel_mip, grid.bit_length() - 1)
+        changed, clipmap = imgui.slider_int("Clipmap levels", settings.clipmap_levels, 0, MAX_VOXEL_LEVELS,
+                                            "one grid" if settings.clipmap_levels == 0 else "%d")
+        if changed:
+            changes["clipmap_levels"] = clipmap
+            changes["voxel_level"] = min(settings.voxel_level, max(clipmap - 1, 0))
         changed, bounces = imgui.slider_int("Bounces", settings.bounces, 0, 8,
                                             "converge" if settings.bounces == 0 else "%d")
         if changed:

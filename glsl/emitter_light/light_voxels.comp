@@ -16,25 +16,27 @@ layout(local_size_x = LIST_GROUP) in;
 layout(std430, binding = SSBO_VOXEL_EMITTER_IRRADIANCE) writeonly buffer VoxelEmitterIrradiance { uvec2 emitter_irradiance_out[]; };
 #include "lib/voxel_list.glsl"
 
-// Fraction of a patch p sees, from one cone towards the patch's centre as wide as its sphere.
+// Fraction of a patch p (in a voxel of `level`) sees, from one cone towards the patch's centre
+// as wide as its sphere.
 // The cone stops before its lookups reach the patch's plane, behind which its own voxels and
 // the surface it may lie on are. A trilinear lookup at level m weighs the cells whose centres
 // lie within one cell (d/2 = t tan a wide, lib/cone.glsl) of the sample, and a cell's content
 // reaches half a cell past its centre: 1.5 t tan a in all. At height h(t) = h0 - t c over the
 // plane (c = cosine between the cone and the plane's normal), the cone reads up to
-//   h(t) - 1.5 t tan a = depth + voxel.
+//   h(t) - 1.5 t tan a = depth + voxel   (voxel: the side of p's voxels)
 // It reads the nearest mip level: blending two levels cost twice the time for the same
 // shadows (a lamp under the ceiling 0.0040 blended, 0.0029 nearest; a glowing box 0.0104 both).
-float patch_visibility(vec3 p, vec3 n, EmitterPatch e) {
+float patch_visibility(vec3 p, vec3 n, int level, EmitterPatch e) {
     vec3 to_patch = e.sphere.xyz - p;
     float d = length(to_patch);
     vec3 w = to_patch / max(d, 1e-6);
     float tan_half_angle = clamp(e.sphere.w / max(d, 1e-6), 0.0, 1.0);
     float c = max(dot(w, -e.plane.xyz), 0.0);
-    float reach = (d * c - e.plane.w - voxel_size) / (c + 1.5 * tan_half_angle);
-    if (reach <= voxel_size) return 1.0;
+    float voxel = level_voxel_size[level];
+    float reach = (d * c - e.plane.w - voxel) / (c + 1.5 * tan_half_angle);
+    if (reach <= voxel) return 1.0;
     bool wide = tan_half_angle > sqrt(0.5);  // wider than 35.3 degrees
-    return 1.0 - min(trace_cone(p, n, w, tan_half_angle, reach, wide, false, false, 0.0, true, 1.0, 1.0).a, 1.0);
+    return 1.0 - min(trace_cone(p, n, level, w, tan_half_angle, reach, wide, false, false, 0.0, true, 1.0, 1.0).a, 1.0);
 }
 
 void main() {
@@ -50,7 +52,7 @@ void main() {
             vec3 irradiance = patch_irradiance(s.position, n, e);
             if (any(greaterThan(irradiance, vec3(0.0)))) {
                 unshadowed += irradiance;
-                shadowed += irradiance * patch_visibility(s.position, n, e);
+                shadowed += irradiance * patch_visibility(s.position, n, voxel_level(v), e);
             }
         }
     }

@@ -32,7 +32,8 @@ void main() {
     int facing = int(anchors >> ANCHOR_FACING_SHIFT);
     int class_index = voxel_class(v, facing, interleave);
     int part = anchor ? 0 : 1;
-    uint block_index = uint((class_index * CLASS_PARTS + part) * blocks * blocks * blocks + block.x + blocks * (block.y + blocks * block.z));
+    uint block_index = uint((class_index * CLASS_PARTS + part) * voxel_levels * blocks * blocks * blocks + block.x
+                            + blocks * (block.y + blocks * block.z));
     uint bucket = block_index * uint(CLASS_FACINGS) + uint(facing);
     if (scatter) {
         class_list[atomicAdd(buckets[bucket], 1u)] = pack_voxel(v);

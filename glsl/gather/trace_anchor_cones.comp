@@ -18,5 +18,5 @@ void main() {
     ivec3 v = unpack_voxel(class_list[segment_first() + gl_GlobalInvocationID.x]);
     uint record = voxel_record(v);
     VoxelSurface s = voxel_surface(v, record);
-    gathered_out[record] = pack_value(vec4(trace_diffuse(s.position, normalize(s.mean_normal), 1e9).rgb, 1.0));
+    gathered_out[record] = pack_value(vec4(trace_diffuse(s.position, normalize(s.mean_normal), voxel_level(v), 1e9).rgb, 1.0));
 }

@@ -13,7 +13,7 @@ layout(binding = TEX_VOXEL_FACES) uniform sampler3D voxel_faces;      // the fac
 layout(binding = TEX_VOXEL_CONE_EMISSION) uniform sampler3D voxel_cone_emission;
 uniform float cone_step;      // step length as a fraction of the cone diameter
 uniform float cone_offset;    // start offset along the surface normal, in voxels
-uniform float voxel_max_mip;  // log2(N): the 1^3 level
+uniform float voxel_max_mip;  // log2(N): a level's 1^3 mip
 
 // Orthonormal basis whose third column is n.
 mat3 tangent_frame(vec3 n) {
@@ -131,9 +131,36 @@ vec4 sample_faces(vec3 uvw, int level, float mip, FaceWeights f, bool wide) {
     return sum;
 }
 
+// A cone's lookup at p in level `level` for lookups at mip `mip` (in the finest level's voxels;
+// level k reads its own mip - k, which is 1..2 where the level matches the footprint), a step of
+// `step_length` on (trace_cone): the radiance it meets (rgb, emission added where `emitted`) and
+// the covered fraction of the step's cross-section (a).
+vec4 level_lookup(vec3 p, int level, float mip, FaceWeights weights, bool wide, bool blend_levels, bool emitted,
+                  float step_length, float opacity_scale) {
+    float local_mip = clamp(mip - float(level), 0.0, voxel_max_mip);
+    if (!blend_levels) local_mip = round(local_mip);
+    vec3 uvw = level_uvw(p, level);
+    vec4 s = sample_faces(uvw, level, local_mip, weights, wide);
+    if (s.a <= 0.0) return vec4(0.0);
+    // c = min(1, a 2^mip) over cells 2^mip of the level's voxels (trace_cone)
+    float cell = exp2(local_mip) * level_voxel_size[level];
+    float coverage = opacity_scale * min(1.0, s.a * exp2(local_mip)) * step_length / cell;
+    vec3 radiance = s.rgb / s.a;
+    if (emitted && voxel_emitters) {
+        vec3 e_uvw = stacked_uvw(uvw, level, 0, 1, float(voxel_grid >> int(ceil(local_mip))));
+        vec4 e = textureLod(voxel_cone_emission, e_uvw, local_mip - 1.0);  // it holds mips 1 and up
+        if (e.a > 0.0) radiance += e.rgb / e.a;
+    }
+    return vec4(radiance, coverage);
+}
+
 // Radiance (rgb) and opacity (a) gathered along a cone from surface point p with normal n
-// (`wide`: a half-angle over 35.3 degrees), starting one voxel out along the normal and along
-// the cone, one sample per step. `blend_levels`: read the two mip levels around the footprint
+// whose voxels are `start_level`'s (`wide`: a half-angle over 35.3 degrees), starting one of
+// its voxels out along the normal and along the cone, one sample per step. Each lookup reads the
+// level whose voxels are half its cells (the levels take the place of the single grid's mips
+// past the finest; at least start_level, the finest holding the lookup: holding_level), blended
+// into the next coarser one near the level's border (level_share). `blend_levels`: read the two
+// mip levels around the footprint
 // blended (at the faces it looks into: sample_faces), or the nearest one. The diffuse cones
 // blend: at the nearest level the reading jumps where the distance to a surface crosses from
 // one level to the next, which draws bands on the receivers. The specular cones read the
@@ -147,50 +174,54 @@ vec4 sample_faces(vec3 uvw, int level, float mip, FaceWeights f, bool wide) {
 // below counts the step's length). `min_diameter`: the narrowest
 // lookups, in voxels (1, or SPECULAR_CONE_MIN_DIAMETER for the specular cones).
 // `opacity_scale` k: how many times a cell's coverage counts (1, or SPECULAR_CONE_OPACITY).
+// With voxel the start level's voxel side and v0 the finest level's:
 //   D = max(min_diameter voxel, 2 tan(a/2) t)    the cone's diameter at distance t, at least
 //                                                the narrowest lookup's
 //   d = max(min_diameter voxel, D 2^-level_offset)   the lookups' diameter (narrowed)
-//   mip = log2(d / voxel) - 1                    a trilinear lookup averages over a tent two
+//   mip = log2(d / v0) - 1                       a trilinear lookup averages over a tent two
 //                                                cells wide, so cells of d/2 span d
 //   c = min(1, a 2^mip)                          a mip cell 2^mip voxels wide with mean coverage
 //                                                a holds a 2^mip voxel layers of surface across
 //                                                the cone: a plane stays opaque at every level
-//   alpha += min(k c step / (2^mip voxel), 1 - alpha)  the covered fraction of a step through
+//   alpha += min(k c step / (2^mip v0), 1 - alpha)  the covered fraction of a step through
 //                                                cells 2^mip voxels wide, front to back, which
 //                                                makes the result independent of the step
 //   t += step = cone_step * (narrow_steps ? d : D)
-vec4 trace_cone(vec3 p, vec3 n, vec3 direction, float tan_half_angle, float max_distance, bool wide,
+vec4 trace_cone(vec3 p, vec3 n, int start_level, vec3 direction, float tan_half_angle, float max_distance, bool wide,
                 bool blend_levels, bool emitted, float level_offset, bool narrow_steps, float min_diameter,
                 float opacity_scale) {
-    vec3 start = p + n * (cone_offset * voxel_size);
+    float unit = level_voxel_size[start_level];
+    vec3 start = p + n * (cone_offset * unit);
     vec4 gathered = vec4(0.0);
     float spread = tan_half_angle / sqrt(1.0 + tan_half_angle * tan_half_angle);  // sin(half-angle)
     FaceWeights weights = face_weights(direction, spread);
-    float t = voxel_size;  // start one voxel out along the cone
+    float t = unit;  // start one voxel out along the cone
     float narrowing = exp2(-level_offset);
+    float top_mip = voxel_max_mip + float(voxel_levels - 1);  // the coarsest level's 1^3
     while (gathered.a < 1.0 && t < max_distance) {
-        float cone_diameter = max(min_diameter * voxel_size, 2.0 * tan_half_angle * t);
-        float diameter = max(min_diameter * voxel_size, narrowing * cone_diameter);
-        float mip = min(max(log2(diameter / voxel_size) - 1.0, 0.0), voxel_max_mip);  // 1^3 spans the region
-        if (!blend_levels) mip = round(mip);
-        vec3 uvw = level_uvw(start + direction * t, 0);
-        // Stop half a cell past [0,1]^3: the lookups clamp to the outer cells, which hold the
-        // surfaces at the region's edge once; further out they would repeat them.
-        float footprint = 0.25 * diameter / (voxel_size * float(voxel_grid));
-        if (any(lessThan(uvw, vec3(-footprint))) || any(greaterThan(uvw, vec3(1.0 + footprint)))) break;
-        vec4 s = sample_faces(uvw, 0, mip, weights, wide);
+        float cone_diameter = max(min_diameter * unit, 2.0 * tan_half_angle * t);
+        float diameter = max(min_diameter * unit, narrowing * cone_diameter);
+        float mip = min(max(log2(diameter / voxel_size) - 1.0, 0.0), top_mip);
+        vec3 q = start + direction * t;
+        // A lookup reaches half a cell (d/4) past its point: cells whose centres lie within a
+        // cell of it, half a cell wide each side.
+        float reach = 0.25 * diameter;
+        int level = holding_level(q, clamp(int(mip) - 1, start_level, voxel_levels - 1), reach, 0.0);
+        // Stop half a cell past the coarsest level: the lookups clamp to the outer cells, which
+        // hold the surfaces at its edge once; further out they would repeat them.
+        if (level_depth(q, level) < -level_reach(level, reach, 0.0)) break;
         float step_length = cone_step * (narrow_steps ? diameter : cone_diameter);
+        vec4 s = level_lookup(q, level, mip, weights, wide, blend_levels, emitted, step_length, opacity_scale);
+        float share = level_share(q, level, level_reach(level, reach, 0.0));
+        if (share < 1.0) {  // near the level's border: blend into the next coarser one, premultiplied
+            vec4 coarser = level_lookup(q, level + 1, mip, weights, wide, blend_levels, emitted, step_length, opacity_scale);
+            float coverage = mix(coarser.a, s.a, share);
+            s = vec4(coverage > 0.0 ? mix(coarser.rgb * coarser.a, s.rgb * s.a, share) / coverage : vec3(0.0), coverage);
+        }
         if (s.a > 0.0) {
             // Covered fraction of the cross-section added by this step, front to back.
-            float coverage = opacity_scale * min(1.0, s.a * exp2(mip)) * step_length / (exp2(mip) * voxel_size);
-            float alpha = min(coverage, 1.0 - gathered.a);
-            vec3 radiance = s.rgb / s.a;
-            if (emitted && voxel_emitters) {
-                vec3 e_uvw = stacked_uvw(uvw, 0, 0, 1, float(voxel_grid >> int(ceil(mip))));
-                vec4 e = textureLod(voxel_cone_emission, e_uvw, mip - 1.0);  // it holds levels 1 and up
-                if (e.a > 0.0) radiance += e.rgb / e.a;
-            }
-            gathered.rgb += alpha * radiance;
+            float alpha = min(s.a, 1.0 - gathered.a);
+            gathered.rgb += alpha * s.rgb;
             gathered.a += alpha;
         }
         t += step_length;
@@ -198,15 +229,15 @@ vec4 trace_cone(vec3 p, vec3 n, vec3 direction, float tan_half_angle, float max_
     return gathered;
 }
 
-// Diffuse gather with the lecture's 6 cones, read 0.4 levels finer than their footprints
-// (DIFFUSE_CONE_LEVEL_OFFSET): returns sum_j w_j Lv(p, w_j) (rgb) and the cosine-weighted
+// Diffuse gather with the lecture's 6 cones from p in start_level, read 0.4 levels finer than
+// their footprints (DIFFUSE_CONE_LEVEL_OFFSET): returns sum_j w_j Lv(p, w_j) (rgb) and the cosine-weighted
 // occlusion sum_j w_j a_j (a).
-vec4 trace_diffuse(vec3 p, vec3 n, float max_distance) {
+vec4 trace_diffuse(vec3 p, vec3 n, int start_level, float max_distance) {
     mat3 frame = tangent_frame(n);
     float tan_half = tan(DIFFUSE_CONE_HALF_ANGLE);
     vec4 sum = vec4(0.0);
     for (int j = 0; j < DIFFUSE_CONE_COUNT; ++j) {
-        vec4 cone = trace_cone(p, n, frame * DIFFUSE_CONE_DIRECTIONS[j], tan_half, max_distance, false, true, false, DIFFUSE_CONE_LEVEL_OFFSET, false, 1.0, 1.0);
+        vec4 cone = trace_cone(p, n, start_level, frame * DIFFUSE_CONE_DIRECTIONS[j], tan_half, max_distance, false, true, false, DIFFUSE_CONE_LEVEL_OFFSET, false, 1.0, 1.0);
         sum += DIFFUSE_CONE_WEIGHTS[j] * cone;
     }
     return sum;

@@ -33,6 +33,42 @@ vec3 level_uvw(vec3 p, int level) {
     return (p - level_region_min[level]) / (level_voxel_size[level] * float(voxel_grid));
 }
 
+// How deep p lies inside level `level`'s cube, in the level's voxels (negative outside).
+float level_depth(vec3 p, int level) {
+    vec3 uvw = level_uvw(p, level);
+    vec3 inside = min(uvw, 1.0 - uvw) * float(voxel_grid);
+    return min(min(inside.x, inside.y), inside.z);
+}
+
+// How far a lookup at some level reaches from its point, in that level's voxels: `distance`
+// (world) plus `voxels` of the level.
+float level_reach(int level, float distance, float voxels) {
+    return distance / level_voxel_size[level] + voxels;
+}
+
+// The finest level from `first` up whose cube holds a lookup at p that reaches `distance` plus
+// `voxels` of the level's own (level_reach), else the coarsest. Levels nest: the finer ones
+// hold less.
+int holding_level(vec3 p, int first, float distance, float voxels) {
+    int level = first;
+    while (level < voxel_levels - 1 && level_depth(p, level) < level_reach(level, distance, voxels)) ++level;
+    return level;
+}
+
+// The share a lookup at p reaching `reach` voxels of level `level` takes from that level; the
+// next coarser level takes the rest. It falls from 1 to 0 over the LEVEL_BLEND_VOXELS before the
+// lookup would reach past the border (the coarsest level takes all: nothing lies beyond it).
+float level_share(vec3 p, int level, float reach) {
+    if (level == voxel_levels - 1) return 1.0;
+    return clamp((level_depth(p, level) - reach) / LEVEL_BLEND_VOXELS, 0.0, 1.0);
+}
+
+// The finest level that holds a surface point p with the 8 voxels around it (its voxels'
+// light is read there and its cones start there).
+int surface_level(vec3 p) {
+    return holding_level(p, 0, 0.0, 1.0);
+}
+
 // The side of voxel v.
 float voxel_extent(ivec3 v) {
     return level_voxel_size[voxel_level(v)];

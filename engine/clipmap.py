@@ -1,0 +1,45 @@
+"""Where a frame's voxel levels lie: one grid over the scene's voxel region, or a clipmap's
+levels centred on the camera (GL-free).
+
+Level k of a clipmap is a cube of N^3 voxels 2^k v0 wide, its corner on a lattice of
+LEVEL_SNAP_VOXELS of its own voxels: a level moves in whole steps of that lattice as the camera
+moves, and the cells of level k's mip 2 (4 of its voxels) fall on those of level k+1's mip 1,
+so a cone passing from one level to the next reads the same cells at the same size."""
+import numpy as np
+
+from .scene import Clipmap, VoxelRegion
+
+# A level's corner lies on multiples of this many of its voxels.
+LEVEL_SNAP_VOXELS = 4
+
+
+def default_clipmap(levels, resolution, region):
+    """`levels` levels of resolution^3 whose coarsest spans twice the scene's voxel region, so it
+    reaches the far side of the scene from a camera anywhere inside it."""
+    return Clipmap(levels, resolution, 2.0 * float(region.size) / (resolution * 2 ** (levels - 1)))
+
+
+def level_regions(clipmap, eye):
+    """The cube of each level, finest first, centred on `eye` as nearly as its lattice allows."""
+    regions = []
+    for level in range(clipmap.levels):
+        voxel = clipmap.voxel_size * 2.0 ** level
+        side = clipmap.resolution * voxel
+        step = LEVEL_SNAP_VOXELS * voxel
+        corner = np.floor((np.asarray(eye, float) - side / 2.0) / step + 0.5) * step
+        regions.append(VoxelRegion(corner + side / 2.0, side))
+    return tuple(regions)
+
+
+def frame_levels(frame, settings, eye):
+    """(N, the regions of the levels, finest first) of a frame: a clipmap of settings.clipmap_levels
+    levels of settings.grid^3 over the scene (default_clipmap), else the scene's clipmap, else one
+    grid of settings.grid^3 over the scene's voxel region."""
+    if settings.clipmap_levels:
+        clipmap = default_clipmap(settings.clipmap_levels, settings.grid, frame.region)
+    elif frame.clipmap is not None:
+        clipmap = frame.clipmap
+    else:
+        return settings.grid, (frame.region,)
+    return clipmap.resolution, level_regions(clipmap, eye)
+

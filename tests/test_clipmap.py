@@ -1,0 +1,163 @@
+"""Clipmaps: voxel levels centred on the camera for scenes larger than one grid. Each level is
+a cube of N^3 voxels twice as large as the one inside it, on a lattice of its own voxels; cones
+read the level whose voxels match their footprint and blend across the levels' borders; the
+levels follow the camera; bad clipmaps are refused naming the field."""
+import json
+
+import numpy as np
+import pytest
+
+import engine
+from engine.clipmap import LEVEL_SNAP_VOXELS, default_clipmap, level_regions
+from engine.errors import SceneError
+from engine.scene import Clipmap, VoxelRegion
+from conftest import REFERENCE, SCENES, reference_file, rel_mae
+from test_cli import assert_one_line_error, vct
+
+
+def test_each_level_doubles_the_voxels_of_the_one_inside_it_and_holds_the_camera():
+    clipmap = Clipmap(levels=5, resolution=32, voxel_size=0.04)
+    eye = np.array([3.17, 1.52, -8.9])
+    regions = level_regions(clipmap, eye)
+    assert len(regions) == 5
+    for k, region in enumerate(regions):
+        voxel = 0.04 * 2 ** k
+        assert region.size == pytest.approx(32 * voxel)
+        corner = np.asarray(region.center) - region.size / 2
+        lattice = corner / (LEVEL_SNAP_VOXELS * voxel)
+        np.testing.assert_allclose(lattice, np.round(lattice), atol=1e-9)  # on the level's own lattice
+        assert np.all(np.abs(eye - region.center) <= LEVEL_SNAP_VOXELS * voxel / 2 + 1e-9)  # centred on the camera
+        if k:
+            inner = regions[k - 1]
+            assert np.all(np.abs(np.asarray(inner.center) - region.center) + inner.size / 2 <= region.size / 2)  # nested
+
+
+def test_a_level_moves_only_when_the_camera_leaves_its_lattice_step():
+    clipmap = Clipmap(levels=3, resolution=32, voxel_size=0.1)
+    eye = np.array([0.05, 0.0, 0.0])
+    before = level_regions(clipmap, eye)
+    nudged = level_regions(clipmap, eye + [0.1, 0, 0])   # a quarter of level 0's step of 4 voxels
+    moved = level_regions(clipmap, eye + [0.4, 0, 0])    # a whole step of level 0
+    assert all(np.array_equal(a.center, b.center) for a, b in zip(before, nudged))
+    assert moved[0].center[0] == pytest.approx(before[0].center[0] + 0.4)
+
+
+def test_the_default_clipmaps_coarsest_level_spans_twice_the_scene():
+    clipmap = default_clipmap(4, 64, VoxelRegion(np.zeros(3), 10.0))
+    assert clipmap.voxel_size * 2 ** 3 * 64 == pytest.approx(20.0)
+
+
+def clipmap_file(tmp_path, clipmap, base="cornell_box.json", **extra):
+    data = json.loads((SCENES / base).read_text())
+    data["voxel_region"] = dict({"clipmap": clipmap}, **extra)
+    path = tmp_path / "clipmap.json"
+    path.write_text(json.dumps(data))
+    return path
+
+
+def test_a_scene_file_clipmap_is_read_into_the_scene(tmp_path):
+    scene = engine.load_scene(clipmap_file(tmp_path, {"levels": 3, "resolution": 32, "voxel_size": 0.05}))
+    assert scene.clipmap == Clipmap(3, 32, 0.05) and scene.voxel_region is None
+
+
+@pytest.mark.parametrize("clipmap, extra, field, mention", [
+    ({"levels": 0, "resolution": 32, "voxel_size": 0.05}, {}, "voxel_region.clipmap.levels", "at least 1"),
+    ({"levels": 11, "resolution": 32, "voxel_size": 0.05}, {}, "voxel_region.clipmap.levels", "at most 10"),
+    ({"levels": 3, "resolution": 48, "voxel_size": 0.05}, {}, "voxel_region.clipmap.resolution", "16, 32, 64, 128, 256"),
+    ({"levels": 3, "resolution": 32, "voxel_size": 0}, {}, "voxel_region.clipmap.voxel_size", "positive"),
+    ({"levels": 3, "resolution": 32, "voxel_size": -1}, {}, "voxel_region.clipmap.voxel_size", "positive"),
+    ({"levels": 3, "resolution": 32}, {}, "voxel_region.clipmap.voxel_size", "missing"),
+    ({"levels": 3, "resolution": 32, "voxel_size": 0.05, "centre": [0, 0, 0]}, {}, "voxel_region.clipmap", "unknown field"),
+    ({"levels": 3, "resolution": 32, "voxel_size": 0.05}, {"size": 2.0}, "voxel_region.size", "not both"),
+], ids=["levels-0", "levels-11", "resolution-48", "voxel-size-0", "voxel-size-negative", "no-voxel-size", "misspelled",
+        "clipmap-and-size"])
+def test_a_bad_clipmap_is_refused_naming_the_file_and_the_field(tmp_path, clipmap, extra, field, mention):
+    path = clipmap_file(tmp_path, clipmap, **extra)
+    with pytest.raises(SceneError) as info:
+        engine.load_scene(path)
+    message = str(info.value)
+    assert str(path) in message and field in message and mention in message, message
+
+
+def test_a_non_finite_voxel_size_is_refused(tmp_path):
+    path = clipmap_file(tmp_path, {"levels": 3, "resolution": 32, "voxel_size": 0.05})
+    path.write_text(path.read_text().replace('"voxel_size": 0.05', '"voxel_size": Infinity'))
+    result = vct("render", path, "--out", tmp_path / "out.png")
+    assert_one_line_error(result, path, "voxel_region.clipmap.voxel_size", "Infinity")
+    assert not (tmp_path / "out.png").exists()
+
+
+def test_a_clipmap_the_driver_cannot_hold_is_refused_before_anything_is_written(tmp_path):
+    path = clipmap_file(tmp_path, {"levels": 10, "resolution": 256, "voxel_size": 0.05})
+    result = vct("render", path, "--out", tmp_path / "out.png")
+    assert_one_line_error(result, path, "voxel_region.clipmap", "10 levels")
+    assert not (tmp_path / "out.png").exists()
+
+
+def test_clipmap_option_out_of_range_is_refused(tmp_path):
+    result = vct("render", SCENES / "cornell_box.json", "--clipmap", "11", "--out", tmp_path / "out.png")
+    assert_one_line_error(result, "--clipmap", "at most 10")
+
+
+@pytest.fixture(scope="module")
+def small():
+    with engine.Renderer(64, 64) as r:
+        yield r
+
+
+def test_a_clipmap_lights_the_cornell_box_as_the_path_tracer_does(renderer, cornell):
+    """Two levels of 64^3: the finest holds the camera's half of the box in the voxels of a 64^3
+    grid over it, the next the rest in voxels twice as wide. Within 0.07 of Mitsuba (relative
+    mean absolute error; the 64^3 grid: 0.064) and 3 % of its brightness."""
+    reference = np.load(reference_file(REFERENCE / "cornell_box_gi.npy"))
+    cornell.clipmap = Clipmap(levels=2, resolution=64, voxel_size=2.1 / 64)
+    image = renderer.render(cornell, mode="gi")
+    assert renderer.grid.levels == 2 and renderer.grid.voxel_count == 2 * 64 ** 3
+    assert rel_mae(image, reference) < 0.07
+    assert image.mean() / reference.mean() == pytest.approx(1.0, abs=0.03)
+
+
+def test_a_plane_under_a_uniform_sky_is_lit_alike_across_the_levels_borders(small, tmp_path):
+    """An open floor sees the whole sky: L = rho L_sky = 1 wherever it is, whichever level's
+    voxels its pixels and its sky cones read (three levels of 16^3, whose borders lie 0.8, 1.6
+    and 3.2 m from the camera, all in view)."""
+    floor = {"name": "Floor", "type": "quad", "material": "m", "vertices": [[-20, 0, 20], [20, 0, 20], [20, 0, -20], [-20, 0, -20]]}
+    path = tmp_path / "floor.json"
+    path.write_text(json.dumps({
+        "camera": {"position": [0, 0.5, 0], "look_at": [0, 0, -1.5], "vertical_fov_deg": 90, "width": 64, "height": 64},
+        "materials": {"m": {"albedo": [0.5, 0.5, 0.5]}}, "objects": [floor], "environment": {"radiance": [2, 2, 2]},
+        "voxel_region": {"clipmap": {"levels": 3, "resolution": 16, "voxel_size": 0.1}}}))
+    image = small.render(engine.load_scene(path), mode="gi")
+    lit = image[40:, :].mean(axis=-1)  # the floor, from below the horizon to the camera's feet
+    assert lit.mean() == pytest.approx(1.0, abs=0.04)
+    assert np.abs(lit - 1.0).max() < 0.08
+    assert np.abs(np.diff(lit, axis=0)).max() < 0.03  # no seam between rows
+
+
+def test_after_the_camera_moves_the_image_is_the_one_a_new_renderer_makes_there(small, cornell):
+    cornell.clipmap = Clipmap(levels=2, resolution=32, voxel_size=0.05)
+    small.render(cornell, mode="gi")
+    cornell.camera.position = cornell.camera.position + np.array([0.3, -0.2, -0.9])
+    moved = small.render(cornell, mode="gi")
+    with engine.Renderer(64, 64) as fresh:
+        expected = fresh.render(cornell, mode="gi")
+    assert np.abs(moved - expected).mean() < 0.005 * expected.mean()
+
+
+def test_the_voxel_views_show_one_level_at_a_time(small, cornell):
+    """From the camera at the box's open side, level 0 (1.6 m across) holds only the walls'
+    front parts and level 1 (3.2 m) most of the box: each view shows its own level's voxels, with
+    their albedo; a level the grid does not hold is refused naming the setting."""
+    cornell.clipmap = Clipmap(levels=2, resolution=32, voxel_size=0.05)
+    views = [small.render(cornell, mode="voxel-albedo", voxel_level=level) for level in (0, 1)]
+    shown = [view.max(axis=-1) > 0 for view in views]
+    assert 0 < shown[0].mean() < 0.2 < shown[1].mean()
+    assert all(0.6 < view[mask].max() <= 0.8 for view, mask in zip(views, shown))  # white walls: 0.73
+    with pytest.raises(engine.VctError, match="level"):
+        small.render(cornell, mode="voxel-albedo", voxel_level=2)
+
+
+def test_the_clipmap_option_places_levels_of_the_grid_size_around_the_camera(small, cornell):
+    small.render(cornell, mode="voxels", grid=32, clipmap_levels=4)
+    assert small.grid.levels == 4 and small.grid.n == 32
+    assert small.grid.level_voxel_size(3) == pytest.approx(8 * small.grid.level_voxel_size(0))
