@@ -76,7 +76,7 @@ def voxel_memory_bytes(n, levels=1):
     room = new_grid_room(n, levels)
     listed = 4 * 9 * room                                     # touched x2 and their records x2, covered x2, stale, classes, anchors
     records = (VALUE_BYTES * len(RECORD_ARRAYS) + 4) * room   # the arrays and the pool
-    sums = 4 * (len(VOXEL_SUM_CHANNELS) + VOXEL_FACES) * sum_room(n)  # and the front-layer keys
+    sums = 4 * (len(VOXEL_SUM_CHANNELS) + VOXEL_FACES) * sum_room(n, levels)  # and the front-layer keys
     return int(voxels * (per_voxel + volumes + lists) + listed + records + sums)
 
 
@@ -85,9 +85,10 @@ def new_grid_room(n, levels):
     return levels * min(NEW_GRID_ROOM * n * n, n ** 3)
 
 
-def sum_room(n):
-    """The voxels of the touched list the voxelizer's sums of an n^3 grid hold at once."""
-    return min(SUM_ROOM * n * n, n ** 3)
+def sum_room(n, levels):
+    """The voxels of the touched list the voxelizer's sums of a grid of `levels` levels of n^3
+    hold at once: surfaces cover n^2 voxels of each level."""
+    return levels * min(SUM_ROOM * n * n, n ** 3)
 
 
 def list_room(needed, n, levels):

@@ -257,7 +257,7 @@ def test_voxels_summed_in_chunks_are_the_voxels_summed_at_once(monkeypatch):
     32^3 touches more than two chunks' worth. Summed chunk after chunk, or all at once with
     room enough, the grid and the image are the same bits."""
     scene = shelved(engine.load_scene(SCENES / "cornell_box.json"), np.linspace(-0.9, 0.9, 15))
-    chunk = voxel_grid.sum_room(32)
+    chunk = voxel_grid.sum_room(32, 1)
     results = []
     for room in (voxel_grid.SUM_ROOM, 32):
         monkeypatch.setattr(voxel_grid, "SUM_ROOM", room)
@@ -267,7 +267,7 @@ def test_voxels_summed_in_chunks_are_the_voxels_summed_at_once(monkeypatch):
                 touched = r.grid.touched.read_count()
             results.append(([r.voxels(name).tobytes() for name in ("radiance", "normal", "albedo")], image, touched))
     (chunked, chunked_image, touched), (whole, whole_image, _) = results
-    assert touched > 2 * chunk and voxel_grid.sum_room(32) == 32 ** 3
+    assert touched > 2 * chunk and voxel_grid.sum_room(32, 1) == 32 ** 3
     assert chunked == whole and np.array_equal(chunked_image, whole_image)
 
 

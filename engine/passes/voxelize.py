@@ -57,15 +57,15 @@ class VoxelizePass:
         each), zero, and zero again after each chunk's resolve (voxelize/resolve_sums.comp);
         and the words of the record index the touched voxels had (lib/voxel_slots.glsl)."""
         n = grid.n
-        if self._scratch.holds((n, grid.touched_room)):
+        if self._scratch.holds((n, grid.levels, grid.touched_room)):
             return
         self._scratch.release()
-        ctx, room = self.ctx, sum_room(n)
+        ctx, room = self.ctx, sum_room(n, grid.levels)
         self.sums = ctx.buffer(data=bytes(4 * len(VOXEL_SUM_CHANNELS) * room))
         self.front_keys = ctx.buffer(data=bytes(4 * VOXEL_FACES * room))
         self.touched_records = ctx.buffer(reserve=4 * grid.touched_room)
         self.framebuffer = ctx.empty_framebuffer((n, n))
-        self._scratch.hold((n, grid.touched_room), [self.sums, self.front_keys, self.touched_records, self.framebuffer])
+        self._scratch.hold((n, grid.levels, grid.touched_room), [self.sums, self.front_keys, self.touched_records, self.framebuffer])
 
     def _bind_scratch(self, grid):
         for name, buffer in (("VOXEL_SUMS", self.sums), ("FRONT_KEYS", self.front_keys), ("TOUCHED_RECORDS", self.touched_records)):
@@ -81,7 +81,7 @@ class VoxelizePass:
         bound = self.room.bound(grid, update, draws)
         # Room enough for certain, nothing read back: a bound within the lists, and one chunk,
         # whose resolve frees records before it takes any (voxelize/resolve_sums.comp).
-        if bound is not None and bound.fits(grid.list_room) and bound.touched <= sum_room(grid.n):
+        if bound is not None and bound.fits(grid.list_room) and bound.touched <= sum_room(grid.n, grid.levels):
             self._apply(grid, update, draws, bound.touched)
             self.room.voxelized(grid, draws)
             return
@@ -114,7 +114,7 @@ class VoxelizePass:
         self._rasterize(grid, marked, "mark", box, 0)
         grid.size_list(grid.touched)
         listed = min(grid.touched.read_count() if touched is None else touched, grid.touched_room)
-        for chunk_first in range(0, max(listed, 1), sum_room(grid.n)):
+        for chunk_first in range(0, max(listed, 1), sum_room(grid.n, grid.levels)):
             self._rasterize(grid, reaching, "front", box, chunk_first)
             self._rasterize(grid, reaching, "add", box, chunk_first)
             self._resolve(grid, chunk_first)
