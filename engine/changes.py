@@ -161,11 +161,13 @@ class BoundsCache:
 @dataclass
 class VoxelUpdate:
     """The draws to take out of the grid (as they were) and to put in (as they are). `full`:
-    rebuild every voxel from `added` (all current draws)."""
+    rebuild every voxel from `added` (all current draws). `levels`: the levels (moved with the
+    camera) whose every voxel is rebuilt from all the draws."""
 
     full: bool
     removed: list
     added: list
+    levels: frozenset = frozenset()
 
     def touched_bounds(self, margin):
         """World box holding every voxel the removed and added draws cover, grown by `margin`."""
@@ -184,11 +186,12 @@ def changed_draws(previous, current, same):
     return removed, added
 
 
-def voxel_update(previous, current):
-    """The update from the draws a grid holds (`previous`, None for an empty grid) to `current`."""
+def voxel_update(previous, current, levels=frozenset()):
+    """The update from the draws a grid holds (`previous`, None for an empty grid) to `current`,
+    with the grid's `levels` moved."""
     if previous is None:
         return VoxelUpdate(True, [], list(current))
-    return VoxelUpdate(False, *changed_draws(previous, current, Draw.__eq__))
+    return VoxelUpdate(False, *changed_draws(previous, current, Draw.__eq__), frozenset(levels))
 
 
 class Stage:

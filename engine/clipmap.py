@@ -43,3 +43,24 @@ def frame_levels(frame, settings, eye):
         return settings.grid, (frame.region,)
     return clipmap.resolution, level_regions(clipmap, eye)
 
+
+
+def same_region(a, b):
+    """Whether two cubes are the same, to the bit."""
+    return float(a.size) == float(b.size) and np.array_equal(np.asarray(a.center, float), np.asarray(b.center, float))
+
+
+def moved_levels(held, regions):
+    """The levels whose cube differs between two placements of the same levels."""
+    return frozenset(level for level, (a, b) in enumerate(zip(held, regions)) if not same_region(a, b))
+
+
+def scrolled_regions(held, target):
+    """The placement a grid whose levels lie at `held` takes on its way to `target`: the finest
+    level that moved goes to its place, the others wait for later frames. A frame voxelizes at
+    most one level anew, as Wicked Engine's clipmaps do."""
+    moved = moved_levels(held, target)
+    if not moved:
+        return tuple(held)
+    finest = min(moved)
+    return tuple(target[level] if level == finest else region for level, region in enumerate(held))

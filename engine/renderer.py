@@ -19,7 +19,7 @@ import numpy as np
 from . import transforms
 from . import bounces
 from .changes import BoundsCache, FrameInputs, Stage, voxel_update
-from .clipmap import frame_levels
+from .clipmap import frame_levels, scrolled_regions
 from .emitters import frame_emitters
 from .errors import VctError
 from .gl import create_headless_context
@@ -358,21 +358,27 @@ class Renderer:
 
     def _voxels(self, frame, s, source, emitters, camera):
         """Voxelize what changed: the draws whose mesh, transform or material differ from the
-        ones the grid holds (all of them on a new grid, or where the levels moved with the
-        camera); where surfaces emit, the emission volume's mip chain follows."""
+        ones the grid holds, and every voxel of the levels that moved with the camera (all of
+        them on a new grid); where surfaces emit, the emission volume's mip chain follows.
+        Progressive frames (the viewer) move one level a frame (clipmap.scrolled_regions)."""
         stage = self.stages["voxels"]
         n, regions = frame_levels(frame, s, camera.position)
         field = "voxel_region.clipmap" if frame.clipmap is not None and not s.clipmap_levels else "grid"
+        held = self.grid.regions
+        if self.progressive and self.grid.n == n and len(held) == len(regions):
+            regions = scrolled_regions(held, regions)
         if self.grid.ensure(n, regions, source, field):
             stage.forget()
         if self.grid.hold_cone_emission(emitters.count > 0):  # the first emitter of a grid holding voxels
             with self.timed("voxelize"):
                 self.voxelize.fill_cone_emission(self.grid)
-        inputs = dict(grid=n, regions=_bytes([value for r in regions for value in (r.center, r.size)]), draws=tuple(frame.draws))
+        placed = tuple(_bytes([region.center, region.size]) for region in regions)
+        inputs = dict(grid=n, regions=placed, draws=tuple(frame.draws))
         if stage.changed(inputs, self.track_changes):
-            held = stage.last("draws") if self.track_changes else None
-            update = voxel_update(held, frame.draws)
-            if update.full or update.removed or update.added:
+            tracked = self.track_changes and stage.inputs is not None
+            moved = {level for level, (a, b) in enumerate(zip(stage.last("regions"), placed)) if a != b} if tracked else ()
+            update = voxel_update(stage.last("draws") if tracked else None, frame.draws, moved)
+            if update.full or update.removed or update.added or update.levels:
                 with self.timed("voxelize"):
                     self.voxelize.update(self.grid, update, frame.draws)
             if emitters.count:

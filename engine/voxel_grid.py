@@ -139,12 +139,11 @@ class VoxelGrid:
     def ensure(self, n, regions, source=None, field="grid"):
         """Hold a grid of n^3 voxels per level over `regions` (a cube per level, finest first):
         an empty one where it holds another size or level count, the same one moved where only
-        the regions differ. True when made or moved (its voxels are to be voxelized anew)."""
+        the regions differ (the levels that moved are to be voxelized anew). True when made."""
         regions = tuple(regions)
         if n == self.n and len(regions) == self.levels:
-            moved = not all(map(_same_region, regions, self.regions))
             self.regions = regions
-            return moved
+            return False
         levels = len(regions)
         check_grid(self.ctx, n, levels, source, field)
         room = new_grid_room(n, levels)
@@ -518,7 +517,3 @@ def bind_values(values, name):
 
 def bind_image(volume, unit, level=0, read=False):
     volume.bind_to_image(unit, read=read, write=True, level=level, format=GL_IMAGE_FORMAT["rgba16f"])
-
-
-def _same_region(a, b):
-    return float(a.size) == float(b.size) and np.array_equal(np.asarray(a.center, float), np.asarray(b.center, float))

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 import engine
-from engine.clipmap import LEVEL_SNAP_VOXELS, default_clipmap, level_regions
+from engine.clipmap import LEVEL_SNAP_VOXELS, default_clipmap, level_regions, moved_levels
 from engine.errors import SceneError
 from engine.scene import Clipmap, VoxelRegion
 from conftest import REFERENCE, SCENES, reference_file, rel_mae
@@ -142,6 +142,41 @@ def test_after_the_camera_moves_the_image_is_the_one_a_new_renderer_makes_there(
     with engine.Renderer(64, 64) as fresh:
         expected = fresh.render(cornell, mode="gi")
     assert np.abs(moved - expected).mean() < 0.005 * expected.mean()
+
+
+def test_a_level_that_moves_alone_is_voxelized_anew_as_a_new_grid_there(small, cornell):
+    """Level 0 steps once along x, level 1 stays: the voxels of both are the bits a new grid
+    placed there holds, and so is the image."""
+    clipmap = Clipmap(levels=2, resolution=32, voxel_size=0.05)
+    cornell.clipmap = clipmap
+    eye = np.array([-0.15, 0.0, 1.5])
+    step = np.array([LEVEL_SNAP_VOXELS * clipmap.voxel_size, 0.0, 0.0])
+    assert moved_levels(level_regions(clipmap, eye), level_regions(clipmap, eye + step)) == {0}
+    cornell.camera.position = eye
+    small.render(cornell, mode="gi")
+    cornell.camera.position = eye + step
+    moved = small.render(cornell, mode="gi")
+    with engine.Renderer(64, 64) as fresh:
+        expected = fresh.render(cornell, mode="gi")
+        for name in ("albedo", "normal", "radiance"):
+            assert np.array_equal(small.voxels(name), fresh.voxels(name)), name
+    assert np.abs(moved - expected).mean() < 0.002 * expected.mean()
+
+
+def test_the_viewer_moves_one_level_a_frame_finest_first(small, cornell):
+    """Progressive frames bound the voxelization a camera move costs: each frame the finest
+    level not yet where the camera wants it goes there, the others keep their voxels."""
+    cornell.clipmap = Clipmap(levels=3, resolution=16, voxel_size=0.05)
+    small.progressive = True
+    small.render(cornell, mode="gi")
+    start = level_regions(cornell.clipmap, cornell.camera.position)
+    cornell.camera.position = cornell.camera.position + np.array([0.0, 0.0, -1.0])
+    target = level_regions(cornell.clipmap, cornell.camera.position)
+    assert moved_levels(start, target) == {0, 1, 2}
+    for frame in range(3):
+        small.render(cornell, mode="gi")
+        assert moved_levels(small.grid.regions, target) == set(range(frame + 1, 3))
+        assert moved_levels(small.grid.regions, start) == set(range(frame + 1))
 
 
 def test_the_voxel_views_show_one_level_at_a_time(small, cornell):

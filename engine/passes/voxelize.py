@@ -4,8 +4,9 @@ surface volumes: albedo, mean normal, emission and surface offset per voxel. Whe
 facing the same way share a voxel, the front-most one is kept (glsl/voxelize/rasterize.frag). Light is
 not part of it (passes/inject.py), so a light change never revoxelizes.
 
-An update touches only the voxels of the draws that changed: it flags the voxels those draws
-covered before and cover now, rebuilds just those voxels from every draw that reaches them, and
+An update touches only the voxels of the draws that changed and of the levels that moved with
+the camera: it flags the voxels those draws covered before and cover now (and every voxel those
+levels covered and now cover), rebuilds just those voxels from every draw that reaches them, and
 leaves the rest as it was. Integer sums make the result the same bits as a full voxelization.
 Afterwards the covered-voxel list and the covered cells of every mip level are brought up to
 date. Where the grid's lists had no room for the voxels an update listed, the grid grows its
@@ -102,44 +103,37 @@ class VoxelizePass:
         grid.newly_covered.clear()
         self._bind_scratch(grid)
         grid.touched.bind("TOUCHED")
-        if update.full:
-            box, marked = grid.bounds(), update.added
+        rebuilt = frozenset(range(grid.levels)) if update.full else update.levels
+        if rebuilt:
             grid.covered.bind("COVERED")
-            self.mark_covered.set(**grid.uniforms())
+            self.mark_covered.set(**grid.uniforms(), marked_levels=sum(1 << level for level in rebuilt))
             grid.dispatch(self.mark_covered, grid.covered.segment())
-        else:
-            # The draws within a voxel of the coarsest level of the changed ones reach the voxels they touch.
-            box, marked = update.touched_bounds(margin=grid.level_voxel_size(grid.levels - 1)), update.removed + update.added
-        reaching = [d for d in draws if np.all(d.bounds[0] <= box[1]) and np.all(d.bounds[1] >= box[0])]
-        self._rasterize(grid, marked, "mark", box, 0)
+        jobs = _level_jobs(grid, update, rebuilt, draws)
+        self._rasterize(grid, "mark", [(level, box, marked) for level, box, marked, _ in jobs], 0)
         grid.size_list(grid.touched)
         listed = min(grid.touched.read_count() if touched is None else touched, grid.touched_room)
         for chunk_first in range(0, max(listed, 1), sum_room(grid.n, grid.levels)):
-            self._rasterize(grid, reaching, "front", box, chunk_first)
-            self._rasterize(grid, reaching, "add", box, chunk_first)
+            for stage in ("front", "add"):
+                self._rasterize(grid, stage, [(level, box, reaching) for level, box, _, reaching in jobs], chunk_first)
             self._resolve(grid, chunk_first)
         self._relist_covered(grid, update.full)
         if grid.cone_emission is not None:
             self.fill_cone_emission(grid, touched=True)
 
-    def _rasterize(self, grid, draws, stage, box, chunk_first):
-        """Rasterize the parts of `draws` inside the world `box` in one of the fragment stages,
-        into the sums of the chunk of the touched list from `chunk_first`: once into each level."""
+    def _rasterize(self, grid, stage, jobs, chunk_first):
+        """Rasterize in one of the fragment stages, into the sums of the chunk of the touched
+        list from `chunk_first`: for each (level, world box, draws) of `jobs`, the parts of the
+        draws inside the box into that level."""
         self.framebuffer.use()
         self.ctx.viewport = (0, 0, grid.n, grid.n)
         self.ctx.disable(self.ctx.DEPTH_TEST | self.ctx.CULL_FACE | self.ctx.BLEND)
         for extras, program in self.programs.items():
-            subset = [draw for draw in draws if vertex_extras(draw) == extras]
-            if not subset:
-                continue
             program.set(**grid.uniforms(), stage=SHADER_ENUMS["VOXELIZE"][stage], chunk_first=chunk_first)
-            for level in range(grid.levels):
-                lo, hi = grid.level_bounds(level)
-                level_box = np.maximum(box[0], lo), np.minimum(box[1], hi)
-                if np.any(level_box[0] > level_box[1]):
-                    continue  # the change lies outside this level
-                program.set(voxelize_level=level)
-                self.geometry.draw(program, subset, materials=True, box=level_box)
+            for level, box, draws in jobs:
+                subset = [draw for draw in draws if vertex_extras(draw) == extras]
+                if subset:
+                    program.set(voxelize_level=level)
+                    self.geometry.draw(program, subset, materials=True, box=box)
         self.ctx.memory_barrier(self.ctx.SHADER_STORAGE_BARRIER_BIT | self.ctx.SHADER_IMAGE_ACCESS_BARRIER_BIT)
 
     def _resolve(self, grid, chunk_first):
@@ -215,3 +209,25 @@ class VoxelizePass:
             handle.release()
         self._scratch.release()
 
+
+def _level_jobs(grid, update, rebuilt, draws):
+    """Per level the update changes: (level, the world box of its voxels to rebuild, the draws
+    whose voxels there are flagged, the draws that reach them). A rebuilt level: its whole cube,
+    every draw. Elsewhere, the changed draws' voxels: the box within a voxel of the coarsest
+    level of them, which the draws inside it reach."""
+    changed = update.removed + update.added
+    changed_box = update.touched_bounds(margin=grid.level_voxel_size(grid.levels - 1)) if changed else None
+    jobs = []
+    for level in range(grid.levels):
+        lo, hi = grid.level_bounds(level)
+        if level in rebuilt:
+            box, marked = (lo, hi), draws
+        elif changed:
+            box, marked = (np.maximum(changed_box[0], lo), np.minimum(changed_box[1], hi)), changed
+        else:
+            continue
+        if np.any(box[0] > box[1]):
+            continue  # the change lies outside this level
+        reaching = [d for d in draws if np.all(d.bounds[0] <= box[1]) and np.all(d.bounds[1] >= box[0])]
+        jobs.append((level, box, marked, reaching))
+    return jobs
