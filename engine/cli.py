@@ -88,8 +88,9 @@ def _add_settings_arguments(parser, default_mode="gi"):
     parser.add_argument("--grid", type=int, default=d.grid, help=f"voxels per side: 16, 32, 64, 128 or 256 (default {d.grid})")
     parser.add_argument("--clipmap", type=_whole_number(0, MAX_VOXEL_LEVELS), default=d.clipmap_levels, metavar="LEVELS",
                         help="voxelize into this many levels of --grid^3 centred on the camera, each twice as large as "
-                             "the one inside it, the coarsest twice the scene's size (instead of the scene file's "
-                             f"voxel_region; at most {MAX_VOXEL_LEVELS}; default 0: one grid over the scene)")
+                             "the one inside it, the coarsest twice the scene's size, instead of the scene file's "
+                             f"voxel_region (at most {MAX_VOXEL_LEVELS}; 0: one grid over the scene even where the file "
+                             "gives a clipmap; default: the file's clipmap, else one grid)")
     parser.add_argument("--bounces", type=_nonnegative_int, default=d.bounces,
                         help=f"diffuse bounces: 1 = direct + one indirect bounce, K = K bounces (at most {MAX_BOUNCES}), "
                              "0 = iterate until converged, which also stops after at most "

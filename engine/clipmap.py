@@ -33,11 +33,11 @@ def level_regions(clipmap, eye):
 
 def frame_levels(frame, settings, eye):
     """(N, the regions of the levels, finest first) of a frame: a clipmap of settings.clipmap_levels
-    levels of settings.grid^3 over the scene (default_clipmap), else the scene's clipmap, else one
-    grid of settings.grid^3 over the scene's voxel region."""
+    levels of settings.grid^3 over the scene (default_clipmap); where the setting is None, the
+    scene's clipmap; else one grid of settings.grid^3 over the scene's voxel region."""
     if settings.clipmap_levels:
         clipmap = default_clipmap(settings.clipmap_levels, settings.grid, frame.region)
-    elif frame.clipmap is not None:
+    elif settings.clipmap_levels is None and frame.clipmap is not None:
         clipmap = frame.clipmap
     else:
         return settings.grid, (frame.region,)

@@ -363,7 +363,7 @@ class Renderer:
         Progressive frames (the viewer) move one level a frame (clipmap.scrolled_regions)."""
         stage = self.stages["voxels"]
         n, regions = frame_levels(frame, s, camera.position)
-        field = "voxel_region.clipmap" if frame.clipmap is not None and not s.clipmap_levels else "grid"
+        field = "voxel_region.clipmap" if frame.clipmap is not None and s.clipmap_levels is None else "grid"
         held = self.grid.regions
         if self.progressive and self.grid.n == n and len(held) == len(regions):
             regions = scrolled_regions(held, regions)

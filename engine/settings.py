@@ -75,7 +75,7 @@ TYPE_NAMES = {str: "a string", bool: "True or False", int: "a whole number (int)
 class RenderSettings:
     mode: str = "gi"
     grid: int = 128                 # voxels per side, a power of two in 16..256
-    clipmap_levels: int = 0         # > 0: that many levels of grid^3 around the camera (engine/clipmap.py)
+    clipmap_levels: int = None      # levels of grid^3 around the camera (engine/clipmap.py); 0: one grid; None: the scene's
     bounces: int = 0                # diffuse bounces through the voxels; 0 = iterate to convergence
     bounce_interleave: int = 4      # progressive (viewer), bounces 0: 1 in K voxels is updated each frame
     voxel_mip: int = 0              # mip level shown by the voxel views
@@ -95,6 +95,8 @@ class RenderSettings:
         range; else VctError naming the setting."""
         for setting in fields(self):
             value = getattr(self, setting.name)
+            if value is None and setting.default is None:
+                continue  # the scene's own
             if not isinstance(value, SETTING_TYPES[setting.type]) or (setting.type is not bool and isinstance(value, bool)):
                 raise VctError(f"must be {TYPE_NAMES[setting.type]}, got {value!r}", field=setting.name)
             if setting.type in (int, float):
@@ -103,8 +105,8 @@ class RenderSettings:
             raise VctError(f'unknown mode "{self.mode}" (expected one of {", ".join(MODES)})', field="mode")
         if self.grid not in GRID_SIZES:
             raise VctError(f"grid must be a power of two from 16 to 256, got {self.grid}", field="grid")
-        if not 0 <= self.clipmap_levels <= MAX_VOXEL_LEVELS:
-            raise VctError(f"must be 0 (one grid) or a level count up to {MAX_VOXEL_LEVELS}, got {self.clipmap_levels}",
+        if self.clipmap_levels is not None and not 0 <= self.clipmap_levels <= MAX_VOXEL_LEVELS:
+            raise VctError(f"must be None (the scene's), 0 (one grid) or a level count up to {MAX_VOXEL_LEVELS}, got {self.clipmap_levels}",
                            field="clipmap")
         if not 0 <= self.voxel_level < MAX_VOXEL_LEVELS:
             raise VctError(f"must be in 0..{MAX_VOXEL_LEVELS - 1}, got {self.voxel_level}", field="level")

@@ -163,6 +163,20 @@ def test_a_level_that_moves_alone_is_voxelized_anew_as_a_new_grid_there(small, c
     assert np.abs(moved - expected).mean() < 0.002 * expected.mean()
 
 
+def test_an_object_that_moves_in_a_clipmap_leaves_each_level_as_a_new_grid_holds_it(small, cornell):
+    """The short box moves: only its voxels are rebuilt, in each level that holds it within a
+    voxel of that level, and every level is the bits a fresh voxelization makes."""
+    cornell.clipmap = Clipmap(levels=3, resolution=16, voxel_size=0.05)
+    small.render(cornell, mode="gi", bounces=1)
+    cornell.root.find("Short Box").translation += [0.1, 0.0, 0.15]
+    moved = small.render(cornell, mode="gi", bounces=1)
+    with engine.Renderer(64, 64) as fresh:
+        expected = fresh.render(cornell, mode="gi", bounces=1)
+        for name in ("albedo", "normal", "radiance"):
+            assert np.array_equal(small.voxels(name), fresh.voxels(name)), name
+    assert np.array_equal(moved, expected)
+
+
 def test_the_viewer_moves_one_level_a_frame_finest_first(small, cornell):
     """Progressive frames bound the voxelization a camera move costs: each frame the finest
     level not yet where the camera wants it goes there, the others keep their voxels."""
@@ -196,3 +210,11 @@ def test_the_clipmap_option_places_levels_of_the_grid_size_around_the_camera(sma
     small.render(cornell, mode="voxels", grid=32, clipmap_levels=4)
     assert small.grid.levels == 4 and small.grid.n == 32
     assert small.grid.level_voxel_size(3) == pytest.approx(8 * small.grid.level_voxel_size(0))
+
+
+def test_clipmap_zero_gives_one_grid_where_the_scene_file_gives_a_clipmap(small, cornell):
+    cornell.clipmap = Clipmap(levels=3, resolution=32, voxel_size=0.05)
+    small.render(cornell, mode="voxels", grid=32)
+    assert small.grid.levels == 3
+    small.render(cornell, mode="voxels", grid=32, clipmap_levels=0)
+    assert small.grid.levels == 1 and small.grid.level_voxel_size(0) == pytest.approx(cornell.region().size / 32)

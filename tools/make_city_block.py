@@ -7,7 +7,8 @@ The city: 10 x 10 blocks 40 m apart (the streets 12 m wide between building plot
 the four around the courtyard left open as a square; on each plot one building, its
 footprint 16-28 m a side, 8-45 m tall, turned by up to 10 degrees, of one of four facade
 materials, drawn from a fixed seed, so the file is the same at every run. The ground is one
-asphalt quad 7 cm under the courtyard's floor. Run: .venv/bin/python tools/make_city_block.py
+asphalt quad 7 cm under the courtyard's floor. The voxels: a clipmap of 8 levels of 64^3 from
+5 cm voxels around the camera, its coarsest level 410 m wide. Run: .venv/bin/python tools/make_city_block.py
 """
 import json
 from pathlib import Path
@@ -27,6 +28,7 @@ FACADES = {
     "dark_glass": {"albedo": [0.18, 0.20, 0.23], "roughness": 0.35},
 }
 GROUND_HEIGHT = -0.1  # under the courtyard's floor (y = -0.03)
+CLIPMAP = {"levels": 8, "resolution": 64, "voxel_size": 0.05}  # level 7: 64 x 6.4 m, the whole city
 
 
 def buildings(rng):
@@ -63,6 +65,7 @@ def scene():
         "materials": {"asphalt": {"albedo": [0.12, 0.12, 0.12]}, **FACADES},
         "objects": [{"name": "Sponza", "type": "mesh", "file": "sponza/sponza_512.glb"}, ground,
                     *buildings(np.random.default_rng(SEED))],
+        "voxel_region": {"clipmap": CLIPMAP},
         "environment": {"map": "sky/daylight.exr"},
         "lights": [
             {"name": "Sun", "type": "directional", "direction": [0.35, -1.0, 0.2], "irradiance": [4.0, 3.8, 3.4]},

@@ -213,16 +213,16 @@ class VoxelizePass:
 def _level_jobs(grid, update, rebuilt, draws):
     """Per level the update changes: (level, the world box of its voxels to rebuild, the draws
     whose voxels there are flagged, the draws that reach them). A rebuilt level: its whole cube,
-    every draw. Elsewhere, the changed draws' voxels: the box within a voxel of the coarsest
-    level of them, which the draws inside it reach."""
+    every draw. Elsewhere, the changed draws' voxels: the box within a voxel of the level of
+    them, which the draws inside it reach."""
     changed = update.removed + update.added
-    changed_box = update.touched_bounds(margin=grid.level_voxel_size(grid.levels - 1)) if changed else None
     jobs = []
     for level in range(grid.levels):
         lo, hi = grid.level_bounds(level)
         if level in rebuilt:
             box, marked = (lo, hi), draws
         elif changed:
+            changed_box = update.touched_bounds(margin=grid.level_voxel_size(level))
             box, marked = (np.maximum(changed_box[0], lo), np.minimum(changed_box[1], hi)), changed
         else:
             continue

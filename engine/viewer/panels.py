@@ -221,8 +221,9 @@ def draw_renderer_panel(settings, rect, levels, message=None):
         grid = _combo("Grid", settings.grid, GRID_SIZES, changes, "grid")
         if grid is not None:
             changes["voxel_mip"] = min(settings.voxel_mip, grid.bit_length() - 1)
-        changed, clipmap = imgui.slider_int("Clipmap levels", settings.clipmap_levels, 0, MAX_VOXEL_LEVELS,
-                                            "one grid" if settings.clipmap_levels == 0 else "%d")
+        shown_levels = levels if settings.clipmap_levels is None and levels > 1 else settings.clipmap_levels or 0
+        changed, clipmap = imgui.slider_int("Clipmap levels", shown_levels, 0, MAX_VOXEL_LEVELS,
+                                            "one grid" if shown_levels == 0 else "%d")
         if changed:
             changes["clipmap_levels"] = clipmap
             changes["voxel_level"] = min(settings.voxel_level, max(clipmap - 1, 0))
