@@ -74,9 +74,11 @@ class Inject:
 
 @dataclass(frozen=True)
 class LightVoxels:
-    """The light of `source` ("emitter_light" or "sky_light") at the voxels of a class."""
+    """The light of `source` ("emitter_light" or "sky_light") at the voxels of a class that
+    lie in `levels` (None: every level; the others keep the light they hold)."""
     source: str
     class_index: int
+    levels: frozenset = None
 
     @property
     def timer(self):
@@ -181,15 +183,19 @@ class ClassRounds:
     """Work over the covered voxels spread over their interleave classes, one class a frame (the
     viewer), or all of them at once (interleave 1). A restart queues every class, starting
     where the last round stopped, so work restarted every frame still reaches every class
-    once every K frames."""
+    once every K frames. A round covers the voxels of some levels (None: every level); one
+    restarted before it finished also covers the levels of the one it replaces."""
 
     def __init__(self):
         self.interleave = 1
-        self.pending = []  # the classes still to do since the last restart
-        self.phase = 0     # the class to do first after the next restart
+        self.pending = []    # the classes still to do since the last restart
+        self.phase = 0       # the class to do first after the next restart
+        self.levels = None   # the levels whose voxels the round covers
 
-    def restart(self, interleave):
-        self.interleave = interleave
+    def restart(self, interleave, levels=None):
+        if self.pending and levels is not None:
+            levels = None if self.levels is None else levels | self.levels
+        self.interleave, self.levels = interleave, levels
         self.phase %= interleave
         self.pending = [(self.phase + k) % interleave for k in range(interleave)]
 
@@ -230,20 +236,21 @@ class RadianceSchedule:
 
     # -- plans -------------------------------------------------------------------------------
 
-    def light_voxels(self, source, restart, interleave, epoch):
+    def light_voxels(self, source, restart, interleave, epoch, levels=None):
         """The light of `source` at the voxels, when its inputs changed (`restart`: spread over
-        `interleave` classes) and for the classes still due. Its cones read the face views'
-        coverage, so a restart composes them first, with the gathers so far (the light they
-        hold follows with the bounces). Yields a LightVoxels item when a class is due."""
+        `interleave` classes, over the voxels of `levels`, None: every level) and for the
+        classes still due. Its cones read the face views' coverage, so a restart composes them
+        first, with the gathers so far (the light they hold follows with the bounces). Yields a
+        LightVoxels item when a class is due."""
         rounds = self.voxel_light_rounds[source]
         if restart:
-            rounds.restart(interleave)
+            rounds.restart(interleave, levels)
             yield from self._sort(epoch, rounds.interleave)
             yield from self._compose([EVERY_VOXEL], self.latest)
         chosen = rounds.next_class()
         if chosen is not None:
             yield from self._sort(epoch, rounds.interleave)
-            yield LightVoxels(source, chosen)
+            yield LightVoxels(source, chosen, rounds.levels)
 
     def inject(self, voxels_changed, lights_changed, interleave, spread, epoch):
         """The base radiance after the voxels or the light reaching them changed. Spread

@@ -272,14 +272,14 @@ class Renderer:
         environment = self._environment(frame)
         if not s.shown.uses_voxels(emitters.count > 0 or frame.environment is not None):
             return direct
-        self._voxels(frame, s, scene.source, emitters, camera)
+        revoxelized = self._voxels(frame, s, scene.source, emitters, camera)
         for stage in self.grid.hold_light_arrays(emitters=emitters.count > 0, sky=environment.environment is not None):
             self.stages[stage].forget()
         work = WorkResources(shadow_maps, emitters, environment, s.cone_uniforms())
         if emitters.count:
-            self._voxel_light("emitter_light", work, s, emitters=self.stages["emitters"].version)
+            self._voxel_light("emitter_light", work, s, revoxelized, emitters=self.stages["emitters"].version)
         if environment.environment is not None:
-            self._voxel_light("sky_light", work, s, environment=frame.environment_values)
+            self._voxel_light("sky_light", work, s, revoxelized, environment=frame.environment_values)
         if s.shown.uses_radiance:
             self._radiance(s, work)
             self._bounces(s, work)
@@ -360,7 +360,8 @@ class Renderer:
         """Voxelize what changed: the draws whose mesh, transform or material differ from the
         ones the grid holds, and every voxel of the levels that moved with the camera (all of
         them on a new grid); where surfaces emit, the emission volume's mip chain follows.
-        Progressive frames (the viewer) move one level a frame (clipmap.scrolled_regions)."""
+        Progressive frames (the viewer) move one level a frame (clipmap.scrolled_regions).
+        Returns the levels whose voxels changed."""
         stage = self.stages["voxels"]
         n, regions = frame_levels(frame, s, camera.position)
         field = "voxel_region.clipmap" if frame.clipmap is not None and s.clipmap_levels is None else "grid"
@@ -385,18 +386,23 @@ class Renderer:
                 with self.timed("emission_mipmap"):
                     self.grid.build_emission_mips()
             stage.ran(inputs)
+            return frozenset(range(self.grid.levels)) if update.full or update.removed or update.added else update.levels
+        return frozenset()
 
-    def _voxel_light(self, name, work, s, **source):
+    def _voxel_light(self, name, work, s, revoxelized, **source):
         """The emitters' or the sky's light at the voxels ("emitter_light", "sky_light"), when
-        the voxels, its `source` or the cones that bring it changed. Progressive frames (the
+        the voxels, its `source` or the cones that bring it changed: where only the voxels of
+        some levels changed (`revoxelized`: a clipmap's levels that moved), at those levels'
+        voxels, as cones from a level never read the finer ones. Progressive frames (the
         viewer, converging bounces) spread it over the interleave classes, one a frame, as the
         bounce is spread: an edit makes no frame pay for more than 1 voxel in K, and while an
         emitter or the sky keeps changing every voxel is still relit once every K frames."""
         stage = self.stages[name]
         inputs = dict(voxels=self.stages["voxels"].version, **source, cone_step=s.cone_step, cone_offset=s.cone_offset)
-        restart = bool(stage.changed(inputs, self.track_changes))
+        changed = stage.changed(inputs, self.track_changes)
+        levels = revoxelized if changed == {"voxels"} else None
         interleave = s.bounce_interleave if self._spreads_work(s) else 1
-        ran = self._run(self.schedule.light_voxels(name, restart, interleave, self.grid.epoch), work)
+        ran = self._run(self.schedule.light_voxels(name, bool(changed), interleave, self.grid.epoch, levels), work)
         if any(isinstance(item, bounces.LightVoxels) for item in ran):
             stage.ran(inputs)
 
@@ -467,9 +473,9 @@ class Renderer:
         elif isinstance(item, bounces.Inject):
             self.inject.run(grid, work.shadow_maps, work.emitters, work.environment, self._voxel_segment(item.voxels))
         elif isinstance(item, bounces.LightVoxels) and item.source == "emitter_light":
-            self.emitter_light.run(grid, work.emitters, work.cone_uniforms, classes.segment(item.class_index))
+            self.emitter_light.run(grid, work.emitters, work.cone_uniforms, classes.segment(item.class_index), item.levels)
         elif isinstance(item, bounces.LightVoxels):
-            self.sky_light.run(grid, work.environment, work.cone_uniforms, classes.anchor_segment(item.class_index))
+            self.sky_light.run(grid, work.environment, work.cone_uniforms, classes.anchor_segment(item.class_index), item.levels)
             self.gather.fill(grid, grid.traced_sky_irradiance, classes.filled_segment(item.class_index))
             self.sky_light.filter(grid)
         elif isinstance(item, bounces.ComposeFaces):

@@ -340,6 +340,10 @@ class VoxelGrid:
     def level_voxel_size(self, level):
         return float(self.regions[level].size) / self.n
 
+    def level_mask(self, levels=None):
+        """Levels as a bit mask (bit k: level k) for the shaders; None: every level."""
+        return sum(1 << level for level in (range(self.levels) if levels is None else levels))
+
     def level_bounds(self, level):
         """A level's cube as a world box (lo, hi)."""
         region = self.regions[level]

@@ -177,6 +177,26 @@ def test_an_object_that_moves_in_a_clipmap_leaves_each_level_as_a_new_grid_holds
     assert np.array_equal(moved, expected)
 
 
+def test_a_level_that_moves_alone_relights_its_own_voxels_from_the_sky(small):
+    """Under a sky, level 0 steps along x: its voxels take the sky's light again, the coarser
+    level's keep theirs (its cones never read the finer level): the voxels' light and the image
+    are the bits a new renderer makes there."""
+    scene = engine.load_scene(SCENES / "references" / "open_box_sky.json")
+    clipmap = Clipmap(levels=2, resolution=32, voxel_size=0.05)
+    scene.clipmap = clipmap
+    eye = np.array([-0.15, 0.0, 0.95])
+    step = np.array([LEVEL_SNAP_VOXELS * clipmap.voxel_size, 0.0, 0.0])
+    assert moved_levels(level_regions(clipmap, eye), level_regions(clipmap, eye + step)) == {0}
+    scene.camera.position, scene.camera.look_at = eye, eye + [0.0, 0.0, -1.9]
+    small.render(scene, mode="gi")
+    scene.camera.position, scene.camera.look_at = eye + step, eye + step + [0.0, 0.0, -1.9]
+    moved = small.render(scene, mode="gi")
+    with engine.Renderer(64, 64) as fresh:
+        expected = fresh.render(scene, mode="gi")
+        assert np.array_equal(small.voxels("radiance"), fresh.voxels("radiance"))  # the sky's light in it
+    assert np.array_equal(moved, expected)
+
+
 def test_the_viewer_moves_one_level_a_frame_finest_first(small, cornell):
     """Progressive frames bound the voxelization a camera move costs: each frame the finest
     level not yet where the camera wants it goes there, the others keep their voxels."""

@@ -156,3 +156,19 @@ def test_class_rounds_restart_where_the_last_round_stopped():
     assert [rounds.next_class() for _ in range(5)] == [2, 3, 0, 1, None]
     rounds.restart(1)
     assert [rounds.next_class() for _ in range(2)] == [0, None]
+
+
+def test_a_round_restarted_before_it_finished_covers_the_levels_of_both():
+    """The light of a clipmap level that moved is due at that level's voxels; a round restarted
+    for another level before it finished covers both, and one for every level covers all."""
+    rounds = ClassRounds()
+    rounds.restart(4, frozenset({0}))
+    rounds.next_class()
+    rounds.restart(4, frozenset({1}))
+    assert rounds.levels == {0, 1}
+    rounds.restart(4, None)
+    assert rounds.levels is None
+    while rounds.next_class() is not None:
+        pass
+    rounds.restart(4, frozenset({2}))
+    assert rounds.levels == {2}

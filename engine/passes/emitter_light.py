@@ -14,15 +14,16 @@ class EmitterLightPass:
             reads=("SSBO_VOXEL_LIST", "SSBO_SEGMENTS", *VoxelGrid.CONE_READS, "SSBO_EMITTER_TRIANGLES",
                    "SSBO_EMITTER_PATCHES"))
 
-    def run(self, grid, emitters, cone_uniforms, segment):
-        """`emitters`: scene_gpu.EmitterBuffers; `segment`: a VoxelSegment of the class list.
-        Writes and returns grid.emitter_irradiance, at those voxels."""
+    def run(self, grid, emitters, cone_uniforms, segment, levels=None):
+        """`emitters`: scene_gpu.EmitterBuffers; `segment`: a VoxelSegment of the class list,
+        lit where they lie in `levels` (None: every level). Writes and returns
+        grid.emitter_irradiance, at those voxels."""
         grid.use_surface()
         grid.use_faces()
         segment.buffer.bind_to_storage_buffer(STORAGE_BINDING["VOXEL_LIST"])
         emitters.bind(self.program)
         bind_values(grid.emitter_irradiance, "VOXEL_EMITTER_IRRADIANCE")
-        self.program.set(**grid.uniforms(), **cone_uniforms)
+        self.program.set(**grid.uniforms(), **cone_uniforms, lit_levels=grid.level_mask(levels))
         grid.dispatch(self.program, segment)
         return grid.emitter_irradiance
 

@@ -19,15 +19,16 @@ class SkyLightPass:
             "sky_light/filter_sky_light.comp", writes=("SSBO_VOXEL_SKY_IRRADIANCE",),
             reads=("SSBO_COVERED", *VoxelGrid.SURFACE_READS, "SSBO_VOXEL_TRACED_SKY_IRRADIANCE"))
 
-    def run(self, grid, environment, cone_uniforms, segment):
+    def run(self, grid, environment, cone_uniforms, segment, levels=None):
         """`environment`: scene_gpu.EnvironmentMap; `segment`: a VoxelSegment of the class list
-        (the anchors of a class). Writes and returns grid.traced_sky_irradiance, at those voxels."""
+        (the anchors of a class), lit where they lie in `levels` (None: every level). Writes
+        and returns grid.traced_sky_irradiance, at those voxels."""
         grid.use_surface()
         grid.use_faces()
         segment.buffer.bind_to_storage_buffer(STORAGE_BINDING["VOXEL_LIST"])
         environment.bind(self.program)
         bind_values(grid.traced_sky_irradiance, "VOXEL_TRACED_SKY_IRRADIANCE")
-        self.program.set(**grid.uniforms(), **cone_uniforms)
+        self.program.set(**grid.uniforms(), **cone_uniforms, lit_levels=grid.level_mask(levels))
         grid.dispatch(self.program, segment)
         return grid.traced_sky_irradiance
 

@@ -106,7 +106,7 @@ class VoxelizePass:
         rebuilt = frozenset(range(grid.levels)) if update.full else update.levels
         if rebuilt:
             grid.covered.bind("COVERED")
-            self.mark_covered.set(**grid.uniforms(), marked_levels=sum(1 << level for level in rebuilt))
+            self.mark_covered.set(**grid.uniforms(), marked_levels=grid.level_mask(rebuilt))
             grid.dispatch(self.mark_covered, grid.covered.segment())
         jobs = _level_jobs(grid, update, rebuilt, draws)
         self._rasterize(grid, "mark", [(level, box, marked) for level, box, marked, _ in jobs], 0)

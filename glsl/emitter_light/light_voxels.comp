@@ -39,9 +39,12 @@ float patch_visibility(vec3 p, vec3 n, int level, EmitterPatch e) {
     return 1.0 - min(trace_cone(p, n, level, w, tan_half_angle, reach, wide, false, false, 0.0, true, 1.0, 1.0).a, 1.0);
 }
 
+uniform uint lit_levels;  // bit k: level k's voxels take their light now, the others keep theirs
+
 void main() {
     if (gl_GlobalInvocationID.x >= segment_count()) return;
     ivec3 v = unpack_voxel(voxel_list[segment_first() + gl_GlobalInvocationID.x]);
+    if ((lit_levels & (1u << voxel_level(v))) == 0u) return;
     uint record = voxel_record(v);
     VoxelSurface s = voxel_surface(v, record);
     vec3 shadowed = vec3(0.0), unshadowed = vec3(0.0);
