@@ -198,30 +198,43 @@ vec4 trace_cone(vec3 p, vec3 n, int start_level, vec3 direction, float tan_half_
     float t = unit;  // start one voxel out along the cone
     float narrowing = exp2(-level_offset);
     float top_mip = voxel_max_mip + float(voxel_levels - 1);  // the coarsest level's 1^3
+    // Near a level's border a step reads the level (its share) and then, in the next pass of the
+    // loop, the next coarser level (the rest): one lookup a pass keeps the loop small.
+    bool coarser_due = false;
+    vec4 finer = vec4(0.0);  // the finer level's share of the step, premultiplied, while coarser_due
+    float cone_diameter, diameter, mip, step_length, share;
+    vec3 q;
+    int level;
     while (gathered.a < 1.0 && t < max_distance) {
-        float cone_diameter = max(min_diameter * unit, 2.0 * tan_half_angle * t);
-        float diameter = max(min_diameter * unit, narrowing * cone_diameter);
-        float mip = min(max(log2(diameter / voxel_size) - 1.0, 0.0), top_mip);
-        vec3 q = start + direction * t;
-        // A lookup reaches half a cell (d/4) past its point: cells whose centres lie within a
-        // cell of it, half a cell wide each side.
-        float reach = 0.25 * diameter;
-        int level = holding_level(q, clamp(int(mip) - 1, start_level, voxel_levels - 1), reach, 0.0);
-        // Stop half a cell past the coarsest level: the lookups clamp to the outer cells, which
-        // hold the surfaces at its edge once; further out they would repeat them.
-        if (level_depth(q, level) < -level_reach(level, reach, 0.0)) break;
-        float step_length = cone_step * (narrow_steps ? diameter : cone_diameter);
-        vec4 s = level_lookup(q, level, mip, weights, wide, blend_levels, emitted, step_length, opacity_scale);
-        float share = level_share(q, level, level_reach(level, reach, 0.0));
-        if (share < 1.0) {  // near the level's border: blend into the next coarser one, premultiplied
-            vec4 coarser = level_lookup(q, level + 1, mip, weights, wide, blend_levels, emitted, step_length, opacity_scale);
-            float coverage = mix(coarser.a, s.a, share);
-            s = vec4(coverage > 0.0 ? mix(coarser.rgb * coarser.a, s.rgb * s.a, share) / coverage : vec3(0.0), coverage);
+        if (!coarser_due) {
+            cone_diameter = max(min_diameter * unit, 2.0 * tan_half_angle * t);
+            diameter = max(min_diameter * unit, narrowing * cone_diameter);
+            mip = min(max(log2(diameter / voxel_size) - 1.0, 0.0), top_mip);
+            q = start + direction * t;
+            // A lookup reaches half a cell (d/4) past its point: cells whose centres lie within a
+            // cell of it, half a cell wide each side.
+            float reach = 0.25 * diameter;
+            level = holding_level(q, clamp(int(mip) - 1, start_level, voxel_levels - 1), reach, 0.0);
+            // Stop half a cell past the coarsest level: the lookups clamp to the outer cells, which
+            // hold the surfaces at its edge once; further out they would repeat them.
+            if (level_depth(q, level) < -level_reach(level, reach, 0.0)) break;
+            step_length = cone_step * (narrow_steps ? diameter : cone_diameter);
+            share = level_share(q, level, level_reach(level, reach, 0.0));
         }
+        vec4 lookup = level_lookup(q, coarser_due ? level + 1 : level, mip, weights, wide, blend_levels, emitted,
+                                   step_length, opacity_scale);
+        vec4 s = finer + (coarser_due ? 1.0 - share : share) * vec4(lookup.rgb * lookup.a, lookup.a);
+        if (!coarser_due && share < 1.0) {
+            finer = s;
+            coarser_due = true;
+            continue;
+        }
+        coarser_due = false;
+        finer = vec4(0.0);
         if (s.a > 0.0) {
             // Covered fraction of the cross-section added by this step, front to back.
             float alpha = min(s.a, 1.0 - gathered.a);
-            gathered.rgb += alpha * s.rgb;
+            gathered.rgb += alpha * (s.rgb / s.a);
             gathered.a += alpha;
         }
         t += step_length;
