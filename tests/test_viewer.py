@@ -422,6 +422,34 @@ def test_the_overlay_says_what_a_frame_reused(on_display, scene, mode, camera_fr
             assert any(line.startswith("voxels ") and f"({per_voxel:.0f} B/voxel)" in line for line in work(viewer))
 
 
+def test_the_viewer_flies_through_a_clipmap_moving_one_level_a_frame(on_display, scene):
+    """A scene with a clipmap in the viewer: the overlay names it, and flying forward moves its
+    levels one a frame, until every level follows the camera."""
+    from imgui_bundle import imgui
+
+    from engine.clipmap import level_regions, moved_levels
+    from engine.scene import Clipmap
+    from engine.viewer.panels import overlay_lines
+
+    scene.clipmap = Clipmap(levels=3, resolution=16, voxel_size=0.05)
+    with open_viewer(scene, mode="gi") as viewer:
+        viewer.frame()
+        lines = [line[0] for line in overlay_lines(viewer.frames, viewer.process, viewer.renderer, False) if line]
+        assert any("clipmap 3 x 16^3" in line for line in lines), lines
+        start, placements = viewer.renderer.grid.regions, set()
+        imgui.get_io().add_key_event(imgui.Key.w, True)
+        for _ in range(20):
+            held = viewer.renderer.grid.regions
+            viewer.frame()
+            assert len(moved_levels(held, viewer.renderer.grid.regions)) <= 1  # one level a frame
+            placements.add(viewer.renderer.grid.regions[0].center.tobytes())
+        imgui.get_io().add_key_event(imgui.Key.w, False)
+        assert len(placements) > 1 and moved_levels(start, viewer.renderer.grid.regions)
+        for _ in range(3):
+            viewer.frame()
+        assert not moved_levels(viewer.renderer.grid.regions, level_regions(scene.clipmap, scene.camera.position))
+
+
 # ---- no display needed -------------------------------------------------------------------------
 
 def test_layout_puts_the_image_between_the_panel_columns():
