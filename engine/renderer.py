@@ -19,7 +19,7 @@ import numpy as np
 from . import transforms
 from . import bounces
 from .changes import BoundsCache, FrameInputs, Stage, voxel_update
-from .clipmap import frame_levels, scrolled_regions
+from .clipmap import frame_levels, moved_levels, scrolled_regions
 from .emitters import frame_emitters
 from .errors import VctError
 from .gl import create_headless_context
@@ -377,8 +377,8 @@ class Renderer:
         inputs = dict(grid=n, regions=placed, draws=tuple(frame.draws))
         if stage.changed(inputs, self.track_changes):
             tracked = self.track_changes and stage.inputs is not None
-            moved = {level for level, (a, b) in enumerate(zip(stage.last("regions"), placed)) if a != b} if tracked else ()
-            update = voxel_update(stage.last("draws") if tracked else None, frame.draws, moved)
+            update = voxel_update(stage.last("draws") if tracked else None, frame.draws,
+                                  moved_levels(held, regions) if tracked else ())
             if update.full or update.removed or update.added or update.levels:
                 with self.timed("voxelize"):
                     self.voxelize.update(self.grid, update, frame.draws)

@@ -22,6 +22,11 @@ ivec3 level_voxel(ivec3 local, int level) {
     return ivec3(local.xy, local.z + level * voxel_grid);
 }
 
+// Whether voxel v lies in one of the levels of `mask` (bit k: level k).
+bool in_level_mask(uint mask, ivec3 v) {
+    return (mask & (1u << voxel_level(v))) != 0u;
+}
+
 // Whether v lies in the stack of levels.
 bool inside_levels(ivec3 v) {
     return all(greaterThanEqual(v, ivec3(0))) && all(lessThan(v, ivec3(voxel_grid, voxel_grid, voxel_levels * voxel_grid)));

@@ -39,7 +39,7 @@ uniform uint lit_levels;  // bit k: level k's voxels take their light now, the o
 void main() {
     if (gl_GlobalInvocationID.x >= segment_count()) return;
     ivec3 v = unpack_voxel(voxel_list[segment_first() + gl_GlobalInvocationID.x]);
-    if ((lit_levels & (1u << voxel_level(v))) == 0u) return;
+    if (!in_level_mask(lit_levels, v)) return;
     uint record = voxel_record(v);
     VoxelSurface s = voxel_surface(v, record);
     vec3 irradiance = vec3(0.0);

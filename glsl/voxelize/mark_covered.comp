@@ -11,5 +11,5 @@ uniform uint marked_levels;
 
 void main() {
     ivec3 v;
-    if (covered_voxel(gl_GlobalInvocationID.x, v) && (marked_levels & (1u << voxel_level(v))) != 0u) touch_voxel(v);
+    if (covered_voxel(gl_GlobalInvocationID.x, v) && in_level_mask(marked_levels, v)) touch_voxel(v);
 }
