@@ -169,6 +169,14 @@ class VoxelUpdate:
     added: list
     levels: frozenset = frozenset()
 
+    def changed_levels(self, level_count):
+        """The levels of a grid of `level_count` whose voxels the update changes: all of them
+        where it rebuilds every voxel or draws changed (they may lie in any level), else the
+        moved ones."""
+        if self.full or self.removed or self.added:
+            return frozenset(range(level_count))
+        return self.levels
+
     def touched_bounds(self, margin):
         """World box holding every voxel the removed and added draws cover, grown by `margin`."""
         boxes = [d.bounds for d in self.removed + self.added]

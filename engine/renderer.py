@@ -379,14 +379,15 @@ class Renderer:
             tracked = self.track_changes and stage.inputs is not None
             update = voxel_update(stage.last("draws") if tracked else None, frame.draws,
                                   moved_levels(held, regions) if tracked else ())
-            if update.full or update.removed or update.added or update.levels:
+            changed = update.changed_levels(self.grid.levels)
+            if changed:
                 with self.timed("voxelize"):
                     self.voxelize.update(self.grid, update, frame.draws)
             if emitters.count:
                 with self.timed("emission_mipmap"):
                     self.grid.build_emission_mips()
             stage.ran(inputs)
-            return frozenset(range(self.grid.levels)) if update.full or update.removed or update.added else update.levels
+            return changed
         return frozenset()
 
     def _voxel_light(self, name, work, s, revoxelized, **source):
