@@ -74,10 +74,11 @@ class Inject:
 
 @dataclass(frozen=True)
 class LightVoxels:
-    """The light of `source` ("emitter_light" or "sky_light") at the voxels of a class that
-    lie in `levels` (None: every level; the others keep the light they hold)."""
+    """The light of `source` ("emitter_light" or "sky_light") at those of `voxels` (a class's,
+    or the touched ones) that lie in `levels` (None: every level; the others keep the light
+    they hold)."""
     source: str
-    class_index: int
+    voxels: Voxels
     levels: frozenset = None
 
     @property
@@ -184,15 +185,19 @@ class ClassRounds:
     viewer), or all of them at once (interleave 1). A restart queues every class, starting
     where the last round stopped, so work restarted every frame still reaches every class
     once every K frames. A round covers the voxels of some levels (None: every level); one
-    restarted before it finished also covers the levels of the one it replaces."""
+    restarted before it finished also covers the levels of the one it replaces. `deferred`:
+    levels whose voxels a round is to cover once the camera rests (they scrolled)."""
 
     def __init__(self):
         self.interleave = 1
         self.pending = []    # the classes still to do since the last restart
         self.phase = 0       # the class to do first after the next restart
         self.levels = None   # the levels whose voxels the round covers
+        self.deferred = frozenset()
 
     def restart(self, interleave, levels=None):
+        if levels is None:
+            self.deferred = frozenset()
         if self.pending and levels is not None:
             levels = None if self.levels is None else levels | self.levels
         self.interleave, self.levels = interleave, levels
@@ -236,21 +241,31 @@ class RadianceSchedule:
 
     # -- plans -------------------------------------------------------------------------------
 
-    def light_voxels(self, source, restart, interleave, epoch, levels=None):
+    def light_voxels(self, source, restart, interleave, epoch, levels=None, scrolled=frozenset()):
         """The light of `source` at the voxels, when its inputs changed (`restart`: spread over
-        `interleave` classes, over the voxels of `levels`, None: every level) and for the
-        classes still due. Its cones read the face views' coverage, so a restart composes them
+        `interleave` classes, over the voxels of `levels`, None: every level), and for the
+        classes still due. Where levels scrolled (`scrolled`), the voxels they took in (the
+        touched ones) are lit at once; their other voxels keep the light they had until the
+        first frame that scrolls none (the camera at rest), from which they are lit again over
+        the classes. Its cones read the face views' coverage, so a restart composes them
         first, with the gathers so far (the light they hold follows with the bounces). Yields a
-        LightVoxels item when a class is due."""
+        LightVoxels item for the touched voxels and when a class is due."""
         rounds = self.voxel_light_rounds[source]
+        if scrolled:
+            rounds.deferred |= scrolled
+        elif rounds.deferred and not restart:
+            restart, levels, rounds.deferred = True, rounds.deferred, frozenset()
         if restart:
             rounds.restart(interleave, levels)
+        if restart or scrolled:
             yield from self._sort(epoch, rounds.interleave)
             yield from self._compose([EVERY_VOXEL], self.latest)
+        if scrolled:
+            yield LightVoxels(source, TOUCHED_VOXELS)
         chosen = rounds.next_class()
         if chosen is not None:
             yield from self._sort(epoch, rounds.interleave)
-            yield LightVoxels(source, chosen, rounds.levels)
+            yield LightVoxels(source, class_voxels(chosen), rounds.levels)
 
     def inject(self, voxels_changed, lights_changed, interleave, spread, epoch):
         """The base radiance after the voxels or the light reaching them changed. Spread

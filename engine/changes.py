@@ -4,7 +4,7 @@ frame last ran. GL-free: the renderer decides from this which passes a frame nee
 Mesh arrays are read-only, so a mesh is unchanged while it holds the same array objects;
 transforms, materials and lights are compared by value.
 """
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -162,20 +162,38 @@ class BoundsCache:
 class VoxelUpdate:
     """The draws to take out of the grid (as they were) and to put in (as they are). `full`:
     rebuild every voxel from `added` (all current draws). `levels`: the levels (moved with the
-    camera) whose every voxel is rebuilt from all the draws."""
+    camera) whose every voxel is rebuilt from all the draws. `scrolled`: the levels that moved
+    by part of their cube, each with its shift (x, y, z, in its own voxels): their voxels move
+    with their records and only the slabs they took in are voxelized."""
 
     full: bool
     removed: list
     added: list
     levels: frozenset = frozenset()
+    scrolled: dict = field(default_factory=dict)
+
+    @property
+    def draws_changed(self):
+        return bool(self.full or self.removed or self.added)
 
     def changed_levels(self, level_count):
         """The levels of a grid of `level_count` whose voxels the update changes: all of them
         where it rebuilds every voxel or draws changed (they may lie in any level), else the
         moved ones."""
-        if self.full or self.removed or self.added:
+        if self.draws_changed:
             return frozenset(range(level_count))
-        return self.levels
+        return self.levels | frozenset(self.scrolled)
+
+    def rebuilt_levels(self):
+        """The levels whose every voxel is voxelized anew (after their scroll, for a scrolled
+        level while draws change too: its slabs are not all that changed)."""
+        return self.levels | (frozenset(self.scrolled) if self.draws_changed else frozenset())
+
+    def relit_levels(self, level_count):
+        """The levels whose voxels all take their light again: all of them where draws changed
+        (what they occlude may lie anywhere), else the rebuilt ones. A scrolled level's voxels
+        keep theirs: only those it took in (the touched voxels) take light."""
+        return frozenset(range(level_count)) if self.draws_changed else self.levels
 
     def touched_bounds(self, margin):
         """World box holding every voxel the removed and added draws cover, grown by `margin`."""
@@ -194,12 +212,12 @@ def changed_draws(previous, current, same):
     return removed, added
 
 
-def voxel_update(previous, current, levels=frozenset()):
+def voxel_update(previous, current, levels=frozenset(), scrolled=None):
     """The update from the draws a grid holds (`previous`, None for an empty grid) to `current`,
-    with the grid's `levels` moved."""
+    with the grid's `levels` moved and rebuilt, and those of `scrolled` ({level: shift}) scrolled."""
     if previous is None:
         return VoxelUpdate(True, [], list(current))
-    return VoxelUpdate(False, *changed_draws(previous, current, Draw.__eq__), frozenset(levels))
+    return VoxelUpdate(False, *changed_draws(previous, current, Draw.__eq__), frozenset(levels), dict(scrolled or {}))
 
 
 class Stage:

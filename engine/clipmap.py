@@ -44,7 +44,6 @@ def frame_levels(frame, settings, eye):
     return clipmap.resolution, level_regions(clipmap, eye)
 
 
-
 def same_region(a, b):
     """Whether two cubes are the same, to the bit."""
     return float(a.size) == float(b.size) and np.array_equal(np.asarray(a.center, float), np.asarray(b.center, float))
@@ -53,6 +52,19 @@ def same_region(a, b):
 def moved_levels(held, regions):
     """The levels whose cube differs between two placements of the same levels."""
     return frozenset(level for level, (a, b) in enumerate(zip(held, regions)) if not same_region(a, b))
+
+
+def level_shift(held, region, n):
+    """How many of its voxels a level of n^3 moved by between two placements, (x, y, z): its
+    voxels' coordinates in the new cube are those in the old less the shift. None where it
+    cannot scroll: another size, or a move by a whole cube or more (no voxel stays)."""
+    if float(held.size) != float(region.size):
+        return None
+    voxel = float(region.size) / n
+    shift = np.rint((np.asarray(region.center, float) - np.asarray(held.center, float)) / voxel).astype(int)
+    if np.any(np.abs(shift) >= n):
+        return None
+    return tuple(int(step) for step in shift)
 
 
 def scrolled_regions(held, target):

@@ -19,7 +19,7 @@ import numpy as np
 from . import transforms
 from . import bounces
 from .changes import BoundsCache, FrameInputs, Stage, voxel_update
-from .clipmap import frame_levels, moved_levels, scrolled_regions
+from .clipmap import frame_levels, level_shift, moved_levels, scrolled_regions
 from .emitters import frame_emitters
 from .errors import VctError
 from .gl import create_headless_context
@@ -272,14 +272,14 @@ class Renderer:
         environment = self._environment(frame)
         if not s.shown.uses_voxels(emitters.count > 0 or frame.environment is not None):
             return direct
-        revoxelized = self._voxels(frame, s, scene.source, emitters, camera)
+        update = self._voxels(frame, s, scene.source, emitters, camera)
         for stage in self.grid.hold_light_arrays(emitters=emitters.count > 0, sky=environment.environment is not None):
             self.stages[stage].forget()
         work = WorkResources(shadow_maps, emitters, environment, s.cone_uniforms())
         if emitters.count:
-            self._voxel_light("emitter_light", work, s, revoxelized, emitters=self.stages["emitters"].version)
+            self._voxel_light("emitter_light", work, s, update, emitters=self.stages["emitters"].version)
         if environment.environment is not None:
-            self._voxel_light("sky_light", work, s, revoxelized, environment=frame.environment_values)
+            self._voxel_light("sky_light", work, s, update, environment=frame.environment_values)
         if s.shown.uses_radiance:
             self._radiance(s, work)
             self._bounces(s, work)
@@ -358,10 +358,11 @@ class Renderer:
 
     def _voxels(self, frame, s, source, emitters, camera):
         """Voxelize what changed: the draws whose mesh, transform or material differ from the
-        ones the grid holds, and every voxel of the levels that moved with the camera (all of
-        them on a new grid); where surfaces emit, the emission volume's mip chain follows.
-        Progressive frames (the viewer) move one level a frame (clipmap.scrolled_regions).
-        Returns the levels whose voxels changed."""
+        ones the grid holds, and the levels that moved with the camera: scrolled where they
+        moved by part of their cube, else voxelized anew (every level of a new grid); where
+        surfaces emit, the emission volume's mip chain follows. Progressive frames (the viewer)
+        move one level a frame (clipmap.scrolled_regions). Returns the changes.VoxelUpdate
+        applied, or None where the voxels' inputs did not change."""
         stage = self.stages["voxels"]
         n, regions = frame_levels(frame, s, camera.position)
         field = "voxel_region.clipmap" if frame.clipmap is not None and s.clipmap_levels is None else "grid"
@@ -377,33 +378,44 @@ class Renderer:
         inputs = dict(grid=n, regions=placed, draws=tuple(frame.draws))
         if stage.changed(inputs, self.track_changes):
             tracked = self.track_changes and stage.inputs is not None
-            update = voxel_update(stage.last("draws") if tracked else None, frame.draws,
-                                  moved_levels(held, regions) if tracked else ())
-            changed = update.changed_levels(self.grid.levels)
-            if changed:
+            moved = moved_levels(held, regions) if tracked else frozenset()
+            shifts = {level: level_shift(held[level], regions[level], n) for level in moved}
+            scrolled = {level: shift for level, shift in shifts.items() if shift is not None}
+            update = voxel_update(stage.last("draws") if tracked else None, frame.draws, moved - set(scrolled), scrolled)
+            if update.changed_levels(self.grid.levels):
                 with self.timed("voxelize"):
                     self.voxelize.update(self.grid, update, frame.draws)
             if emitters.count:
                 with self.timed("emission_mipmap"):
                     self.grid.build_emission_mips()
             stage.ran(inputs)
-            return changed
-        return frozenset()
+            return update
+        return None
 
-    def _voxel_light(self, name, work, s, revoxelized, **source):
+    def _voxel_light(self, name, work, s, update, **source):
         """The emitters' or the sky's light at the voxels ("emitter_light", "sky_light"), when
-        the voxels, its `source` or the cones that bring it changed: where only the voxels of
-        some levels changed (`revoxelized`: a clipmap's levels that moved), at those levels'
-        voxels, as cones from a level never read the finer ones. Progressive frames (the
-        viewer, converging bounces) spread it over the interleave classes, one a frame, as the
-        bounce is spread: an edit makes no frame pay for more than 1 voxel in K, and while an
-        emitter or the sky keeps changing every voxel is still relit once every K frames."""
+        the voxels, its `source` or the cones that bring it changed: where only the voxels
+        changed (`update`, this frame's changes.VoxelUpdate), at the voxels of the levels it
+        relit and of those that scrolled (cones from a level never read the finer ones).
+        Progressive frames (the viewer, converging bounces) spread a relight over the
+        interleave classes, one a frame, as the bounce is spread: an edit makes no frame pay
+        for more than 1 voxel in K, and while an emitter or the sky keeps changing every voxel
+        is still relit once every K frames; a scrolled level lights the voxels it took in at
+        once and relights the others once the camera rests (RadianceSchedule.light_voxels)."""
         stage = self.stages[name]
         inputs = dict(voxels=self.stages["voxels"].version, **source, cone_step=s.cone_step, cone_offset=s.cone_offset)
         changed = stage.changed(inputs, self.track_changes)
-        levels = revoxelized if changed == {"voxels"} else None
-        interleave = s.bounce_interleave if self._spreads_work(s) else 1
-        ran = self._run(self.schedule.light_voxels(name, bool(changed), interleave, self.grid.epoch, levels), work)
+        spread = self._spreads_work(s)
+        levels, scrolled = None, frozenset()
+        if changed == {"voxels"} and update is not None:
+            levels = update.relit_levels(self.grid.levels)
+            if not update.draws_changed:
+                scrolled = frozenset(update.scrolled)
+            if not spread:  # converged within the frame: every voxel of a scrolled level too
+                levels, scrolled = levels | scrolled, frozenset()
+        restart = bool(changed) and levels != frozenset()
+        plan = self.schedule.light_voxels(name, restart, s.bounce_interleave if spread else 1, self.grid.epoch, levels, scrolled)
+        ran = self._run(plan, work)
         if any(isinstance(item, bounces.LightVoxels) for item in ran):
             stage.ran(inputs)
 
@@ -458,6 +470,19 @@ class Renderer:
             return self.grid.touched.segment()
         return self.class_index.segment(voxels.class_index)
 
+    def _sky_segments(self, voxels):
+        """What the sky's light at a bounces.Voxels selection runs over: (the segment holding
+        the anchors to trace, the one holding the voxels to interpolate, the voxels to filter):
+        for a class, its anchors, then every voxel (whose anchors may lie in any class: once
+        the last class is traced every voxel holds what all the anchors brought) and every
+        covered voxel; or the touched voxels three times. The passes take the anchors or the
+        others among them."""
+        if voxels.kind == "touched":
+            touched = self.grid.touched.segment()
+            return touched, touched, touched
+        classes = self.class_index
+        return classes.anchor_segment(voxels.class_index), classes.segment(), self.grid.covered.segment()
+
     def _cell_segments(self, voxels):
         """The level-1 cells of a bounces.Voxels selection, as (VoxelSegment, the level of its
         entries): the covered cells, a class's cells, or the touched voxels themselves."""
@@ -474,11 +499,12 @@ class Renderer:
         elif isinstance(item, bounces.Inject):
             self.inject.run(grid, work.shadow_maps, work.emitters, work.environment, self._voxel_segment(item.voxels))
         elif isinstance(item, bounces.LightVoxels) and item.source == "emitter_light":
-            self.emitter_light.run(grid, work.emitters, work.cone_uniforms, classes.segment(item.class_index), item.levels)
+            self.emitter_light.run(grid, work.emitters, work.cone_uniforms, self._voxel_segment(item.voxels), item.levels)
         elif isinstance(item, bounces.LightVoxels):
-            self.sky_light.run(grid, work.environment, work.cone_uniforms, classes.anchor_segment(item.class_index), item.levels)
-            self.gather.fill(grid, grid.traced_sky_irradiance, classes.filled_segment(item.class_index))
-            self.sky_light.filter(grid)
+            traced, filled, filtered = self._sky_segments(item.voxels)
+            self.sky_light.run(grid, work.environment, work.cone_uniforms, traced, self.gather.anchors, item.levels)
+            self.gather.fill(grid, grid.traced_sky_irradiance, filled)
+            self.sky_light.filter(grid, filtered)
         elif isinstance(item, bounces.ComposeFaces):
             gathered = None if item.gathered is None else self._gathered(item.gathered)
             for voxels in item.voxels:

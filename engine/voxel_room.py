@@ -65,7 +65,7 @@ class CoveredBound:
     def bound(self, grid, update, draws):
         """The ListBound of `update` (a changes.VoxelUpdate to `draws`) to the grid; None
         where nothing is known."""
-        if update.full or update.levels or self.epoch is not grid.epoch:
+        if update.full or update.levels or update.scrolled or self.epoch is not grid.epoch:
             return None
         changed = [d for d in draws if self.draws.get(d.key) != d]
         return ListBound(covered=self.covered + sum(self._bound(d, grid) for d in changed),

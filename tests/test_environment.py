@@ -3,7 +3,8 @@
 Facts: the camera sees the map where no surface is, in Mitsuba's envmap convention (the map's
 left edge looking along -z, a quarter across along +x, rotation_y_deg turning it about +y),
 as the reference tool's Mitsuba scene does; a floor under a uniform sky alone receives
-E = pi L (direct light, and the same in gi with nothing to bounce); glTF's layers under a
+E = pi L (direct light, and the same in gi with nothing to bounce); the viewer's sky light,
+spread over frames, ends as one frame's; glTF's layers under a
 uniform sky (a white furnace) return the light that arrives, dielectrics and metals at every
 roughness, where layers simply added would return more; a mirror shows the sky; bad maps and
 bad --environment values exit 2 with one line; a scene nothing can light renders with one
@@ -114,6 +115,20 @@ def test_a_sky_taken_away_and_given_back_lights_the_scene_as_before(tmp_path):
         again = r.render(scene, grid=32)
     assert first[6:10, 6:10, 0].mean() == pytest.approx(0.5, rel=0.05) and dark.max() == 0.0
     assert np.array_equal(first, again)
+
+
+def test_the_viewers_sky_light_spread_over_frames_ends_as_one_frames(small):
+    """Progressive frames trace the sky's cones at one interleave class's anchors a frame, and
+    every voxel interpolates the anchors traced so far: once every class is traced the voxels
+    hold the light a headless frame computes at once, to the bit."""
+    scene = load_scene(Path(__file__).parents[1] / "scenes" / "references" / "open_box_sky.json")
+    with engine.Renderer(64, 64) as viewer:
+        viewer.progressive = True
+        for _ in range(2 * viewer.settings.bounce_interleave):
+            viewer.render(scene, grid=32)
+        spread = viewer.voxels("radiance")
+    small.render(scene, grid=32)
+    assert np.array_equal(spread, small.voxels("radiance"))
 
 
 # What the card returns seen at n.v = 1/2: the diffuse layer's 1 - F(1/2) = 0.93 of the sky's 1

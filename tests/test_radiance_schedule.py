@@ -141,10 +141,10 @@ def test_voxel_light_restarted_every_frame_still_reaches_every_class():
     for _ in range(8):
         items = run(schedule.light_voxels("emitter_light", True, 4, epoch))
         assert items.index(of_type(items, ComposeFaces)[0]) < items.index(of_type(items, LightVoxels)[0])
-        chosen += [item.class_index for item in of_type(items, LightVoxels)]
+        chosen += [item.voxels.class_index for item in of_type(items, LightVoxels)]
     assert chosen == [0, 1, 2, 3, 0, 1, 2, 3]
     frames = [run(schedule.light_voxels("sky_light", k == 0, 4, epoch)) for k in range(5)]
-    assert [[i.class_index for i in of_type(f, LightVoxels)] for f in frames] == [[0], [1], [2], [3], []]
+    assert [[i.voxels.class_index for i in of_type(f, LightVoxels)] for f in frames] == [[0], [1], [2], [3], []]
 
 
 def test_class_rounds_restart_where_the_last_round_stopped():

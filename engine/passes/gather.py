@@ -156,10 +156,10 @@ class GatherPass:
 
     def fill(self, grid, values, segment):
         """Interpolate `values` (an array of the grid, the anchors' values written) at the
-        voxels of `segment` (a class's voxels that are not anchors) from the anchors around
-        them. Returns `values`."""
+        voxels of `segment` (a class's voxels that are not anchors, or the touched voxels, whose
+        anchors keep theirs) from the anchors around them. Returns `values`."""
         grid.use_surface()
-        self.class_list.bind_to_storage_buffer(STORAGE_BINDING["CLASS_LIST"])
+        segment.buffer.bind_to_storage_buffer(STORAGE_BINDING["CLASS_LIST"])
         bind_values(values, "GATHERED_OUT")
         self.anchors.bind_to_storage_buffer(STORAGE_BINDING["GATHER_ANCHORS"])
         self.fill_program.set(**grid.uniforms())

@@ -2,9 +2,10 @@
 SKY_CONE_COUNT cones over its hemisphere, each bringing the sky around its direction as far as
 the voxels let it through (the face views must hold the grid's current coverage), each voxel's
 cones offset by a jitter of its own. Traced at the gather's anchors of a segment of the class
-list when the voxels or the environment change into grid.traced_sky_irradiance, the other voxels
-interpolating them as they interpolate the gather (GatherPass.fill); then averaged over the
-like-facing voxels around each covered voxel into grid.sky_irradiance, which light injection adds to
+list when the voxels or the environment change (or of the voxels a scrolled level took in) into
+grid.traced_sky_irradiance, the other voxels interpolating them as they interpolate the gather
+(GatherPass.fill); then averaged over the
+like-facing voxels around each covered voxel (or each of those taken in) into grid.sky_irradiance, which light injection adds to
 the base radiance and the image interpolates per pixel."""
 from ..constants import STORAGE_BINDING
 from ..voxel_grid import VoxelGrid, bind_values
@@ -14,33 +15,36 @@ class SkyLightPass:
     def __init__(self, ctx, programs):
         self.program = programs.compute(
             "sky_light/trace_sky_cones.comp", writes=("SSBO_VOXEL_TRACED_SKY_IRRADIANCE",),
-            reads=("SSBO_VOXEL_LIST", "SSBO_SEGMENTS", *VoxelGrid.CONE_READS, "TEX_ENVIRONMENT"))
+            reads=("SSBO_VOXEL_LIST", "SSBO_SEGMENTS", "SSBO_GATHER_ANCHORS", *VoxelGrid.CONE_READS, "TEX_ENVIRONMENT"))
         self.filter_program = programs.compute(
             "sky_light/filter_sky_light.comp", writes=("SSBO_VOXEL_SKY_IRRADIANCE",),
-            reads=("SSBO_COVERED", *VoxelGrid.SURFACE_READS, "SSBO_VOXEL_TRACED_SKY_IRRADIANCE"))
+            reads=("SSBO_VOXEL_LIST", "SSBO_SEGMENTS", *VoxelGrid.SURFACE_READS, "SSBO_VOXEL_TRACED_SKY_IRRADIANCE"))
 
-    def run(self, grid, environment, cone_uniforms, segment, levels=None):
-        """`environment`: scene_gpu.EnvironmentMap; `segment`: a VoxelSegment of the class list
-        (the anchors of a class), lit where they lie in `levels` (None: every level). Writes
-        and returns grid.traced_sky_irradiance, at those voxels."""
+    def run(self, grid, environment, cone_uniforms, segment, anchors, levels=None):
+        """`environment`: scene_gpu.EnvironmentMap; `segment`: a VoxelSegment (the anchors of a
+        class, or the voxels a voxelization touched), whose anchors (`anchors`: the gather's
+        anchor words, GatherPass.anchors) are lit where they lie in `levels` (None: every
+        level). Writes and returns grid.traced_sky_irradiance, at those voxels."""
         grid.use_surface()
         grid.use_faces()
         segment.buffer.bind_to_storage_buffer(STORAGE_BINDING["VOXEL_LIST"])
+        anchors.bind_to_storage_buffer(STORAGE_BINDING["GATHER_ANCHORS"])
         environment.bind(self.program)
         bind_values(grid.traced_sky_irradiance, "VOXEL_TRACED_SKY_IRRADIANCE")
         self.program.set(**grid.uniforms(), **cone_uniforms, lit_levels=grid.level_mask(levels))
         grid.dispatch(self.program, segment)
         return grid.traced_sky_irradiance
 
-    def filter(self, grid):
-        """grid.sky_irradiance of every covered voxel from grid.traced_sky_irradiance around it
+    def filter(self, grid, segment):
+        """grid.sky_irradiance of the voxels of `segment` (a VoxelSegment: the covered list, or
+        the voxels a voxelization touched) from grid.traced_sky_irradiance around each
         (written and returned)."""
         grid.use_surface()
         bind_values(grid.traced_sky_irradiance, "VOXEL_TRACED_SKY_IRRADIANCE")
         bind_values(grid.sky_irradiance, "VOXEL_SKY_IRRADIANCE")
-        grid.covered.bind("COVERED")
+        segment.buffer.bind_to_storage_buffer(STORAGE_BINDING["VOXEL_LIST"])
         self.filter_program.set(**grid.uniforms())
-        grid.dispatch(self.filter_program, grid.covered.segment())
+        grid.dispatch(self.filter_program, segment)
         return grid.sky_irradiance
 
     def release(self):

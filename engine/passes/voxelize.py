@@ -7,7 +7,10 @@ not part of it (passes/inject.py), so a light change never revoxelizes.
 An update touches only the voxels of the draws that changed and of the levels that moved with
 the camera: it flags the voxels those draws covered before and cover now (and every voxel those
 levels covered and now cover), rebuilds just those voxels from every draw that reaches them, and
-leaves the rest as it was. Integer sums make the result the same bits as a full voxelization.
+leaves the rest as it was. A level that moved by part of its cube scrolls instead: its voxels
+keep their records (and so their surface and light) at their new coordinates, and only the slabs
+it took in are voxelized (while draws change too, the whole level is rebuilt after the scroll).
+Integer sums make the result the same bits as a full voxelization.
 Afterwards the covered-voxel list and the covered cells of every mip level are brought up to
 date. Where the grid's lists had no room for the voxels an update listed, the grid grows its
 lists (made anew, empty) and the whole scene is voxelized into it. Whether they had room is
@@ -49,6 +52,7 @@ class VoxelizePass:
         self.fill_emission = programs.compute("voxelize/fill_cone_emission.comp", reads=("SSBO_CELLS", "SSBO_SEGMENTS", *VoxelGrid.SURFACE_READS),
                                               writes=("IMG_CONE_EMISSION_OUT",))
         self.clear_cells = programs.compute("voxelize/clear_cells.comp", reads=("SSBO_CELLS", "SSBO_SEGMENTS"), writes=("IMG_FACES_OUT",))
+        self.scroll_level = programs.compute("voxelize/scroll_level.comp", writes=("SSBO_COVERED", "SSBO_VOXEL_RECORD", "SSBO_RECORD_POOL"))
         self._scratch = GridStorage()  # the fixed-point sums, front-layer keys, touched voxels' records, a framebuffer
         self.room = CoveredBound()     # what is known of the grid's covered count
 
@@ -79,6 +83,8 @@ class VoxelizePass:
         new epoch), zeroes the light at the records it gave and the face views of the voxels it
         emptied; where the lists or the records were short of room, grows them and voxelizes
         every draw instead."""
+        for level, shift in update.scrolled.items():
+            self._scroll(grid, level, shift)
         bound = self.room.bound(grid, update, draws)
         # Room enough for certain, nothing read back: a bound within the lists, and one chunk,
         # whose resolve frees records before it takes any (voxelize/resolve_sums.comp).
@@ -94,6 +100,29 @@ class VoxelizePass:
             counts = grid.list_counts()
         self.room.voxelized(grid, draws, counts.covered)
 
+    def _scroll(self, grid, level, shift):
+        """Scroll a level whose cube moved by `shift` of its voxels (grid.regions holds where it
+        lies now): its face views and emission cells are zeroed where they were, then its
+        records move to their voxels' new coordinates, those it left behind freed. The covered
+        list takes a new epoch: its voxels moved (what was computed from it is computed again)."""
+        cells, mask = grid.cells, grid.level_mask([level])
+        volumes = [(grid.faces, VOXEL_FACES, grid.mip_count)]  # (volume, its views, the mip levels held up to)
+        if grid.cone_emission is not None:
+            volumes.append((grid.cone_emission, 1, 2))  # its level 1: the coarser ones are its hardware mips
+        for volume, views, mips in volumes:
+            for mip in range(1, mips):
+                bind_image(volume, IMAGE_UNIT["FACES_OUT"], level=mip - 1)
+                cells.segment(mip).buffer.bind_to_storage_buffer(STORAGE_BINDING["CELLS"])
+                self.clear_cells.set(**grid.uniforms(), level=mip, entry_level=mip, views=views, cleared_levels=mask)
+                grid.dispatch(self.clear_cells, cells.segment(mip))
+        grid.records.bind()
+        grid.covered.bind("COVERED")
+        self.scroll_level.set(**grid.uniforms(), scrolled_level=level, level_shift=tuple(int(s) for s in shift))
+        for lifting in (True, False):
+            self.scroll_level.set(lifting=lifting)
+            grid.dispatch(self.scroll_level, grid.covered.segment())
+        grid.covered_changed()
+
     def _apply(self, grid, update, draws, touched=None):
         """The update: flag and list the voxels to rebuild, then chunk after chunk of them sum
         their front layers and resolve. `touched`: at most how many voxels it touches, where the
@@ -103,36 +132,37 @@ class VoxelizePass:
         grid.newly_covered.clear()
         self._bind_scratch(grid)
         grid.touched.bind("TOUCHED")
-        rebuilt = frozenset(range(grid.levels)) if update.full else update.levels
+        rebuilt = frozenset(range(grid.levels)) if update.full else update.rebuilt_levels()
         if rebuilt:
             grid.covered.bind("COVERED")
             self.mark_covered.set(**grid.uniforms(), marked_levels=grid.level_mask(rebuilt))
             grid.dispatch(self.mark_covered, grid.covered.segment())
         jobs = _level_jobs(grid, update, rebuilt, draws)
-        self._rasterize(grid, "mark", [(level, box, marked) for level, box, marked, _ in jobs], 0)
+        self._rasterize(grid, "mark", [(level, box, voxels, marked) for level, box, voxels, marked, _ in jobs], 0)
         grid.size_list(grid.touched)
         listed = min(grid.touched.read_count() if touched is None else touched, grid.touched_room)
         for chunk_first in range(0, max(listed, 1), sum_room(grid.n, grid.levels)):
             for stage in ("front", "add"):
-                self._rasterize(grid, stage, [(level, box, reaching) for level, box, _, reaching in jobs], chunk_first)
+                self._rasterize(grid, stage, [(level, box, voxels, reaching) for level, box, voxels, _, reaching in jobs], chunk_first)
             self._resolve(grid, chunk_first)
         self._relist_covered(grid, update.full)
-        if grid.cone_emission is not None:
-            self.fill_cone_emission(grid, touched=True)
+        if grid.cone_emission is not None:  # a scrolled level's cells all moved
+            self.fill_cone_emission(grid, touched=not update.scrolled)
 
     def _rasterize(self, grid, stage, jobs, chunk_first):
         """Rasterize in one of the fragment stages, into the sums of the chunk of the touched
-        list from `chunk_first`: for each (level, world box, draws) of `jobs`, the parts of the
-        draws inside the box into that level."""
+        list from `chunk_first`: for each (level, world box, voxel box, draws) of `jobs`, the
+        parts of the draws inside the world box into the voxels of the voxel box ((lo, hi) in
+        the level's coordinates) of that level."""
         self.framebuffer.use()
         self.ctx.viewport = (0, 0, grid.n, grid.n)
         self.ctx.disable(self.ctx.DEPTH_TEST | self.ctx.CULL_FACE | self.ctx.BLEND)
         for extras, program in self.programs.items():
             program.set(**grid.uniforms(), stage=SHADER_ENUMS["VOXELIZE"][stage], chunk_first=chunk_first)
-            for level, box, draws in jobs:
+            for level, box, (voxels_lo, voxels_hi), draws in jobs:
                 subset = [draw for draw in draws if vertex_extras(draw) == extras]
                 if subset:
-                    program.set(voxelize_level=level)
+                    program.set(voxelize_level=level, voxelized_min=tuple(voxels_lo), voxelized_max=tuple(voxels_hi))
                     self.geometry.draw(program, subset, materials=True, box=box)
         self.ctx.memory_barrier(self.ctx.SHADER_STORAGE_BARRIER_BIT | self.ctx.SHADER_IMAGE_ACCESS_BARRIER_BIT)
 
@@ -185,7 +215,8 @@ class VoxelizePass:
             grid.bind_faces(level)
             segment = cells.segment(level) if full else grid.touched.segment()
             segment.buffer.bind_to_storage_buffer(STORAGE_BINDING["CELLS"])
-            self.clear_cells.set(**uniforms, level=level, entry_level=level if full else 0)
+            self.clear_cells.set(**uniforms, level=level, entry_level=level if full else 0, views=VOXEL_FACES,
+                                 cleared_levels=grid.level_mask())
             grid.dispatch(self.clear_cells, segment)
         cells.bind()
         generation = cells.restart()
@@ -205,29 +236,54 @@ class VoxelizePass:
 
     def release(self):
         for handle in (*self.programs.values(), self.mark_covered, self.resolve, self.clear_new_records,
-                       self.list_cells, self.fill_emission, self.clear_cells):
+                       self.list_cells, self.fill_emission, self.clear_cells, self.scroll_level):
             handle.release()
         self._scratch.release()
 
 
 def _level_jobs(grid, update, rebuilt, draws):
-    """Per level the update changes: (level, the world box of its voxels to rebuild, the draws
-    whose voxels there are flagged, the draws that reach them). A rebuilt level: its whole cube,
-    every draw. Elsewhere, the changed draws' voxels: the box within a voxel of the level of
-    them, which the draws inside it reach."""
-    changed = update.removed + update.added
+    """What the update voxelizes: (level, world box, voxel box, the draws whose voxels there are
+    flagged, the draws that reach them), the voxel box (lo, hi) in the level's coordinates.
+    A rebuilt level: its whole cube, every draw. A level that scrolled (and is not rebuilt):
+    each slab it took in. Elsewhere, the changed draws' voxels: the box within a voxel of the
+    level of them, which the draws inside it reach. The world boxes hold a voxel more on each
+    side: what a triangle's dilation reaches."""
+    n, changed = grid.n, update.removed + update.added
     jobs = []
     for level in range(grid.levels):
         lo, hi = grid.level_bounds(level)
+        voxel = grid.level_voxel_size(level)
+        whole = (np.zeros(3, int), np.full(3, n))
         if level in rebuilt:
-            box, marked = (lo, hi), draws
+            boxes = [((lo, hi), whole, draws)]
+        elif level in update.scrolled:  # the draws reaching a slab mark its voxels
+            boxes = [((lo + first * voxel - voxel, lo + last * voxel + voxel), (first, last), None)
+                     for first, last in entered_slabs(update.scrolled[level], n)]
         elif changed:
-            changed_box = update.touched_bounds(margin=grid.level_voxel_size(level))
-            box, marked = (np.maximum(changed_box[0], lo), np.minimum(changed_box[1], hi)), changed
+            changed_box = update.touched_bounds(margin=voxel)
+            boxes = [((np.maximum(changed_box[0], lo), np.minimum(changed_box[1], hi)), whole, changed)]
         else:
             continue
-        if np.any(box[0] > box[1]):
-            continue  # the change lies outside this level
-        reaching = [d for d in draws if np.all(d.bounds[0] <= box[1]) and np.all(d.bounds[1] >= box[0])]
-        jobs.append((level, box, marked, reaching))
+        for box, voxels, marked in boxes:
+            if np.any(box[0] > box[1]):
+                continue  # the change lies outside this level
+            reaching = [d for d in draws if np.all(d.bounds[0] <= box[1]) and np.all(d.bounds[1] >= box[0])]
+            jobs.append((level, box, voxels, reaching if marked is None else marked, reaching))
     return jobs
+
+
+def entered_slabs(shift, n):
+    """The voxels a level of n^3 that scrolled by `shift` of its voxels took in, as disjoint
+    boxes (lo, hi) in its new coordinates: along each axis that moved, the slab past the voxels
+    it kept, across the axes before it only over the voxels kept along them."""
+    lo, hi = np.zeros(3, int), np.full(3, n)
+    slabs = []
+    for axis, step in enumerate(int(s) for s in shift):
+        if step == 0:
+            continue
+        first, last = lo.copy(), hi.copy()
+        kept = (0, n - step) if step > 0 else (-step, n)
+        first[axis], last[axis] = (n - step, n) if step > 0 else (0, -step)
+        slabs.append((first, last))
+        lo[axis], hi[axis] = kept
+    return slabs

@@ -46,6 +46,7 @@ void main() {
     ivec3 v = unpack_voxel(voxel_list[segment_first() + gl_GlobalInvocationID.x]);
     if (!in_level_mask(lit_levels, v)) return;
     uint record = voxel_record(v);
+    if (record == NO_RECORD) return;  // a touched voxel the voxelization emptied
     VoxelSurface s = voxel_surface(v, record);
     vec3 shadowed = vec3(0.0), unshadowed = vec3(0.0);
     if (dot(s.mean_normal, s.mean_normal) > 0.0) {

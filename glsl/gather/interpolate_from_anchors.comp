@@ -9,13 +9,15 @@
 layout(local_size_x = LIST_GROUP) in;
 layout(std430, binding = SSBO_GATHERED_OUT) buffer GatheredOut { uvec2 gathered[]; };
 layout(std430, binding = SSBO_CLASS_LIST) readonly buffer ClassList { uint class_list[]; };
-// The voxels of the class list that take their gather from anchors.
+// The voxels of a list (a class's that are not anchors, or the voxels a voxelization touched)
+// whose gather to interpolate: the anchors among them keep theirs.
 #include "lib/list_segment.glsl"
 
 void main() {
     if (gl_GlobalInvocationID.x >= segment_count()) return;
     ivec3 v = unpack_voxel(class_list[segment_first() + gl_GlobalInvocationID.x]);
     uint record = voxel_record(v);
+    if (record == NO_RECORD || (gather_anchors[record] & ANCHOR_SELF) != 0u) return;  // empty, or an anchor: traced
     uint anchors = gather_anchors[record] & ANCHOR_NEIGHBOURS;
     vec4 result = vec4(0.0);
     if (anchors != 0u) {

@@ -6,8 +6,6 @@
 
 layout(std430, binding = SSBO_COVERED) buffer CoveredVoxels { uint covered_count; uint covered[]; };
 
-#define NO_VOXEL 0xFFFFFFFFu
-
 // The voxel that holds record k, where one does (false at a free record or past the count).
 bool covered_voxel(uint k, out ivec3 v) {
     if (k >= covered_count || covered[k] == NO_VOXEL) return false;

@@ -1,5 +1,5 @@
 #version 450 core
-// The sky's light the image and the light injection read: at each covered voxel the mean of
+// The sky's light the image and the light injection read: at each voxel of a list the mean of
 // what the cones brought (sky_light/trace_sky_cones.comp at the anchors, gather/interpolate_from_anchors.comp between them)
 // over the voxels within SKY_FILTER_RADIUS whose surfaces face alike,
 //   E(v) = sum_u W(v, u) E_traced(u) / sum_u W(v, u),
@@ -11,12 +11,17 @@
 layout(local_size_x = LIST_GROUP) in;
 layout(std430, binding = SSBO_VOXEL_TRACED_SKY_IRRADIANCE) readonly buffer TracedSky { uvec2 sky_traced[]; };  // a = 1 where traced or interpolated
 layout(std430, binding = SSBO_VOXEL_SKY_IRRADIANCE) writeonly buffer VoxelSkyIrradiance { uvec2 sky_irradiance_out[]; };
-#include "lib/covered_voxels.glsl"
+// The voxels to filter: every covered one (the covered list, NO_VOXEL at free records), or those
+// a voxelization touched.
+#include "lib/voxel_list.glsl"
 
 void main() {
-    uint record = gl_GlobalInvocationID.x;
-    ivec3 v;
-    if (!covered_voxel(record, v)) return;
+    if (gl_GlobalInvocationID.x >= segment_count()) return;
+    uint entry = voxel_list[segment_first() + gl_GlobalInvocationID.x];
+    if (entry == NO_VOXEL) return;
+    ivec3 v = unpack_voxel(entry);
+    uint record = voxel_record(v);
+    if (record == NO_RECORD) return;  // a touched voxel the voxelization emptied
     vec3 n_v = unpack_value(voxel_normal[record]).xyz;
     vec3 sum = vec3(0.0);
     float total = 0.0;

@@ -1,5 +1,5 @@
 #version 450 core
-// The environment's light at the voxels of a list segment (the gather's anchors; the others
+// The environment's light at the gather's anchors among the voxels of a list segment (the others
 // interpolate them, gather/interpolate_from_anchors.comp, and sky_light/filter_sky_light.comp averages the result), where the
 // scene has one: at the voxel's surface point along its normalized mean normal (as the
 // emitters' light, emitter_light/light_voxels.comp), through SKY_CONE_COUNT cones over the hemisphere,
@@ -13,6 +13,7 @@
 #include "lib/voxel_surface.glsl"
 #include "lib/cone.glsl"
 #include "lib/environment.glsl"
+#include "lib/gather_anchors.glsl"
 
 layout(local_size_x = LIST_GROUP) in;
 layout(std430, binding = SSBO_VOXEL_TRACED_SKY_IRRADIANCE) writeonly buffer TracedSky { uvec2 sky_traced_out[]; };
@@ -41,6 +42,7 @@ void main() {
     ivec3 v = unpack_voxel(voxel_list[segment_first() + gl_GlobalInvocationID.x]);
     if (!in_level_mask(lit_levels, v)) return;
     uint record = voxel_record(v);
+    if (record == NO_RECORD || (gather_anchors[record] & ANCHOR_SELF) == 0u) return;  // empty, or interpolated (GatherPass.fill)
     VoxelSurface s = voxel_surface(v, record);
     vec3 irradiance = vec3(0.0);
     if (dot(s.mean_normal, s.mean_normal) > 0.0) {

@@ -22,6 +22,7 @@
 #include "lib/brdf.glsl"
 
 #define LAYER_TOLERANCE 0.125  // voxels
+#define BOUNDARY_BIAS 1e-3     // voxels
 
 in vec3 gs_position;
 in vec3 gs_normal;
@@ -36,6 +37,10 @@ const vec2 gs_texcoord1 = vec2(0.0);
 flat in vec4 gs_pixel_bounds;
 uniform int stage;
 uniform int voxelize_level;  // the level drawn into
+// The voxels of that level the draw writes, [min, max) in the level's own coordinates: the
+// whole cube, or the slab a scrolled level took in.
+uniform ivec3 voxelized_min;
+uniform ivec3 voxelized_max;
 
 // The offset of a surface along its normal from the voxel centre, in voxels, as an ordered key.
 uint layer_key(float offset) {
@@ -65,8 +70,11 @@ void main() {
     // Dilation grows the triangle at acute corners; clip it to its own bounding box.
     vec2 pixel = gl_FragCoord.xy;
     if (any(lessThan(pixel, gs_pixel_bounds.xy)) || any(greaterThan(pixel, gs_pixel_bounds.zw))) discard;
-    ivec3 local = ivec3(floor(level_uvw(gs_position, voxelize_level) * float(voxel_grid)));
-    if (any(lessThan(local, ivec3(0))) || any(greaterThanEqual(local, ivec3(voxel_grid)))) discard;
+    // A surface on a voxel boundary goes to the voxel behind it, not to whichever side the
+    // rounding of the level's placement picks: a level keeps the same voxels wherever it lies.
+    vec3 behind = gs_position - normalize(gs_normal) * (BOUNDARY_BIAS * level_voxel_size[voxelize_level]);
+    ivec3 local = ivec3(floor(level_uvw(behind, voxelize_level) * float(voxel_grid)));
+    if (any(lessThan(local, voxelized_min)) || any(greaterThanEqual(local, voxelized_max))) discard;
     ivec3 voxel = level_voxel(local, voxelize_level);
     if (stage == VOXELIZE_MARK) {
         touch_voxel(voxel);

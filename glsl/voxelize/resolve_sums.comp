@@ -14,9 +14,9 @@
 // is then made anew with more room: VoxelizePass.update).
 #include "lib/voxel_sums.glsl"
 #include "lib/covered_voxels.glsl"
+#include "lib/record_pool.glsl"
 
 layout(local_size_x = LIST_GROUP) in;
-layout(std430, binding = SSBO_RECORD_POOL) buffer RecordPool { int free_count; uint short_count; uint free_records[]; };
 layout(std430, binding = SSBO_VOXEL_ALBEDO) writeonly buffer VoxelAlbedo { uvec2 albedo_out[]; };
 layout(std430, binding = SSBO_VOXEL_NORMAL) writeonly buffer VoxelNormal { uvec2 normal_out[]; };
 layout(std430, binding = SSBO_VOXEL_EMISSION) writeonly buffer VoxelEmission { uvec2 emission_out[]; };
@@ -42,8 +42,7 @@ void main() {
     uint record = touched_records[place] - 1u;  // NO_RECORD where the voxel was empty
     if (count == 0u) {  // every surface left this voxel
         if (record != NO_RECORD) {
-            int at = atomicAdd(free_count, 1);
-            if (at >= 0 && at < free_records.length()) free_records[at] = record;  // (else the pool is short: made anew)
+            give_back_record(record);
             covered[record] = NO_VOXEL;
         }
         record = NO_RECORD;
