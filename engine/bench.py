@@ -112,10 +112,11 @@ class FramePath:
 
 
 def settle(scene, renderer, settings):
-    """Render progressive frames until the bounces settle."""
+    """Render progressive frames until no work is due (the bounces settled, the voxels' light
+    done: RadianceSchedule.idle)."""
     for _ in range(SETTLE_FRAMES):
         renderer.render_frame(scene, settings)
-        if renderer.schedule.settled:
+        if renderer.schedule.idle:
             return
 
 

@@ -241,19 +241,25 @@ class RadianceSchedule:
 
     # -- plans -------------------------------------------------------------------------------
 
-    def light_voxels(self, source, restart, interleave, epoch, levels=None, scrolled=frozenset()):
+    @property
+    def idle(self):
+        """No work is due: the bounces settled, and no round of the voxels' light runs or
+        waits for the camera to rest."""
+        return self.settled and not any(rounds.pending or rounds.deferred for rounds in self.voxel_light_rounds.values())
+
+    def light_voxels(self, source, restart, interleave, epoch, levels=None, scrolled=frozenset(), resting=True):
         """The light of `source` at the voxels, when its inputs changed (`restart`: spread over
         `interleave` classes, over the voxels of `levels`, None: every level), and for the
         classes still due. Where levels scrolled (`scrolled`), the voxels they took in (the
         touched ones) are lit at once; their other voxels keep the light they had until the
-        first frame that scrolls none (the camera at rest), from which they are lit again over
-        the classes. Its cones read the face views' coverage, so a restart composes them
-        first, with the gathers so far (the light they hold follows with the bounces). Yields a
-        LightVoxels item for the touched voxels and when a class is due."""
+        camera rests (`resting`: it did not move this frame, and no level scrolled), from when
+        they are lit again over the classes. Its cones read the face views' coverage, so a
+        restart composes them first, with the gathers so far (the light they hold follows with
+        the bounces). Yields a LightVoxels item for the touched voxels and when a class is due."""
         rounds = self.voxel_light_rounds[source]
         if scrolled:
             rounds.deferred |= scrolled
-        elif rounds.deferred and not restart:
+        elif rounds.deferred and resting and not restart:
             restart, levels, rounds.deferred = True, rounds.deferred, frozenset()
         if restart:
             rounds.restart(interleave, levels)

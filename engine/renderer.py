@@ -142,6 +142,7 @@ class Renderer:
             raise
         self.schedule = bounces.RadianceSchedule()
         self.class_index = None     # the covered voxels sorted into interleave classes (GatherPass.sort_classes)
+        self.eye = None             # where the camera was at the last frame
         self.bounds_cache = BoundsCache()
         self.stages = {name: Stage() for name in ("shadows", "gbuffer", "lighting", "emitters", "environment", "voxels",
                                                   "emitter_light", "sky_light", "radiance", "bounces")}
@@ -262,6 +263,8 @@ class Renderer:
     def _frame(self, frame, scene, s):
         """The passes of one frame; returns the target holding its image."""
         camera = frame_camera(scene.camera, self.size, frame.bounds)
+        resting = self.eye is not None and np.array_equal(camera.position, self.eye)
+        self.eye = camera.position
         shadow_maps = self._shadows(frame, scene.source)
         gbuffer = self._gbuffer(frame, camera)
         if s.shown.stage == "gbuffer":
@@ -277,9 +280,9 @@ class Renderer:
             self.stages[stage].forget()
         work = WorkResources(shadow_maps, emitters, environment, s.cone_uniforms())
         if emitters.count:
-            self._voxel_light("emitter_light", work, s, update, emitters=self.stages["emitters"].version)
+            self._voxel_light("emitter_light", work, s, update, resting, emitters=self.stages["emitters"].version)
         if environment.environment is not None:
-            self._voxel_light("sky_light", work, s, update, environment=frame.environment_values)
+            self._voxel_light("sky_light", work, s, update, resting, environment=frame.environment_values)
         if s.shown.uses_radiance:
             self._radiance(s, work)
             self._bounces(s, work)
@@ -392,7 +395,7 @@ class Renderer:
             return update
         return None
 
-    def _voxel_light(self, name, work, s, update, **source):
+    def _voxel_light(self, name, work, s, update, resting, **source):
         """The emitters' or the sky's light at the voxels ("emitter_light", "sky_light"), when
         the voxels, its `source` or the cones that bring it changed: where only the voxels
         changed (`update`, this frame's changes.VoxelUpdate), at the voxels of the levels it
@@ -401,7 +404,8 @@ class Renderer:
         interleave classes, one a frame, as the bounce is spread: an edit makes no frame pay
         for more than 1 voxel in K, and while an emitter or the sky keeps changing every voxel
         is still relit once every K frames; a scrolled level lights the voxels it took in at
-        once and relights the others once the camera rests (RadianceSchedule.light_voxels)."""
+        once and relights the others once the camera rests (`resting`: it did not move this
+        frame; RadianceSchedule.light_voxels)."""
         stage = self.stages[name]
         inputs = dict(voxels=self.stages["voxels"].version, **source, cone_step=s.cone_step, cone_offset=s.cone_offset)
         changed = stage.changed(inputs, self.track_changes)
@@ -414,7 +418,8 @@ class Renderer:
             if not spread:  # converged within the frame: every voxel of a scrolled level too
                 levels, scrolled = levels | scrolled, frozenset()
         restart = bool(changed) and levels != frozenset()
-        plan = self.schedule.light_voxels(name, restart, s.bounce_interleave if spread else 1, self.grid.epoch, levels, scrolled)
+        plan = self.schedule.light_voxels(name, restart, s.bounce_interleave if spread else 1, self.grid.epoch, levels, scrolled,
+                                          resting and not scrolled)
         ran = self._run(plan, work)
         if any(isinstance(item, bounces.LightVoxels) for item in ran):
             stage.ran(inputs)
@@ -504,7 +509,7 @@ class Renderer:
             traced, filled, filtered = self._sky_segments(item.voxels)
             self.sky_light.run(grid, work.environment, work.cone_uniforms, traced, self.gather.anchors, item.levels)
             self.gather.fill(grid, grid.traced_sky_irradiance, filled)
-            self.sky_light.filter(grid, filtered)
+            self.sky_light.filter(grid, filtered, item.levels)
         elif isinstance(item, bounces.ComposeFaces):
             gathered = None if item.gathered is None else self._gathered(item.gathered)
             for voxels in item.voxels:

@@ -35,15 +35,16 @@ class SkyLightPass:
         grid.dispatch(self.program, segment)
         return grid.traced_sky_irradiance
 
-    def filter(self, grid, segment):
+    def filter(self, grid, segment, levels=None):
         """grid.sky_irradiance of the voxels of `segment` (a VoxelSegment: the covered list, or
-        the voxels a voxelization touched) from grid.traced_sky_irradiance around each
-        (written and returned)."""
+        the voxels a voxelization touched) that lie in `levels` (None: every level; a voxel's
+        filter reads its own level only) from grid.traced_sky_irradiance around each (written
+        and returned)."""
         grid.use_surface()
         bind_values(grid.traced_sky_irradiance, "VOXEL_TRACED_SKY_IRRADIANCE")
         bind_values(grid.sky_irradiance, "VOXEL_SKY_IRRADIANCE")
         segment.buffer.bind_to_storage_buffer(STORAGE_BINDING["VOXEL_LIST"])
-        self.filter_program.set(**grid.uniforms())
+        self.filter_program.set(**grid.uniforms(), lit_levels=grid.level_mask(levels))
         grid.dispatch(self.filter_program, segment)
         return grid.sky_irradiance
 
