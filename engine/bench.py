@@ -3,7 +3,8 @@
 Kinds of frame, each timed over a path after the radiance has settled (progressive bounces,
 as in the viewer; each pass timed with ctx.finish() and the wall clock, median over the
 frames):
-- static: the camera moves along a small orbit, nothing else changes;
+- static: the camera turns where it stands (its view sweeps a small circle), nothing else
+          changes;
 - camera: the camera flies along its view at walking speed (WALKING_SPEED, ANIMATION_FPS
           frames a second), turning back after a quarter of the scene's size;
 - light:  a light moves along a circle every frame (its shadow map, light injection, one
@@ -91,9 +92,9 @@ class FramePath:
             offset = (look_at - position) / np.linalg.norm(look_at - position) * min(walked, 2.0 * reach - walked)
             self.scene.camera.position, self.scene.camera.look_at = position + offset, look_at + offset
             return
-        orbit = 0.02 * self.size * np.array([math.cos(angle), math.sin(angle), 0.0])
-        self.scene.camera.position = position + orbit
-        self.scene.camera.look_at = look_at
+        # The camera turns where it stands: what it looks at runs along a small circle.
+        self.scene.camera.position = position
+        self.scene.camera.look_at = look_at + 0.02 * self.size * np.array([math.cos(angle), math.sin(angle), 0.0])
         if self.light is not None:
             self.light.light.position = self.light_position + 0.1 * self.size * np.array([math.cos(angle), 0.0, math.sin(angle)])
         if self.object is not None:
