@@ -105,8 +105,9 @@ class Mipmap:
 
 @dataclass(frozen=True)
 class Gather:
-    """The gather of interleave class `class_index` into gather array `into`."""
-    class_index: int
+    """The gather of `voxels` (a Voxels selection: a class, or the touched voxels) into gather
+    array `into`."""
+    voxels: Voxels
     into: int
     timer = "gather"
 
@@ -291,6 +292,23 @@ class RadianceSchedule:
             self.pending_base, self.pending_for = set(range(interleave)), interleave
             self.cycle_clean = False
 
+    def scrolled(self, interleave, epoch):
+        """The base radiance and the gather of the voxels a scroll took in (the touched ones),
+        the others keeping theirs (the scene and its light did not change, only which part of
+        it a level holds): the touched voxels injected, gathered and composed now, with every
+        voxel's face views where the scroll moved them (ComposeFaces of every voxel, unless the
+        voxels' light composed them this frame). No bounce restarts: the scrolled levels'
+        light is made again once the camera rests (light_voxels)."""
+        yield from self._sort(epoch, interleave)
+        yield from self._inject_now(TOUCHED_VOXELS, epoch)
+        yield Gather(TOUCHED_VOXELS, self.latest)
+        yield from self._compose(self.stale_faces, self.latest)
+
+    def faces_moved(self):
+        """A scroll zeroed the face views where voxels left: every voxel's are composed again
+        before cones next read them."""
+        self.stale_faces.append(EVERY_VOXEL)
+
     def bounce(self, restart, bounces, interleave, progressive, epoch):
         """The bounces: all of them when `restart` (the base radiance or the bounce settings
         changed), outside progressive frames; in progressive frames this frame's share."""
@@ -329,14 +347,16 @@ class RadianceSchedule:
         self.cycle_clean = False
 
     def _compose(self, voxels, gathered):
-        """The face views of `voxels` (a list of Voxels), then every mip level: none is stale after."""
-        yield ComposeFaces(tuple(voxels), gathered)
+        """The face views of `voxels` (a list of Voxels; every voxel's holds the others), then
+        every mip level: none is stale after."""
+        voxels = (EVERY_VOXEL,) if EVERY_VOXEL in voxels else tuple(dict.fromkeys(voxels))
+        yield ComposeFaces(voxels, gathered)
         yield Mipmap(tuple(voxels))
         self.stale_faces = []
 
     def _gather_every(self, epoch):
         yield from self._sort(epoch, 1)
-        yield Gather(0, self.latest)
+        yield Gather(class_voxels(0), self.latest)
 
     def _fixed(self, bounces, epoch):
         for k in range(1, bounces + 1):
@@ -395,7 +415,7 @@ class RadianceSchedule:
         if stale:
             extra = [] if EVERY_VOXEL in stale else [class_voxels(chosen)]
             yield from self._compose(stale + extra, self.latest)
-        yield Gather(chosen, self.latest)
+        yield Gather(class_voxels(chosen), self.latest)
         if not stale:
             yield from self._compose([class_voxels(chosen)], self.latest)
         self.phase = (chosen + 1) % interleave

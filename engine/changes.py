@@ -176,6 +176,11 @@ class VoxelUpdate:
     def draws_changed(self):
         return bool(self.full or self.removed or self.added)
 
+    @property
+    def scrolls_only(self):
+        """Levels scrolled, and nothing else changed: the voxels they kept hold what they held."""
+        return bool(self.scrolled) and not self.draws_changed and not self.levels
+
     def changed_levels(self, level_count):
         """The levels of a grid of `level_count` whose voxels the update changes: all of them
         where it rebuilds every voxel or draws changed (they may lie in any level), else the
@@ -245,6 +250,11 @@ class Stage:
     def ran(self, inputs):
         self.inputs = dict(inputs)
         self.version += 1
+
+    def extended(self, inputs):
+        """Ran on `inputs` over voxels a scroll took in, what it made elsewhere unchanged: the
+        stages after it, which read its version, need not run again."""
+        self.inputs = dict(inputs)
 
     def forget(self):
         self.inputs = None

@@ -284,7 +284,7 @@ class Renderer:
         if environment.environment is not None:
             self._voxel_light("sky_light", work, s, update, resting, environment=frame.environment_values)
         if s.shown.uses_radiance:
-            self._radiance(s, work)
+            self._radiance(s, work, update)
             self._bounces(s, work)
         if s.shown.stage == "voxel_view":
             with self.timed("voxel_view"):
@@ -388,6 +388,8 @@ class Renderer:
             if update.changed_levels(self.grid.levels):
                 with self.timed("voxelize"):
                     self.voxelize.update(self.grid, update, frame.draws)
+                if update.scrolled:
+                    self.schedule.faces_moved()
             if emitters.count:
                 with self.timed("emission_mipmap"):
                     self.grid.build_emission_mips()
@@ -420,13 +422,18 @@ class Renderer:
         restart = bool(changed) and levels != frozenset()
         plan = self.schedule.light_voxels(name, restart, s.bounce_interleave if spread else 1, self.grid.epoch, levels, scrolled,
                                           resting and not scrolled)
-        ran = self._run(plan, work)
-        if any(isinstance(item, bounces.LightVoxels) for item in ran):
+        lit = [item for item in self._run(plan, work) if isinstance(item, bounces.LightVoxels)]
+        if lit and all(item.voxels == bounces.TOUCHED_VOXELS for item in lit):
+            stage.extended(inputs)  # the light of before, extended to the voxels a scroll took in
+        elif lit:
             stage.ran(inputs)
 
-    def _radiance(self, s, work):
+    def _radiance(self, s, work, update):
         """Inject direct light into the voxels when the voxels, the lights or the emitters'
-        light changed (bounces.RadianceSchedule.inject)."""
+        light changed (bounces.RadianceSchedule.inject); where the voxels changed by a scroll
+        alone (`update`, this frame's changes.VoxelUpdate), in progressive frames, at the
+        voxels it took in, gathered at once, the bounces kept
+        (bounces.RadianceSchedule.scrolled)."""
         stage = self.stages["radiance"]
         inputs = dict(voxels=self.stages["voxels"].version, shadows=self.stages["shadows"].version,
                       emitter_light=self.stages["emitter_light"].version, sky_light=self.stages["sky_light"].version,
@@ -435,6 +442,10 @@ class Renderer:
         if changed:
             interleave = s.bounce_interleave if self.progressive and s.bounces == 0 else 1
             spread = self._spreads_work(s) and stage.inputs is not None
+            if spread and changed == {"voxels"} and update is not None and update.scrolls_only:
+                self._run(self.schedule.scrolled(interleave, self.grid.epoch), work)
+                stage.extended(inputs)
+                return
             self._run(self.schedule.inject("voxels" in changed, bool(changed - {"voxels"}), interleave, spread,
                                            self.grid.epoch), work)
             stage.ran(inputs)
@@ -475,6 +486,16 @@ class Renderer:
             return self.grid.touched.segment()
         return self.class_index.segment(voxels.class_index)
 
+    def _gather_segments(self, voxels):
+        """What the gather of a bounces.Voxels selection runs over: (the segment holding the
+        anchors to trace, the one holding the voxels to interpolate): a class's anchors and its
+        other voxels, or the touched voxels twice (the passes take the anchors or the others
+        among them)."""
+        if voxels.kind == "touched":
+            touched = self.grid.touched.segment()
+            return touched, touched
+        return self.class_index.anchor_segment(voxels.class_index), self.class_index.filled_segment(voxels.class_index)
+
     def _sky_segments(self, voxels):
         """What the sky's light at a bounces.Voxels selection runs over: (the segment holding
         the anchors to trace, the one holding the voxels to interpolate, the voxels to filter):
@@ -498,7 +519,7 @@ class Renderer:
         return [(self.grid.cells.segment(1), 1)]  # every covered cell
 
     def _execute(self, item, work):
-        grid, classes = self.grid, self.class_index
+        grid = self.grid
         if isinstance(item, bounces.SortClasses):
             self.class_index = self.gather.sort_classes(grid, item.interleave)
         elif isinstance(item, bounces.Inject):
@@ -517,7 +538,7 @@ class Renderer:
         elif isinstance(item, bounces.Mipmap):
             self.faces.mipmap(grid, [segment for voxels in item.voxels for segment in self._cell_segments(voxels)])
         elif isinstance(item, bounces.Gather):
-            self.gather.run(grid, work.cone_uniforms, self._gathered(item.into), classes, item.class_index)
+            self.gather.run(grid, work.cone_uniforms, self._gathered(item.into), *self._gather_segments(item.voxels))
         elif isinstance(item, bounces.ExtrapolateGather):
             self.gather.extrapolate(grid, self._gathered(item.latest), self._gathered(item.older), item.gain)
         elif isinstance(item, bounces.MeasureTotals):

@@ -14,6 +14,7 @@ from engine.errors import SceneError
 from engine.scene import Clipmap, VoxelRegion
 from conftest import REFERENCE, SCENES, reference_file, rel_mae
 from test_cli import assert_one_line_error, vct
+from test_tracking import SCREEN_PASSES
 
 
 def test_each_level_doubles_the_voxels_of_the_one_inside_it_and_holds_the_camera():
@@ -308,3 +309,34 @@ def test_bench_reports_a_clipmaps_levels_voxels_and_memory_for_every_frame_kind(
         assert record["levels"] == 2 and record["voxel_count"] == 2 * 64 ** 3
         assert 0 < record["voxel_bytes_per_voxel"] <= 64
     assert "64^3 x 2" in result.stdout
+
+
+def test_a_flying_camera_in_a_clipmap_lights_the_slabs_it_takes_in_and_restarts_no_bounce(small):
+    """Progressive frames under a sky once the radiance settled, the camera flying along x:
+    a frame that scrolls a level traces the light of the voxels it took in alone, and keeps
+    the bounces settled, so the frames between scrolls run the screen passes alone, as with
+    one grid."""
+    scene = engine.load_scene(SCENES / "references" / "open_box_sky.json")
+    scene.clipmap = Clipmap(levels=2, resolution=32, voxel_size=0.05)
+    eye = np.array([-0.15, 0.0, 0.95])
+    small.progressive = True
+    try:
+        for _ in range(400):
+            scene.camera.position, scene.camera.look_at = eye, eye + [0.0, 0.0, -1.9]
+            small.render(scene)
+            if small.schedule.idle:
+                break
+        assert small.schedule.idle
+        scrolls, between = 0, []
+        for step in range(1, 13):  # 2 cm a frame: level 0 (4 voxels of 5 cm a lattice step) scrolls every 10
+            position = eye + [0.02 * step, 0.0, 0.0]
+            scene.camera.position, scene.camera.look_at = position, position + [0.0, 0.0, -1.9]
+            small.render(scene)
+            if "voxelize" in small.passes_ran:
+                scrolls += 1
+                assert small.schedule.settled
+            else:
+                between.append(list(small.passes_ran))
+        assert scrolls >= 1 and between and all(ran == SCREEN_PASSES for ran in between)
+    finally:
+        small.progressive = False

@@ -35,7 +35,7 @@ def test_fixed_bounces_gather_k_times_and_compose_between():
     schedule, epoch = RadianceSchedule(), Epoch()
     items = run(schedule.bounce(True, 3, 4, False, epoch))
     assert items[:3] == [ComposeFaces((EVERY_VOXEL,), None), Mipmap((EVERY_VOXEL,)), SortClasses(1)]
-    assert len(of_type(items, Gather)) == 3 and all(g.class_index == 0 for g in of_type(items, Gather))
+    assert len(of_type(items, Gather)) == 3 and all(g.voxels.class_index == 0 for g in of_type(items, Gather))
     composes = of_type(items, ComposeFaces)
     assert composes[0] == ComposeFaces((EVERY_VOXEL,), None) and len(composes) == 3
     assert not of_type(items, MeasureTotals) and schedule.settled and schedule.iterations == 3
@@ -76,7 +76,7 @@ def test_progressive_frames_gather_one_class_each_until_the_cycles_converge():
         assert len(frames) < 100
     gathered = [of_type(items, Gather) for items in frames[:-1]]
     assert all(len(g) == 1 for g in gathered)
-    assert [g[0].class_index for g in gathered] == [k % 4 for k in range(len(frames) - 1)]
+    assert [g[0].voxels.class_index for g in gathered] == [k % 4 for k in range(len(frames) - 1)]
     assert frames[1][-2:] == [ComposeFaces((class_voxels(1),), 0), Mipmap((class_voxels(1),))]
     assert not any(of_type(items, MeasureTotals) for items in frames)
     for k, items in enumerate(frames):
@@ -101,7 +101,7 @@ def test_progressive_light_changes_inject_each_class_before_its_gather():
     assert sorted(i[0].voxels.class_index for i in injected) == [0, 1, 2, 3]
     for items in frames:
         inject, gather = items.index(of_type(items, Inject)[0]), items.index(of_type(items, Gather)[0])
-        assert inject < gather and items[inject].voxels.class_index == items[gather].class_index
+        assert inject < gather and items[inject].voxels == items[gather].voxels
 
 
 def test_progressive_voxel_changes_inject_and_compose_the_touched_voxels_before_the_gather():

@@ -24,7 +24,7 @@ class GatherPass:
         self.ctx = ctx
         self.trace_program = programs.compute(
             "gather/trace_anchor_cones.comp", writes=("SSBO_GATHERED_OUT",),
-            reads=("SSBO_CLASS_LIST", "SSBO_SEGMENTS", *VoxelGrid.CONE_READS))
+            reads=("SSBO_CLASS_LIST", "SSBO_SEGMENTS", "SSBO_GATHER_ANCHORS", *VoxelGrid.CONE_READS))
         self.mark_stale_program = programs.compute("gather/mark_stale_anchors.comp", reads=("SSBO_TOUCHED", *VoxelGrid.SURFACE_READS),
                                                    writes=("SSBO_GATHER_ANCHORS", "SSBO_STALE_VOXELS"))
         self.find_anchors_program = programs.compute(
@@ -141,18 +141,19 @@ class GatherPass:
         grid.dispatch(self.find_anchors_program, voxels)
         self.anchors_epoch = grid.epoch
 
-    def run(self, grid, cone_uniforms, out, classes, class_index):
-        """Gather the anchors of interleave class `class_index` (of ClassIndex `classes`) into
-        array `out`, then interpolate the gather of the class's other voxels in it from the
-        anchors around them. Returns `out`."""
+    def run(self, grid, cone_uniforms, out, anchors, filled):
+        """Gather the anchors among the voxels of segment `anchors` (an interleave class's
+        anchors, of the class index, or the touched voxels) into array `out`, then interpolate
+        the gather of the others of segment `filled` in it from the anchors around them.
+        Returns `out`."""
         grid.use_surface()
         grid.use_faces()
-        self.class_list.bind_to_storage_buffer(STORAGE_BINDING["CLASS_LIST"])
+        anchors.buffer.bind_to_storage_buffer(STORAGE_BINDING["CLASS_LIST"])
+        self.anchors.bind_to_storage_buffer(STORAGE_BINDING["GATHER_ANCHORS"])
         bind_values(out, "GATHERED_OUT")
-        anchors = classes.anchor_segment(class_index)
         self.trace_program.set(**grid.uniforms(), **cone_uniforms)
         grid.dispatch(self.trace_program, anchors)
-        return self.fill(grid, out, classes.filled_segment(class_index))
+        return self.fill(grid, out, filled)
 
     def fill(self, grid, values, segment):
         """Interpolate `values` (an array of the grid, the anchors' values written) at the

@@ -7,7 +7,8 @@
 // and the fraction of the unshadowed light that arrives, E / E_unshadowed (a; 1 where none
 // arrives), which the pixels interpolate. Light injection adds rho / pi E. Runs over a segment
 // of the class list (all covered voxels, or one interleave class a frame in the viewer) when
-// the voxels or the emitters change, not when a light moves.
+// the voxels or the emitters change, not when a light moves, or over the touched voxels (those a
+// scrolled clipmap level took in).
 #include "lib/voxel_surface.glsl"
 #include "lib/cone.glsl"
 #include "lib/emitters.glsl"

@@ -1,11 +1,13 @@
 #version 450 core
-// The diffuse gather of each anchor of a list segment (lib/gather_anchors.glsl), with the
+// The diffuse gather of each anchor among the voxels of a list segment (an interleave class's
+// anchors, or the touched voxels: lib/gather_anchors.glsl), with the
 // lecture's 6 cones from its surface point along its mean normal: G = sum_j w_j L(p, w_j). It
 // feeds the next bounce (faces/compose_face_views.comp) and the image (cone_trace/shade_pixels.frag interpolates it per
 // pixel); the other voxels take theirs from the anchors (gather/interpolate_from_anchors.comp). a = 1: a voxel that
 // reflects light (the others hold 0).
 #include "lib/voxel_surface.glsl"
 #include "lib/cone.glsl"
+#include "lib/gather_anchors.glsl"
 
 layout(local_size_x = LIST_GROUP) in;
 layout(std430, binding = SSBO_GATHERED_OUT) writeonly buffer GatheredOut { uvec2 gathered_out[]; };
@@ -17,6 +19,7 @@ void main() {
     if (gl_GlobalInvocationID.x >= segment_count()) return;
     ivec3 v = unpack_voxel(class_list[segment_first() + gl_GlobalInvocationID.x]);
     uint record = voxel_record(v);
+    if (record == NO_RECORD || (gather_anchors[record] & ANCHOR_SELF) == 0u) return;  // empty, or interpolated (GatherPass.fill)
     VoxelSurface s = voxel_surface(v, record);
     gathered_out[record] = pack_value(vec4(trace_diffuse(s.position, normalize(s.mean_normal), voxel_level(v), 1e9).rgb, 1.0));
 }

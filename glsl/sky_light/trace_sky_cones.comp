@@ -9,7 +9,8 @@
 //                                                            opacity on its way out)
 // so a cone that leaves the grid unoccluded brings the sky's radiance around its direction,
 // prefiltered to its aperture. Runs when the voxels or the environment change, over every
-// class at once or one interleave class a frame in the viewer.
+// class at once or one interleave class a frame in the viewer, or over the touched voxels (those
+// a scrolled clipmap level took in).
 #include "lib/voxel_surface.glsl"
 #include "lib/cone.glsl"
 #include "lib/environment.glsl"
