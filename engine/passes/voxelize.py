@@ -23,6 +23,8 @@ from ..scene_gpu import vertex_extras
 from ..voxel_grid import GridStorage, VoxelGrid, bind_image, bind_values, sum_room
 from ..voxel_room import CoveredBound
 
+GL_CLIP_DISTANCES = [0x3000 + plane for plane in range(6)]  # GL_CLIP_DISTANCE0..5: rasterize.geom's planes
+
 
 class VoxelizePass:
     def __init__(self, ctx, programs, geometry):
@@ -157,6 +159,8 @@ class VoxelizePass:
         self.framebuffer.use()
         self.ctx.viewport = (0, 0, grid.n, grid.n)
         self.ctx.disable(self.ctx.DEPTH_TEST | self.ctx.CULL_FACE | self.ctx.BLEND)
+        for plane in GL_CLIP_DISTANCES:
+            self.ctx.enable_direct(plane)
         for extras, program in self.programs.items():
             program.set(**grid.uniforms(), stage=SHADER_ENUMS["VOXELIZE"][stage], chunk_first=chunk_first)
             for level, box, (voxels_lo, voxels_hi), draws in jobs:
@@ -164,6 +168,8 @@ class VoxelizePass:
                 if subset:
                     program.set(voxelize_level=level, voxelized_min=tuple(voxels_lo), voxelized_max=tuple(voxels_hi))
                     self.geometry.draw(program, subset, materials=True, box=box)
+        for plane in GL_CLIP_DISTANCES:
+            self.ctx.disable_direct(plane)
         self.ctx.memory_barrier(self.ctx.SHADER_STORAGE_BARRIER_BIT | self.ctx.SHADER_IMAGE_ACCESS_BARRIER_BIT)
 
     def _resolve(self, grid, chunk_first):

@@ -2,7 +2,9 @@
 // Voxelization, geometry stage: project each triangle along its dominant normal axis onto an
 // N x N viewport over the cube of level `voxelize_level` (one draw per level) and dilate it by half a pixel (conservative rasterization, OpenGL Insights
 // ch. 22) so thin and grazing triangles leave no holes; attributes are extrapolated with the
-// barycentric coordinates of the dilated corners.
+// barycentric coordinates of the dilated corners. The triangle is clipped (gl_ClipDistance) to
+// the voxels the draw writes grown by a voxel, so fragments outside a slab are never shaded
+// (the fragment stage keeps the exact test).
 #include "lib/voxel.glsl"
 
 layout(triangles) in;
@@ -21,6 +23,14 @@ out vec2 gs_texcoord1;
 #endif
 flat out vec4 gs_pixel_bounds;  // the undilated triangle's bounding box in pixels, grown by half a pixel
 uniform int voxelize_level;     // the level drawn into
+// The voxels of that level the draw writes, [min, max) in the level's own coordinates
+// (rasterize.frag).
+uniform ivec3 voxelized_min;
+uniform ivec3 voxelized_max;
+out gl_PerVertex {
+    vec4 gl_Position;
+    float gl_ClipDistance[6];  // the voxels written, grown by a voxel: >= 0 inside each of its 6 planes
+};
 
 // Voxel-space coordinates swizzled so the dominant axis becomes depth.
 vec3 project(vec3 uvw, int axis) {
@@ -74,6 +84,12 @@ void main() {
         gs_texcoord1 = w.x * vs_texcoord1[0] + w.y * vs_texcoord1[1] + w.z * vs_texcoord1[2];
 #endif
         gs_pixel_bounds = bounds;
+        vec3 local = level_uvw(gs_position, voxelize_level) * float(voxel_grid);
+        vec3 above_min = local - vec3(voxelized_min - 1), below_max = vec3(voxelized_max + 1) - local;
+        for (int a = 0; a < 3; ++a) {
+            gl_ClipDistance[2 * a] = above_min[a];
+            gl_ClipDistance[2 * a + 1] = below_max[a];
+        }
         gl_Position = vec4(dilated, w.x * depth[0] + w.y * depth[1] + w.z * depth[2], 1.0);
         EmitVertex();
     }
