@@ -66,6 +66,13 @@ class SortClasses:
 
 
 @dataclass(frozen=True)
+class FindAnchors:
+    """The gather's anchors of the covered voxels as they are (GatherPass.find_anchors), for
+    work over the touched voxels that needs no class index."""
+    timer = "classes"
+
+
+@dataclass(frozen=True)
 class Inject:
     """The base radiance of `voxels` (InjectPass)."""
     voxels: Voxels
@@ -264,10 +271,12 @@ class RadianceSchedule:
             restart, levels, rounds.deferred = True, rounds.deferred, frozenset()
         if restart:
             rounds.restart(interleave, levels)
-        if restart or scrolled:
+        if restart:
             yield from self._sort(epoch, rounds.interleave)
+        if restart or scrolled:
             yield from self._compose([EVERY_VOXEL], self.latest)
         if scrolled:
+            yield FindAnchors()
             yield LightVoxels(source, TOUCHED_VOXELS)
         chosen = rounds.next_class()
         if chosen is not None:
@@ -299,7 +308,7 @@ class RadianceSchedule:
         voxel's face views where the scroll moved them (ComposeFaces of every voxel, unless the
         voxels' light composed them this frame). No bounce restarts: the scrolled levels'
         light is made again once the camera rests (light_voxels)."""
-        yield from self._sort(epoch, interleave)
+        yield FindAnchors()
         yield from self._inject_now(TOUCHED_VOXELS, epoch)
         yield Gather(TOUCHED_VOXELS, self.latest)
         yield from self._compose(self.stale_faces, self.latest)

@@ -481,9 +481,13 @@ class Renderer:
         return self.grid.gathered[self.schedule.latest if index is None else index]
 
     def _voxel_segment(self, voxels):
-        """The VoxelSegment of a bounces.Voxels selection."""
+        """The VoxelSegment of a bounces.Voxels selection: every voxel from the covered list
+        (which a scroll keeps current without sorting the classes again), a class from the
+        class index."""
         if voxels.kind == "touched":
             return self.grid.touched.segment()
+        if voxels.kind == "every":
+            return self.grid.covered.segment()
         return self.class_index.segment(voxels.class_index)
 
     def _gather_segments(self, voxels):
@@ -522,6 +526,8 @@ class Renderer:
         grid = self.grid
         if isinstance(item, bounces.SortClasses):
             self.class_index = self.gather.sort_classes(grid, item.interleave)
+        elif isinstance(item, bounces.FindAnchors):
+            self.gather.find_anchors(grid)
         elif isinstance(item, bounces.Inject):
             self.inject.run(grid, work.shadow_maps, work.emitters, work.environment, self._voxel_segment(item.voxels))
         elif isinstance(item, bounces.LightVoxels) and item.source == "emitter_light":

@@ -387,11 +387,11 @@ class VoxelGrid:
         if self.cone_emission is not None:
             self.cone_emission.use(TEXTURE_UNIT["VOXEL_CONE_EMISSION"])
 
-    def covered_changed(self):
+    def covered_changed(self, scrolled_levels=None):
         """After a voxelization wrote the covered list: its segment row from its count, and a
-        new epoch."""
+        new epoch (`scrolled_levels`: Epoch.scrolled_levels)."""
         self.size_list(self.covered)
-        self.epoch = self.epoch.next()
+        self.epoch = self.epoch.next(scrolled_levels)
 
     def build_emission_mips(self):
         """The cone emission's coarser levels from its level 1, after a voxelization where

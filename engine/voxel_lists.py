@@ -65,15 +65,18 @@ class VoxelSegment:
 class Epoch:
     """A token for one state of the covered-voxel list: each rebuild of the list starts a new
     epoch after the one before. What was computed from the list (the gather anchors, the class
-    index, the injected light) records the epoch it was computed for."""
+    index, the injected light) records the epoch it was computed for. `scrolled_levels`: the
+    levels a rebuild scrolled, where it changed nothing else (the voxels it touched lie in
+    them); None: it may have changed any level."""
 
-    def __init__(self, previous=None):
+    def __init__(self, previous=None, scrolled_levels=None):
         self.previous = previous
+        self.scrolled_levels = scrolled_levels
 
-    def next(self):
+    def next(self, scrolled_levels=None):
         """The epoch after this one (which forgets its own predecessor: only the latest step
         is ever asked about)."""
-        successor = Epoch(self)
+        successor = Epoch(self, scrolled_levels)
         self.previous = None
         return successor
 

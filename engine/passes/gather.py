@@ -78,7 +78,7 @@ class GatherPass:
         buckets = class_buckets(grid)
         total = interleave * CLASS_PARTS * buckets
         grid.use_surface()
-        self._find_anchors(grid)
+        self.find_anchors(grid)
         grid.covered.bind("COVERED")
         self.class_buckets.write(bytes(4 * total))
         self.class_buckets.bind_to_storage_buffer(STORAGE_BINDING["CLASS_BUCKETS"])
@@ -119,14 +119,19 @@ class GatherPass:
         self.scan_program.program.run(1)
         grid.barrier()
 
-    def _find_anchors(self, grid):
-        """The anchor records of the grid's voxels: again for the voxels around those the
-        last voxelization touched (self.stale) when the records were found for the epoch
-        before it, else for every covered voxel."""
+    def find_anchors(self, grid):
+        """The anchor records of the grid's voxels, when the records were found for the epoch
+        before: again for the voxels of the levels a scroll alone changed (their voxels moved,
+        some neighbours left), or else for those around the voxels the last voxelization
+        touched (self.stale); for every covered voxel otherwise."""
+        self._ensure_storage(grid)
         if self.anchors_epoch is grid.epoch:
             return
+        grid.use_surface()
         self.anchors.bind_to_storage_buffer(STORAGE_BINDING["GATHER_ANCHORS"])
-        every_voxel = not grid.epoch.follows(self.anchors_epoch)
+        follows = grid.epoch.follows(self.anchors_epoch)
+        scrolled = grid.epoch.scrolled_levels if follows else None
+        every_voxel = not follows or scrolled is not None
         voxels = grid.covered.segment()
         self.stale.bind("STALE_VOXELS")
         if not every_voxel:
@@ -137,7 +142,8 @@ class GatherPass:
             grid.size_list(self.stale)
             voxels = self.stale.segment()
         grid.covered.bind("COVERED")
-        self.find_anchors_program.set(**grid.uniforms(), every_voxel=every_voxel)
+        found_levels = grid.level_mask() if scrolled is None else grid.level_mask(scrolled)
+        self.find_anchors_program.set(**grid.uniforms(), every_voxel=every_voxel, found_levels=found_levels)
         grid.dispatch(self.find_anchors_program, voxels)
         self.anchors_epoch = grid.epoch
 

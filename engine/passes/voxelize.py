@@ -106,7 +106,8 @@ class VoxelizePass:
         """Scroll a level whose cube moved by `shift` of its voxels (grid.regions holds where it
         lies now): its face views and emission cells are zeroed where they were, then its
         records move to their voxels' new coordinates, those it left behind freed. The covered
-        list takes a new epoch: its voxels moved (what was computed from it is computed again)."""
+        list keeps its count; the voxelization of the slabs that follows gives it its new
+        epoch."""
         cells, mask = grid.cells, grid.level_mask([level])
         volumes = [(grid.faces, VOXEL_FACES, grid.mip_count)]  # (volume, its views, the mip levels held up to)
         if grid.cone_emission is not None:
@@ -123,7 +124,6 @@ class VoxelizePass:
         for lifting in (True, False):
             self.scroll_level.set(lifting=lifting)
             grid.dispatch(self.scroll_level, grid.covered.segment())
-        grid.covered_changed()
 
     def _apply(self, grid, update, draws, touched=None):
         """The update: flag and list the voxels to rebuild, then chunk after chunk of them sum
@@ -147,7 +147,7 @@ class VoxelizePass:
             for stage in ("front", "add"):
                 self._rasterize(grid, stage, [(level, box, voxels, reaching) for level, box, voxels, _, reaching in jobs], chunk_first)
             self._resolve(grid, chunk_first)
-        self._relist_covered(grid, update.full)
+        self._relist_covered(grid, update.full, frozenset(update.scrolled) if update.scrolls_only else None)
         if grid.cone_emission is not None:  # a scrolled level's cells all moved
             self.fill_cone_emission(grid, touched=not update.scrolled)
 
@@ -196,9 +196,10 @@ class VoxelizePass:
         self.fill_emission.set(**grid.uniforms(), entry_level=0 if touched else 1)
         grid.dispatch(self.fill_emission, segment)
 
-    def _relist_covered(self, grid, full):
+    def _relist_covered(self, grid, full, scrolled_levels):
         """The light at the records the resolve gave zeroed; the covered list (a voxel per
-        record, which the resolve wrote) sized, and the cells of every level listed again."""
+        record, which the resolve wrote) sized, its new epoch marked with the levels a scroll
+        alone changed (Epoch.scrolled_levels), and the cells of every level listed again."""
         grid.size_list(grid.newly_covered)
         for name, values in (("VOXEL_BASE", grid.base), ("VOXEL_GATHERED", grid.gathered[0]), ("GATHERED_OUT", grid.gathered[1]),
                              ("VOXEL_REFLECTED", grid.reflected),
@@ -209,7 +210,7 @@ class VoxelizePass:
         self.clear_new_records.set(**grid.uniforms(), voxel_emitters=grid.emitter_irradiance is not None,
                                    voxel_sky=grid.sky_irradiance is not None)
         grid.dispatch(self.clear_new_records, grid.newly_covered.segment())
-        grid.covered_changed()
+        grid.covered_changed(scrolled_levels)
         self._relist_cells(grid, full)
 
     def _relist_cells(self, grid, full):

@@ -1,7 +1,7 @@
 #version 450 core
-// The radiance cones read at level 0, over a segment of a voxel list (the class list: every
-// voxel, or in progressive frames one interleave class; or the voxels a voxelization touched,
-// of which those no surface covers any more hold no record): the light each voxel's surface
+// The radiance cones read at level 0, over a segment of a voxel list (the covered list: every
+// voxel; the class list: in progressive frames one interleave class; or the voxels a
+// voxelization touched, of which those no surface covers any more hold no record): the light each voxel's surface
 // reflects, its base radiance less its emission plus the light it gathered,
 // L = L_base - L_e + rho sum_j w_j L_in(p, w_j) (rho: its reflectance), into its record. Cones
 // see it in the six one-sided face views premultiplied by how much of the voxel's surface faces
@@ -18,8 +18,8 @@ layout(std430, binding = SSBO_VOXEL_REFLECTED) writeonly buffer VoxelReflected {
 uniform bool include_gathered;  // false before the first bounce
 
 void main() {
-    if (gl_GlobalInvocationID.x >= segment_count()) return;
-    ivec3 v = unpack_voxel(voxel_list[segment_first() + gl_GlobalInvocationID.x]);
+    ivec3 v;
+    if (!segment_voxel(gl_GlobalInvocationID.x, v)) return;
     uint record = voxel_record(v);
     if (record == NO_RECORD) return;
     vec3 radiance = max(unpack_value(voxel_base[record]).rgb - unpack_value(voxel_emission[record]).rgb, vec3(0.0));

@@ -2,21 +2,23 @@
 // Which covered voxels trace the diffuse gather, and which anchors the others take it from
 // (lib/gather_anchors.glsl): per voxel ANCHOR_SELF, or the bits of its anchor neighbours
 // (none where it reflects no light). Runs when the voxels change: over the voxels whose
-// records were marked stale (gather/mark_stale_anchors.comp), or over every covered voxel.
+// records were marked stale (gather/mark_stale_anchors.comp), or over every covered voxel of
+// the levels in `found_levels` (all of them, or those a scroll moved).
 #include "lib/gather_anchors.glsl"
 #include "lib/list_append.glsl"
 
 layout(local_size_x = LIST_GROUP) in;
 #include "lib/covered_voxels.glsl"
 layout(std430, binding = SSBO_STALE_VOXELS) readonly buffer StaleVoxels { uint stale_count; uint stale[]; };
-uniform bool every_voxel;  // false: the stale voxels
+uniform bool every_voxel;   // false: the stale voxels
+uniform uint found_levels;  // bit k: with every_voxel, level k's voxels are found, the others keep theirs
 
 void main() {
     uint k = gl_GlobalInvocationID.x;
     ivec3 v;
     uint record = k;
     if (every_voxel) {
-        if (!covered_voxel(k, v)) return;
+        if (!covered_voxel(k, v) || !in_level_mask(found_levels, v)) return;
     } else {
         if (k >= LISTED(stale_count, stale)) return;
         v = unpack_voxel(stale[k]);

@@ -5,9 +5,9 @@
 // reflectance (voxelize/rasterize.frag), where dot(mean normal, l) in E_l is the mean of the fragments'
 // cosines, E_emitters the emitters' shadowed light (emitter_light/light_voxels.comp) and E_sky the
 // environment's (sky_light/trace_sky_cones.comp). Runs when a light or a
-// shadow map changes, without revoxelizing, over a segment of a voxel list: the class list
-// (every voxel, or in progressive frames one interleave class) or the voxels a voxelization
-// touched.
+// shadow map changes, without revoxelizing, over a segment of a voxel list: the covered list
+// (every voxel), the class list (in progressive frames one interleave class) or the voxels a
+// voxelization touched.
 #include "lib/voxel_surface.glsl"
 #include "lib/voxel_light.glsl"
 #include "lib/lights.glsl"
@@ -17,8 +17,8 @@ layout(std430, binding = SSBO_VOXEL_BASE) writeonly buffer VoxelBase { uvec2 bas
 #include "lib/voxel_list.glsl"
 
 void main() {
-    if (gl_GlobalInvocationID.x >= segment_count()) return;
-    ivec3 v = unpack_voxel(voxel_list[segment_first() + gl_GlobalInvocationID.x]);
+    ivec3 v;
+    if (!segment_voxel(gl_GlobalInvocationID.x, v)) return;
     uint record = voxel_record(v);
     if (record == NO_RECORD) return;  // a touched voxel the voxelization emptied
     VoxelSurface s = voxel_surface(v, record);

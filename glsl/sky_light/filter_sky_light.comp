@@ -18,10 +18,8 @@ layout(std430, binding = SSBO_VOXEL_SKY_IRRADIANCE) writeonly buffer VoxelSkyIrr
 uniform uint lit_levels;  // bit k: level k's voxels are filtered, the others keep theirs
 
 void main() {
-    if (gl_GlobalInvocationID.x >= segment_count()) return;
-    uint entry = voxel_list[segment_first() + gl_GlobalInvocationID.x];
-    if (entry == NO_VOXEL) return;
-    ivec3 v = unpack_voxel(entry);
+    ivec3 v;
+    if (!segment_voxel(gl_GlobalInvocationID.x, v)) return;
     if (!in_level_mask(lit_levels, v)) return;  // its neighbours' light did not change
     uint record = voxel_record(v);
     if (record == NO_RECORD) return;  // a touched voxel the voxelization emptied
