@@ -301,7 +301,7 @@ class RadianceSchedule:
             self.pending_base, self.pending_for = set(range(interleave)), interleave
             self.cycle_clean = False
 
-    def scrolled(self, interleave, epoch):
+    def scrolled(self, epoch):
         """The base radiance and the gather of the voxels a scroll took in (the touched ones),
         the others keeping theirs (the scene and its light did not change, only which part of
         it a level holds): the touched voxels injected, gathered and composed now, with every

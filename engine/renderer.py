@@ -443,7 +443,7 @@ class Renderer:
             interleave = s.bounce_interleave if self.progressive and s.bounces == 0 else 1
             spread = self._spreads_work(s) and stage.inputs is not None
             if spread and changed == {"voxels"} and update is not None and update.scrolls_only:
-                self._run(self.schedule.scrolled(interleave, self.grid.epoch), work)
+                self._run(self.schedule.scrolled(self.grid.epoch), work)
                 stage.extended(inputs)
                 return
             self._run(self.schedule.inject("voxels" in changed, bool(changed - {"voxels"}), interleave, spread,
