@@ -263,7 +263,7 @@ class RadianceSchedule:
         camera rests (`resting`: it did not move this frame, and no level scrolled), from when
         they are lit again over the classes. Its cones read the face views' coverage, so a
         restart composes them first, with the gathers so far (the light they hold follows with
-        the bounces). Yields a LightVoxels item for the touched voxels and when a class is due."""
+        the bounces), and a scroll the ones it moved, unless the other source's plan did. Yields a LightVoxels item for the touched voxels and when a class is due."""
         rounds = self.voxel_light_rounds[source]
         if scrolled:
             rounds.deferred |= scrolled
@@ -271,10 +271,10 @@ class RadianceSchedule:
             restart, levels, rounds.deferred = True, rounds.deferred, frozenset()
         if restart:
             rounds.restart(interleave, levels)
-        if restart:
             yield from self._sort(epoch, rounds.interleave)
-        if restart or scrolled:
             yield from self._compose([EVERY_VOXEL], self.latest)
+        elif scrolled and self.stale_faces:
+            yield from self._compose(self.stale_faces, self.latest)
         if scrolled:
             yield FindAnchors()
             yield LightVoxels(source, TOUCHED_VOXELS)
@@ -422,8 +422,7 @@ class RadianceSchedule:
             self.pending_base.discard(chosen)
         stale = self.stale_faces
         if stale:
-            extra = [] if EVERY_VOXEL in stale else [class_voxels(chosen)]
-            yield from self._compose(stale + extra, self.latest)
+            yield from self._compose(stale + [class_voxels(chosen)], self.latest)
         yield Gather(class_voxels(chosen), self.latest)
         if not stale:
             yield from self._compose([class_voxels(chosen)], self.latest)
