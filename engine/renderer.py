@@ -534,9 +534,14 @@ class Renderer:
             self.emitter_light.run(grid, work.emitters, work.cone_uniforms, self._voxel_segment(item.voxels), item.levels)
         elif isinstance(item, bounces.LightVoxels):
             traced, filled, filtered = self._sky_segments(item.voxels)
-            self.sky_light.run(grid, work.environment, work.cone_uniforms, traced, self.gather.anchors, item.levels)
-            self.gather.fill(grid, grid.traced_sky_irradiance, filled)
-            self.sky_light.filter(grid, filtered, item.levels)
+            levels = range(grid.levels) if item.levels is None else item.levels
+            if item.voxels == bounces.TOUCHED_VOXELS:  # a scroll's: lit as the coarser level is, until the camera rests
+                self.sky_light.take_coarser(grid, traced, [level for level in levels if level < grid.levels - 1])
+                levels = [level for level in levels if level == grid.levels - 1]
+            if levels:
+                self.sky_light.run(grid, work.environment, work.cone_uniforms, traced, self.gather.anchors, levels)
+                self.gather.fill(grid, grid.traced_sky_irradiance, filled)
+                self.sky_light.filter(grid, filtered, levels)
         elif isinstance(item, bounces.ComposeFaces):
             gathered = None if item.gathered is None else self._gathered(item.gathered)
             for voxels in item.voxels:

@@ -221,11 +221,12 @@ def test_a_level_that_moves_alone_relights_its_own_voxels_from_the_sky(small):
     assert np.array_equal(moved, expected)
 
 
-def test_in_the_viewer_a_scrolled_level_lights_what_it_took_in_at_once_and_the_rest_at_rest(small):
+def test_in_the_viewer_a_scrolled_level_takes_in_the_coarser_levels_light_until_the_camera_rests(small):
     """Progressive frames under a sky, level 0 steps along x: in that frame the voxels it kept
     hold the light they had (the bits of before, at their new coordinates) and those it took in
-    are lit from the sky within 1 % of a new renderer's; once the camera rests, a round of the
-    interleave classes lights the kept ones again, and the voxels are a new renderer's bits."""
+    are lit as level 1 holds the sky's light at their surfaces, within 10 % of a new renderer's;
+    once the camera rests, a round of the interleave classes lights level 0 with its own cones,
+    and the voxels are a new renderer's bits."""
     scene = engine.load_scene(SCENES / "references" / "open_box_sky.json")
     scene.clipmap = Clipmap(levels=2, resolution=32, voxel_size=0.05)
     eye, step = np.array([-0.15, 0.0, 0.95]), np.array([LEVEL_SNAP_VOXELS * 0.05, 0.0, 0.0])
@@ -247,7 +248,7 @@ def test_in_the_viewer_a_scrolled_level_lights_what_it_took_in_at_once_and_the_r
             expected = frames_at(fresh, eye + step, rest)
         assert np.array_equal(moved[:, :, :n - shift], before[:, :, shift:])
         taken, taken_expected = moved[:, :, n - shift:, :3], expected[:, :, n - shift:, :3]
-        assert taken_expected.max() > 0 and np.abs(taken - taken_expected).mean() < 0.01 * taken_expected.mean()
+        assert taken_expected.max() > 0 and np.abs(taken - taken_expected).mean() < 0.1 * taken_expected.mean()
         assert not np.array_equal(moved, expected)
         assert np.array_equal(frames_at(small, eye + step, rest), expected)
     finally:

@@ -6,7 +6,8 @@ list when the voxels or the environment change (or of the voxels a scrolled leve
 grid.traced_sky_irradiance, the other voxels interpolating them as they interpolate the gather
 (GatherPass.fill); then averaged over the
 like-facing voxels around each covered voxel (or each of those taken in) into grid.sky_irradiance, which light injection adds to
-the base radiance and the image interpolates per pixel."""
+the base radiance and the image interpolates per pixel. The voxels a scrolled clipmap level took
+in may take theirs from the next coarser level instead (take_coarser), until the camera rests."""
 from ..constants import STORAGE_BINDING
 from ..voxel_grid import VoxelGrid, bind_values
 
@@ -19,6 +20,9 @@ class SkyLightPass:
         self.filter_program = programs.compute(
             "sky_light/filter_sky_light.comp", writes=("SSBO_VOXEL_SKY_IRRADIANCE",),
             reads=("SSBO_VOXEL_LIST", "SSBO_SEGMENTS", *VoxelGrid.SURFACE_READS, "SSBO_VOXEL_TRACED_SKY_IRRADIANCE"))
+        self.coarser_program = programs.compute(
+            "sky_light/take_coarser_sky_light.comp", writes=("SSBO_VOXEL_TRACED_SKY_IRRADIANCE", "SSBO_VOXEL_SKY_IRRADIANCE"),
+            reads=("SSBO_VOXEL_LIST", "SSBO_SEGMENTS", *VoxelGrid.SURFACE_READS, "SSBO_VOXEL_SKY_IRRADIANCE"))
 
     def run(self, grid, environment, cone_uniforms, segment, anchors, levels=None):
         """`environment`: scene_gpu.EnvironmentMap; `segment`: a VoxelSegment (the anchors of a
@@ -48,6 +52,20 @@ class SkyLightPass:
         grid.dispatch(self.filter_program, segment)
         return grid.sky_irradiance
 
+    def take_coarser(self, grid, segment, levels):
+        """The sky's light at the voxels of `segment` (the voxels a scroll took in) that lie in
+        `levels` (each finer than the coarsest), from the next coarser level's
+        grid.sky_irradiance around them: a lookup in place of their cones. Writes it as their
+        grid.traced_sky_irradiance and grid.sky_irradiance; returns the latter."""
+        grid.use_surface()
+        bind_values(grid.traced_sky_irradiance, "VOXEL_TRACED_SKY_IRRADIANCE")
+        bind_values(grid.sky_irradiance, "VOXEL_SKY_IRRADIANCE")
+        segment.buffer.bind_to_storage_buffer(STORAGE_BINDING["VOXEL_LIST"])
+        self.coarser_program.set(**grid.uniforms(), lit_levels=grid.level_mask(levels))
+        grid.dispatch(self.coarser_program, segment)
+        return grid.sky_irradiance
+
     def release(self):
         self.program.release()
         self.filter_program.release()
+        self.coarser_program.release()
