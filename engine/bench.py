@@ -122,7 +122,8 @@ def settle(scene, renderer, settings):
 
 
 def time_frames(scene, renderer, settings, kind, frames, warmup):
-    """One record: median total and per-pass ms of `frames` frames of one kind."""
+    """One record: median total and per-pass ms of `frames` frames of one kind, and the
+    slowest frame's total (the frames that scroll a clipmap's level stand out there)."""
     path = FramePath(scene, kind)
     totals, per_pass = [], {}
     try:
@@ -142,7 +143,7 @@ def time_frames(scene, renderer, settings, kind, frames, warmup):
         renderer.measure = False
     passes = {name: statistics.median(per_pass[name] + [0.0] * (frames - len(per_pass[name])))
               for name in PASS_ORDER if name in per_pass}
-    return {"frame": kind, "moves": path.subject, "total_ms": statistics.median(totals), "passes": passes,
+    return {"frame": kind, "moves": path.subject, "total_ms": statistics.median(totals), "max_ms": max(totals), "passes": passes,
             "draw_calls": renderer.geometry.draw_calls}
 
 
@@ -176,12 +177,12 @@ def benchmark(scene, renderer, settings, grids, frames, warmup, kinds=FRAME_KIND
 def format_table(rows):
     names = [n for n in PASS_ORDER if any(n in r["passes"] for r in rows)]
     has_error = any("rel_mae" in r for r in rows)
-    header = ["grid", "frame"] + names + ["total", "voxel B/voxel"] + (["relMAE", "lum ratio"] if has_error else [])
+    header = ["grid", "frame"] + names + ["total", "slowest", "voxel B/voxel"] + (["relMAE", "lum ratio"] if has_error else [])
     lines = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
     for r in rows:
         levels = f" x {r['levels']}" if r["grid"] and r["levels"] > 1 else ""
         cells = [f"{r['grid']}^3{levels}" if r["grid"] else "-", r["frame"]]
-        cells += [f"{r['passes'][n]:.1f}" if n in r["passes"] else "-" for n in names] + [f"**{r['total_ms']:.1f}**"]
+        cells += [f"{r['passes'][n]:.1f}" if n in r["passes"] else "-" for n in names] + [f"**{r['total_ms']:.1f}**", f"{r['max_ms']:.1f}"]
         cells += [f"{r['voxel_bytes_per_voxel']:.0f} ({r['voxel_bytes'] / 2 ** 20:.0f} MiB)" if r["grid"] else "-"]
         if has_error:
             cells += [f"{r['rel_mae']:.3f}", f"{r['luminance_ratio']:.3f}"] if "rel_mae" in r else ["", ""]
