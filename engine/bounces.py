@@ -42,10 +42,12 @@ NO_GAIN = (0.0, 0.0, 0.0)
 @dataclass(frozen=True)
 class Voxels:
     """Covered voxels a work item runs over: "every" one, those of interleave class `class_index`
-    ("class", of the class index last sorted) or those the last voxelization "touched"."""
+    ("class", of the class index last sorted) or those the last voxelization "touched"; of
+    `levels` only (a frozenset; None: of every level)."""
 
     kind: str
     class_index: int = None
+    levels: frozenset = None
 
 
 EVERY_VOXEL = Voxels("every")
@@ -54,6 +56,12 @@ TOUCHED_VOXELS = Voxels("touched")
 
 def class_voxels(class_index):
     return Voxels("class", class_index)
+
+
+def _holds(every, voxels):
+    """Whether selection `every`, another one than `voxels`, holds all of its voxels."""
+    return every.kind == "every" and every != voxels and \
+        (every.levels is None or (voxels.levels is not None and voxels.levels <= every.levels))
 
 
 # -- work items: what the renderer runs, each under the timer named by its `timer` ----------
@@ -105,9 +113,17 @@ class ComposeFaces:
 @dataclass(frozen=True)
 class Mipmap:
     """The face views' coarser levels after `voxels` (a tuple of Voxels) were composed: level 1
-    over the cells that hold them, the coarser levels over every covered cell."""
+    over the cells that hold them, the coarser levels over every covered cell of the levels
+    they lie in (a grid level's mips are made of its own voxels alone)."""
     voxels: tuple
     timer = "mipmap"
+
+    @property
+    def levels(self):
+        """The grid levels whose mips change: those of the voxels (None: every level)."""
+        if any(voxels.levels is None for voxels in self.voxels):
+            return None
+        return frozenset().union(*(voxels.levels for voxels in self.voxels))
 
 
 @dataclass(frozen=True)
@@ -308,15 +324,16 @@ class RadianceSchedule:
         voxel's face views where the scroll moved them (ComposeFaces of every voxel, unless the
         voxels' light composed them this frame). No bounce restarts: the scrolled levels'
         light is made again once the camera rests (light_voxels)."""
+        touched = Voxels("touched", levels=epoch.scrolled_levels)
         yield FindAnchors()
-        yield from self._inject_now(TOUCHED_VOXELS, epoch)
-        yield Gather(TOUCHED_VOXELS, self.latest)
+        yield from self._inject_now(touched, epoch)
+        yield Gather(touched, self.latest)
         yield from self._compose(self.stale_faces, self.latest)
 
-    def faces_moved(self):
-        """A scroll zeroed the face views where voxels left: every voxel's are composed again
-        before cones next read them."""
-        self.stale_faces.append(EVERY_VOXEL)
+    def faces_moved(self, levels):
+        """A scroll of `levels` zeroed their face views where voxels left: every voxel's of
+        those levels are composed again before cones next read them."""
+        self.stale_faces.append(Voxels("every", levels=frozenset(levels)))
 
     def bounce(self, restart, bounces, interleave, progressive, epoch):
         """The bounces: all of them when `restart` (the base radiance or the bounce settings
@@ -358,7 +375,8 @@ class RadianceSchedule:
     def _compose(self, voxels, gathered):
         """The face views of `voxels` (a list of Voxels; every voxel's holds the others), then
         every mip level: none is stale after."""
-        voxels = (EVERY_VOXEL,) if EVERY_VOXEL in voxels else tuple(dict.fromkeys(voxels))
+        voxels = tuple(dict.fromkeys(voxels))
+        voxels = tuple(v for v in voxels if not any(_holds(every, v) for every in voxels))
         yield ComposeFaces(voxels, gathered)
         yield Mipmap(tuple(voxels))
         self.stale_faces = []

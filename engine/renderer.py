@@ -389,7 +389,7 @@ class Renderer:
                 with self.timed("voxelize"):
                     self.voxelize.update(self.grid, update, frame.draws)
                 if update.scrolled:
-                    self.schedule.faces_moved()
+                    self.schedule.faces_moved(update.scrolled)
             if emitters.count:
                 with self.timed("emission_mipmap"):
                     self.grid.build_emission_mips()
@@ -423,7 +423,7 @@ class Renderer:
         plan = self.schedule.light_voxels(name, restart, s.bounce_interleave if spread else 1, self.grid.epoch, levels, scrolled,
                                           resting and not scrolled)
         lit = [item for item in self._run(plan, work) if isinstance(item, bounces.LightVoxels)]
-        if lit and all(item.voxels == bounces.TOUCHED_VOXELS for item in lit):
+        if lit and all(item.voxels.kind == "touched" for item in lit):
             stage.extended(inputs)  # the light of before, extended to the voxels a scroll took in
         elif lit:
             stage.ran(inputs)
@@ -535,7 +535,7 @@ class Renderer:
         elif isinstance(item, bounces.LightVoxels):
             traced, filled, filtered = self._sky_segments(item.voxels)
             levels = range(grid.levels) if item.levels is None else item.levels
-            if item.voxels == bounces.TOUCHED_VOXELS:  # a scroll's: lit as the coarser level is, until the camera rests
+            if item.voxels.kind == "touched":  # a scroll's: lit as the coarser level is, until the camera rests
                 self.sky_light.take_coarser(grid, traced, [level for level in levels if level < grid.levels - 1])
                 levels = [level for level in levels if level == grid.levels - 1]
             if levels:
@@ -545,9 +545,9 @@ class Renderer:
         elif isinstance(item, bounces.ComposeFaces):
             gathered = None if item.gathered is None else self._gathered(item.gathered)
             for voxels in item.voxels:
-                self.faces.compose(grid, gathered, self._voxel_segment(voxels))
+                self.faces.compose(grid, gathered, self._voxel_segment(voxels), voxels.levels)
         elif isinstance(item, bounces.Mipmap):
-            self.faces.mipmap(grid, [segment for voxels in item.voxels for segment in self._cell_segments(voxels)])
+            self.faces.mipmap(grid, [segment for voxels in item.voxels for segment in self._cell_segments(voxels)], item.levels)
         elif isinstance(item, bounces.Gather):
             self.gather.run(grid, work.cone_uniforms, self._gathered(item.into), *self._gather_segments(item.voxels))
         elif isinstance(item, bounces.ExtrapolateGather):

@@ -3,7 +3,7 @@ or the lights changed, and how the bounces converge, headless and over progressi
 import numpy as np
 
 from engine.bounces import (EVERY_VOXEL, TOUCHED_VOXELS, ClassRounds, ComposeFaces, ExtrapolateGather, FindAnchors, Gather, Inject,
-                            LightVoxels, MeasureTotals, Mipmap, RadianceSchedule, ReadTotals, RequestTotals, SortClasses,
+                            LightVoxels, MeasureTotals, Mipmap, RadianceSchedule, ReadTotals, RequestTotals, SortClasses, Voxels,
                             class_voxels, run_plan)
 from engine.voxel_grid import Epoch
 
@@ -177,18 +177,22 @@ def test_a_round_restarted_before_it_finished_covers_the_levels_of_both():
 def test_a_scroll_lights_the_voxels_it_took_in_and_restarts_no_bounce():
     """A scroll changes no light, only which part of the scene a level holds: its plan finds
     the anchors, injects and gathers the touched voxels alone, and composes them with every
-    voxel's face views (which the scroll moved), without sorting the classes; the settled
-    bounces stay settled, and the next frame plans no bounce work."""
+    voxel's face views of the scrolled level (which the scroll moved) and that level's mips
+    alone, without sorting the classes; the settled bounces stay settled, and the next frame
+    plans no bounce work."""
     schedule, epoch = RadianceSchedule(), Epoch()
     run(schedule.bounce(True, 0, 4, True, epoch), geometric_totals(ratio=0.01))
     for _ in range(12):
         progressive_frame(schedule, epoch, totals=geometric_totals(ratio=0.01))
     assert schedule.settled
-    scrolled = epoch.next(frozenset({0}))
-    schedule.faces_moved()
+    level_zero = frozenset({0})
+    scrolled = epoch.next(level_zero)
+    schedule.faces_moved(level_zero)
     items = run(schedule.scrolled(scrolled))
+    touched = Voxels("touched", levels=level_zero)
     assert not of_type(items, SortClasses) and of_type(items, FindAnchors)
-    assert [i.voxels for i in of_type(items, Inject)] == [TOUCHED_VOXELS]
-    assert [g.voxels for g in of_type(items, Gather)] == [TOUCHED_VOXELS]
-    assert [c.voxels for c in of_type(items, ComposeFaces)] == [(EVERY_VOXEL,)]
+    assert [i.voxels for i in of_type(items, Inject)] == [touched]
+    assert [g.voxels for g in of_type(items, Gather)] == [touched]
+    assert [c.voxels for c in of_type(items, ComposeFaces)] == [(Voxels("every", levels=level_zero),)]
+    assert [m.levels for m in of_type(items, Mipmap)] == [level_zero]
     assert schedule.settled and progressive_frame(schedule, scrolled) == []

@@ -19,26 +19,28 @@ class FaceViewsPass:
         self.totals_program = programs.compute("faces/sum_face_views.comp", reads=("TEX_VOXEL_FACES",), writes=("SSBO_READBACK",))
         self.totals_buffer = ctx.buffer(reserve=16 * VOXEL_FACES)
 
-    def compose(self, grid, gathered, segment):
+    def compose(self, grid, gathered, segment, levels=None):
         """Level 0 of the face views, the light the voxels reflect (grid.reflected), from the
         base radiance plus rho times `gathered` (an array of the grid, or None before the
-        first bounce), for the voxels of `segment` (a VoxelSegment). Returns grid.reflected."""
+        first bounce), for the voxels of `segment` (a VoxelSegment) that lie in `levels`
+        (None: every level). Returns grid.reflected."""
         grid.use_surface()
         bind_values(grid.base, "VOXEL_BASE")
         if gathered is not None:
             bind_values(gathered, "VOXEL_GATHERED")
         bind_values(grid.reflected, "VOXEL_REFLECTED")
         segment.buffer.bind_to_storage_buffer(STORAGE_BINDING["VOXEL_LIST"])
-        self.compose_program.set(**grid.uniforms(), include_gathered=gathered is not None)
+        self.compose_program.set(**grid.uniforms(), include_gathered=gathered is not None, composed_levels=grid.level_mask(levels))
         grid.dispatch(self.compose_program, segment)
         return grid.reflected
 
-    def mipmap(self, grid, level_one=None):
+    def mipmap(self, grid, level_one=None, levels=None):
         """Every coarser level of the face views, level after level: level 1 over the cells
         that hold the entries of `level_one`, (VoxelSegment, level of its entries) pairs (the
         cells of the voxels composed: an interleave class's, or those of the voxels a
         voxelization touched, which it zeroed; None: every covered cell), the coarser levels
-        over every covered cell. Returns the face views."""
+        over every covered cell; of the grid levels `levels` only (None: every level).
+        Returns the face views."""
         grid.use_faces()
         uniforms = grid.uniforms()
         level_one = level_one or [(grid.cells.segment(1), 1)]
@@ -46,7 +48,7 @@ class FaceViewsPass:
             grid.bind_faces(level)
             for segment, entry_level in level_one if level == 1 else [(grid.cells.segment(level), level)]:
                 segment.buffer.bind_to_storage_buffer(STORAGE_BINDING["CELLS"])
-                self.mipmap_program.set(**uniforms, level=level, entry_level=entry_level)
+                self.mipmap_program.set(**uniforms, level=level, entry_level=entry_level, mipmapped_levels=grid.level_mask(levels))
                 grid.dispatch(self.mipmap_program, segment)
         return grid.faces
 

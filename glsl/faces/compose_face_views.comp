@@ -16,10 +16,11 @@ layout(std430, binding = SSBO_VOXEL_GATHERED) readonly buffer VoxelGathered { uv
 layout(std430, binding = SSBO_VOXEL_REFLECTED) writeonly buffer VoxelReflected { uvec2 reflected_out[]; };
 #include "lib/voxel_list.glsl"
 uniform bool include_gathered;  // false before the first bounce
+uniform uint composed_levels;   // bit k: level k's voxels are composed, the others keep theirs
 
 void main() {
     ivec3 v;
-    if (!segment_voxel(gl_GlobalInvocationID.x, v)) return;
+    if (!segment_voxel(gl_GlobalInvocationID.x, v) || !in_level_mask(composed_levels, v)) return;
     uint record = voxel_record(v);
     if (record == NO_RECORD) return;
     vec3 radiance = max(unpack_value(voxel_base[record]).rgb - unpack_value(voxel_emission[record]).rgb, vec3(0.0));

@@ -13,11 +13,13 @@
 layout(local_size_x = LIST_GROUP) in;
 layout(binding = IMG_FACES_OUT, rgba16f) uniform writeonly image3D faces_out;
 uniform int level;
+uniform uint mipmapped_levels;  // bit k: grid level k's cells are made again, the others keep theirs
 
 void main() {
     if (gl_GlobalInvocationID.x >= segment_count()) return;
     ivec3 cell = segment_cell(gl_GlobalInvocationID.x, level);
     int side = voxel_grid >> level;
+    if ((mipmapped_levels & (1u << (cell.z / side))) == 0u) return;
     vec4 mean[VOXEL_FACES];
     if (level == 1) {
         for (int f = 0; f < VOXEL_FACES; ++f) mean[f] = vec4(0.0);
