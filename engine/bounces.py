@@ -275,7 +275,8 @@ class RadianceSchedule:
         """The light of `source` at the voxels, when its inputs changed (`restart`: spread over
         `interleave` classes, over the voxels of `levels`, None: every level), and for the
         classes still due. Where levels scrolled (`scrolled`), the voxels they took in (the
-        touched ones) are lit at once; their other voxels keep the light they had until the
+        touched ones) are lit at once (the sky's light below the coarsest level as the next
+        coarser level holds it: SkyLightPass.take_coarser); their other voxels keep the light they had until the
         camera rests (`resting`: it did not move this frame, and no level scrolled), from when
         they are lit again over the classes. Its cones read the face views' coverage, so a
         restart composes them first, with the gathers so far (the light they hold follows with
@@ -320,10 +321,11 @@ class RadianceSchedule:
     def scrolled(self, epoch):
         """The base radiance and the gather of the voxels a scroll took in (the touched ones),
         the others keeping theirs (the scene and its light did not change, only which part of
-        it a level holds): the touched voxels injected, gathered and composed now, with every
-        voxel's face views where the scroll moved them (ComposeFaces of every voxel, unless the
-        voxels' light composed them this frame). No bounce restarts: the scrolled levels'
-        light is made again once the camera rests (light_voxels)."""
+        it a level holds): the touched voxels (which lie in the levels `epoch` scrolled)
+        injected, gathered and composed now, with the face views of every voxel of those levels,
+        which the scroll moved (unless the voxels' light composed them this frame), and their
+        levels' mips. No bounce restarts: the scrolled levels' light is made again once the
+        camera rests (light_voxels)."""
         touched = Voxels("touched", levels=epoch.scrolled_levels)
         yield FindAnchors()
         yield from self._inject_now(touched, epoch)
@@ -373,8 +375,9 @@ class RadianceSchedule:
         self.cycle_clean = False
 
     def _compose(self, voxels, gathered):
-        """The face views of `voxels` (a list of Voxels; every voxel's holds the others), then
-        every mip level: none is stale after."""
+        """The face views of `voxels` (a list of Voxels; a selection of every voxel of some
+        levels holds the others of those levels), then every mip level of their levels: none
+        is stale after."""
         voxels = tuple(dict.fromkeys(voxels))
         voxels = tuple(v for v in voxels if not any(_holds(every, v) for every in voxels))
         yield ComposeFaces(voxels, gathered)
