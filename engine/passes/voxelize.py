@@ -9,7 +9,8 @@ the camera: it flags the voxels those draws covered before and cover now (and ev
 levels covered and now cover), rebuilds just those voxels from every draw that reaches them, and
 leaves the rest as it was. A level that moved by part of its cube scrolls instead: its voxels
 keep their records (and so their surface and light) at their new coordinates, and only the slabs
-it took in are voxelized (while draws change too, the whole level is rebuilt after the scroll).
+it took in are voxelized, every voxel of a slab flagged at once instead of by drawing its
+triangles a third time (while draws change too, the whole level is rebuilt after the scroll).
 Integer sums make the result the same bits as a full voxelization.
 Afterwards the covered-voxel list and the covered cells of every mip level are brought up to
 date. Where the grid's lists had no room for the voxels an update listed, the grid grows its
@@ -17,7 +18,7 @@ lists (made anew, empty) and the whole scene is voxelized into it. Whether they 
 read back from the GPU only where the host cannot bound it (engine/voxel_room.py)."""
 import numpy as np
 
-from ..constants import IMAGE_UNIT, SHADER_ENUMS, STORAGE_BINDING, VOXEL_FACES, VOXEL_SUM_CHANNELS
+from ..constants import IMAGE_UNIT, LIST_GROUP, SHADER_ENUMS, STORAGE_BINDING, VOXEL_FACES, VOXEL_SUM_CHANNELS
 from ..changes import VoxelUpdate
 from ..scene_gpu import vertex_extras
 from ..voxel_grid import GridStorage, VoxelGrid, bind_image, bind_values, sum_room
@@ -55,6 +56,7 @@ class VoxelizePass:
                                               writes=("IMG_CONE_EMISSION_OUT",))
         self.clear_cells = programs.compute("voxelize/clear_cells.comp", reads=("SSBO_CELLS", "SSBO_SEGMENTS"), writes=("IMG_FACES_OUT",))
         self.scroll_level = programs.compute("voxelize/scroll_level.comp", writes=("SSBO_COVERED", "SSBO_VOXEL_RECORD", "SSBO_RECORD_POOL"))
+        self.mark_box = programs.compute("voxelize/mark_voxel_box.comp", writes=("SSBO_TOUCHED", "SSBO_VOXEL_RECORD", "SSBO_TOUCHED_RECORDS"))
         self._scratch = GridStorage()  # the fixed-point sums, front-layer keys, touched voxels' records, a framebuffer
         self.room = CoveredBound()     # what is known of the grid's covered count
 
@@ -140,7 +142,10 @@ class VoxelizePass:
             self.mark_covered.set(**grid.uniforms(), marked_levels=grid.level_mask(rebuilt))
             grid.dispatch(self.mark_covered, grid.covered.segment())
         jobs = _level_jobs(grid, update, rebuilt, draws)
-        self._rasterize(grid, "mark", [(level, box, voxels, marked) for level, box, voxels, marked, _ in jobs], 0)
+        self._rasterize(grid, "mark", [(level, box, voxels, marked) for level, box, voxels, marked, _ in jobs if marked is not None], 0)
+        for level, _, voxels, marked, _ in jobs:
+            if marked is None:
+                self._mark_box(grid, level, voxels)
         grid.size_list(grid.touched)
         listed = min(grid.touched.read_count() if touched is None else touched, grid.touched_room)
         for chunk_first in range(0, max(listed, 1), sum_room(grid.n, grid.levels)):
@@ -150,6 +155,14 @@ class VoxelizePass:
         self._relist_covered(grid, update.full, frozenset(update.scrolled) if update.scrolls_only else None)
         if grid.cone_emission is not None:  # a scrolled level's cells all moved
             self.fill_cone_emission(grid, touched=not update.scrolled)
+
+    def _mark_box(self, grid, level, voxels):
+        """Flag and list as touched every voxel of a box of a level ((lo, hi) in its coordinates)."""
+        lo, hi = (np.asarray(corner, int) for corner in voxels)
+        size = hi - lo
+        self.mark_box.set(**grid.uniforms(), marked_level=level, box_min=tuple(int(c) for c in lo), box_size=tuple(int(c) for c in size))
+        self.mark_box.program.run(-(-int(np.prod(size)) // LIST_GROUP))
+        grid.barrier()
 
     def _rasterize(self, grid, stage, jobs, chunk_first):
         """Rasterize in one of the fragment stages, into the sums of the chunk of the touched
@@ -211,14 +224,15 @@ class VoxelizePass:
                                    voxel_sky=grid.sky_irradiance is not None)
         grid.dispatch(self.clear_new_records, grid.newly_covered.segment())
         grid.covered_changed(scrolled_levels)
-        self._relist_cells(grid, full)
+        self._relist_cells(grid, full, zeroed=scrolled_levels is not None)
 
-    def _relist_cells(self, grid, full):
+    def _relist_cells(self, grid, full, zeroed=False):
         """Zero the face views of every level over the cells the voxelization changed (those
-        holding the voxels it touched; after a full one, the old covered cells), then list the
+        holding the voxels it touched; after a full one, the old covered cells) unless they are
+        zero (`zeroed`: a scroll alone, which zeroed its levels' face views), then list the
         cells the covered voxels now reach, level after level."""
         uniforms, cells = grid.uniforms(), grid.cells
-        for level in range(1, grid.mip_count):
+        for level in range(1, grid.mip_count if not zeroed else 1):
             grid.bind_faces(level)
             segment = cells.segment(level) if full else grid.touched.segment()
             segment.buffer.bind_to_storage_buffer(STORAGE_BINDING["CELLS"])
@@ -243,18 +257,19 @@ class VoxelizePass:
 
     def release(self):
         for handle in (*self.programs.values(), self.mark_covered, self.resolve, self.clear_new_records,
-                       self.list_cells, self.fill_emission, self.clear_cells, self.scroll_level):
+                       self.list_cells, self.fill_emission, self.clear_cells, self.scroll_level, self.mark_box):
             handle.release()
         self._scratch.release()
 
 
 def _level_jobs(grid, update, rebuilt, draws):
     """What the update voxelizes: (level, world box, voxel box, the draws whose voxels there are
-    flagged, the draws that reach them), the voxel box (lo, hi) in the level's coordinates.
-    A rebuilt level: its whole cube, every draw. A level that scrolled (and is not rebuilt):
-    each slab it took in. Elsewhere, the changed draws' voxels: the box within a voxel of the
-    level of them, which the draws inside it reach. The world boxes hold a voxel more on each
-    side: what a triangle's dilation reaches."""
+    flagged (None: every voxel of the box is), the draws that reach them), the voxel box
+    (lo, hi) in the level's coordinates. A rebuilt level: its whole cube, every draw. A level
+    that scrolled (and is not rebuilt): each slab it took in, all its voxels flagged. Elsewhere,
+    the changed draws' voxels: the box within a voxel of the level of them, which the draws
+    inside it reach. The world boxes hold a voxel more on each side: what a triangle's dilation
+    reaches."""
     n, changed = grid.n, update.removed + update.added
     jobs = []
     for level in range(grid.levels):
@@ -263,7 +278,7 @@ def _level_jobs(grid, update, rebuilt, draws):
         whole = (np.zeros(3, int), np.full(3, n))
         if level in rebuilt:
             boxes = [((lo, hi), whole, draws)]
-        elif level in update.scrolled:  # the draws reaching a slab mark its voxels
+        elif level in update.scrolled:
             boxes = [((lo + first * voxel - voxel, lo + last * voxel + voxel), (first, last), None)
                      for first, last in entered_slabs(update.scrolled[level], n)]
         elif changed:
@@ -275,7 +290,9 @@ def _level_jobs(grid, update, rebuilt, draws):
             if np.any(box[0] > box[1]):
                 continue  # the change lies outside this level
             reaching = [d for d in draws if np.all(d.bounds[0] <= box[1]) and np.all(d.bounds[1] >= box[0])]
-            jobs.append((level, box, voxels, reaching if marked is None else marked, reaching))
+            if marked is None and not reaching:
+                continue  # a slab no surface reaches stays empty
+            jobs.append((level, box, voxels, marked, reaching))
     return jobs
 
 
