@@ -152,7 +152,7 @@ GRID_SIZES = (16, 32, 64, 128, 256)
 MAX_VOXEL_LEVELS = 10
 # Lookups within this many voxels of a level's border (past the lookup's own reach) blend into
 # the next coarser level, so a clipmap's level borders draw no seams (lib/voxel.glsl level_share).
-LEVEL_BLEND_VOXELS = 4.0
+LEVEL_BLEND_VOXELS = 2.0
 
 # Compute shader local sizes: passes over a list of voxels, and over a whole volume.
 LIST_GROUP = 64
