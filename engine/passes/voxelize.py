@@ -232,7 +232,7 @@ class VoxelizePass:
         zero (`zeroed`: a scroll alone, which zeroed its levels' face views), then list the
         cells the covered voxels now reach, level after level."""
         uniforms, cells = grid.uniforms(), grid.cells
-        for level in range(1, grid.mip_count if not zeroed else 1):
+        for level in range(1, grid.mip_count) if not zeroed else ():
             grid.bind_faces(level)
             segment = cells.segment(level) if full else grid.touched.segment()
             segment.buffer.bind_to_storage_buffer(STORAGE_BINDING["CELLS"])
