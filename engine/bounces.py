@@ -90,11 +90,12 @@ class Inject:
 @dataclass(frozen=True)
 class LightVoxels:
     """The light of `source` ("emitter_light" or "sky_light") at those of `voxels` (a class's,
-    or the touched ones) that lie in `levels` (None: every level; the others keep the light
-    they hold)."""
+    or the touched ones) that lie in `levels` (None: every level) and in the world box `box`
+    ((lo, hi); None: anywhere); the others keep the light they hold."""
     source: str
     voxels: Voxels
     levels: frozenset = None
+    box: tuple = None  # (lo, hi), each a tuple of 3 floats
 
     @property
     def timer(self):
@@ -210,21 +211,27 @@ class ClassRounds:
     where the last round stopped, so work restarted every frame still reaches every class
     once every K frames. A round covers the voxels of some levels (None: every level); one
     restarted before it finished also covers the levels of the one it replaces. `deferred`:
-    levels whose voxels a round is to cover once the camera rests (they scrolled)."""
+    levels whose voxels a round is to cover once the camera and the draws rest (they scrolled,
+    or a round covered a box of them). A round covers a world box of those levels' voxels
+    (None: all of them); one restarted before it finished, the box holding both."""
 
     def __init__(self):
         self.interleave = 1
         self.pending = []    # the classes still to do since the last restart
         self.phase = 0       # the class to do first after the next restart
         self.levels = None   # the levels whose voxels the round covers
+        self.box = None      # the world box (lo, hi) of the voxels it covers
         self.deferred = frozenset()
 
-    def restart(self, interleave, levels=None):
-        if levels is None:
+    def restart(self, interleave, levels=None, box=None):
+        if levels is None and box is None:
             self.deferred = frozenset()
-        if self.pending and levels is not None:
-            levels = None if self.levels is None else levels | self.levels
-        self.interleave, self.levels = interleave, levels
+        if self.pending:
+            if levels is not None:
+                levels = None if self.levels is None else levels | self.levels
+            if box is not None:
+                box = None if self.box is None else (tuple(map(min, box[0], self.box[0])), tuple(map(max, box[1], self.box[1])))
+        self.interleave, self.levels, self.box = interleave, levels, box
         self.phase %= interleave
         self.pending = [(self.phase + k) % interleave for k in range(interleave)]
 
@@ -271,10 +278,11 @@ class RadianceSchedule:
         waits for the camera to rest."""
         return self.settled and not any(rounds.pending or rounds.deferred for rounds in self.voxel_light_rounds.values())
 
-    def light_voxels(self, source, restart, interleave, epoch, levels=None, scrolled=frozenset(), resting=True):
+    def light_voxels(self, source, restart, interleave, epoch, levels=None, scrolled=frozenset(), resting=True, near=None):
         """The light of `source` at the voxels, when its inputs changed (`restart`: spread over
-        `interleave` classes, over the voxels of `levels`, None: every level), and for the
-        classes still due. Where levels scrolled (`scrolled`), the voxels they took in (the
+        `interleave` classes, over the voxels of `levels`, None: every level; where `near` is a
+        world box, over the voxels inside it, the others of those levels once the camera and
+        the draws rest), and for the classes still due. Where levels scrolled (`scrolled`), the voxels they took in (the
         touched ones) are lit at once (the sky's light below the coarsest level as the next
         coarser level holds it: SkyLightPass.take_coarser); their other voxels keep the light they had until the
         camera rests (`resting`: it did not move this frame, and no level scrolled), from when
@@ -285,9 +293,11 @@ class RadianceSchedule:
         if scrolled:
             rounds.deferred |= scrolled
         elif rounds.deferred and resting and not restart:
-            restart, levels, rounds.deferred = True, rounds.deferred, frozenset()
+            restart, levels, near, rounds.deferred = True, rounds.deferred, None, frozenset()
         if restart:
-            rounds.restart(interleave, levels)
+            if near is not None:
+                rounds.deferred |= levels
+            rounds.restart(interleave, levels, near)
             yield from self._sort(epoch, rounds.interleave)
             yield from self._compose([EVERY_VOXEL], self.latest)
         elif scrolled and self.stale_faces:
@@ -298,7 +308,7 @@ class RadianceSchedule:
         chosen = rounds.next_class()
         if chosen is not None:
             yield from self._sort(epoch, rounds.interleave)
-            yield LightVoxels(source, class_voxels(chosen), rounds.levels)
+            yield LightVoxels(source, class_voxels(chosen), rounds.levels, rounds.box)
 
     def inject(self, voxels_changed, lights_changed, interleave, spread, epoch):
         """The base radiance after the voxels or the light reaching them changed. Spread

@@ -20,6 +20,7 @@ from . import transforms
 from . import bounces
 from .changes import BoundsCache, FrameInputs, Stage, voxel_update
 from .clipmap import frame_levels, level_shift, moved_levels, scrolled_regions
+from .constants import SKY_NEAR_REACH
 from .emitters import frame_emitters
 from .errors import VctError
 from .gl import create_headless_context
@@ -282,7 +283,7 @@ class Renderer:
         if emitters.count:
             self._voxel_light("emitter_light", work, s, update, resting, emitters=self.stages["emitters"].version)
         if environment.environment is not None:
-            self._voxel_light("sky_light", work, s, update, resting, environment=frame.environment_values)
+            self._voxel_light("sky_light", work, s, update, resting, near_reach=SKY_NEAR_REACH, environment=frame.environment_values)
         if s.shown.uses_radiance:
             self._radiance(s, work, update)
             self._bounces(s, work)
@@ -397,7 +398,7 @@ class Renderer:
             return update
         return None
 
-    def _voxel_light(self, name, work, s, update, resting, **source):
+    def _voxel_light(self, name, work, s, update, resting, near_reach=None, **source):
         """The emitters' or the sky's light at the voxels ("emitter_light", "sky_light"), when
         the voxels, its `source` or the cones that bring it changed: where only the voxels
         changed (`update`, this frame's changes.VoxelUpdate), at the voxels of the levels it
@@ -407,21 +408,27 @@ class Renderer:
         for more than 1 voxel in K, and while an emitter or the sky keeps changing every voxel
         is still relit once every K frames; a scrolled level lights the voxels it took in at
         once and relights the others once the camera rests (`resting`: it did not move this
-        frame; RadianceSchedule.light_voxels)."""
+        frame; RadianceSchedule.light_voxels). With `near_reach` (the sky's), while draws move
+        only the voxels within near_reach times their size of them are relit, the others once
+        they rest too (constants.SKY_NEAR_REACH)."""
         stage = self.stages[name]
         inputs = dict(voxels=self.stages["voxels"].version, **source, cone_step=s.cone_step, cone_offset=s.cone_offset)
         changed = stage.changed(inputs, self.track_changes)
         spread = self._spreads_work(s)
-        levels, scrolled = None, frozenset()
+        levels, scrolled, near = None, frozenset(), None
+        draws_moved = update is not None and update.draws_changed
         if changed == {"voxels"} and update is not None:
             levels = update.relit_levels(self.grid.levels)
             if not update.draws_changed:
                 scrolled = frozenset(update.scrolled)
             if not spread:  # converged within the frame: every voxel of a scrolled level too
                 levels, scrolled = levels | scrolled, frozenset()
+            elif near_reach is not None and draws_moved and not update.full:
+                lo, hi = update.touched_bounds(margin=0.0)
+                near = tuple(tuple(float(c) for c in corner) for corner in update.touched_bounds(margin=near_reach * float(np.max(hi - lo))))
         restart = bool(changed) and levels != frozenset()
         plan = self.schedule.light_voxels(name, restart, s.bounce_interleave if spread else 1, self.grid.epoch, levels, scrolled,
-                                          resting and not scrolled)
+                                          resting and not scrolled and not draws_moved, near)
         lit = [item for item in self._run(plan, work) if isinstance(item, bounces.LightVoxels)]
         if lit and all(item.voxels.kind == "touched" for item in lit):
             stage.extended(inputs)  # the light of before, extended to the voxels a scroll took in
@@ -539,9 +546,9 @@ class Renderer:
                 self.sky_light.take_coarser(grid, traced, [level for level in levels if level < grid.levels - 1])
                 levels = [level for level in levels if level == grid.levels - 1]
             if levels:
-                self.sky_light.run(grid, work.environment, work.cone_uniforms, traced, self.gather.anchors, levels)
+                self.sky_light.run(grid, work.environment, work.cone_uniforms, traced, self.gather.anchors, levels, item.box)
                 self.gather.fill(grid, grid.traced_sky_irradiance, filled)
-                self.sky_light.filter(grid, filtered, levels)
+                self.sky_light.filter(grid, filtered, levels, item.box)
         elif isinstance(item, bounces.ComposeFaces):
             gathered = None if item.gathered is None else self._gathered(item.gathered)
             for voxels in item.voxels:

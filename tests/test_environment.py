@@ -21,6 +21,7 @@ import pytest
 
 import engine
 from engine import SceneError, load_scene
+from engine.constants import SKY_FILTER_RADIUS, SKY_NEAR_REACH
 from test_cli import assert_one_line_error, vct  # tests/ is on sys.path under pytest
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -129,6 +130,47 @@ def test_the_viewers_sky_light_spread_over_frames_ends_as_one_frames(small):
         spread = viewer.voxels("radiance")
     small.render(scene, grid=32)
     assert np.array_equal(spread, small.voxels("radiance"))
+
+
+def test_while_an_object_moves_under_a_sky_only_the_voxels_near_it_are_relit_the_rest_once_it_rests(tmp_path):
+    """A 0.5 m plate slides 3.5 m above a floor under a sky: in the viewer each step relights the
+    sky's light within SKY_NEAR_REACH times its size of it (an occluder hides at most 1/128 of
+    the sky beyond), so the floor below it, further away than that and the sky filter's reach,
+    keeps the light it had to the bit, though the plate's shadow on the sky moved; once the
+    plate rests, a round over the classes gives every voxel the light a new renderer's has."""
+    floor = {"name": "Floor", "type": "quad", "material": "m", "vertices": [[-2, 0, 2], [2, 0, 2], [2, 0, -2], [-2, 0, -2]]}
+    plate = {"name": "Plate", "type": "box", "material": "m", "center": [0.0, 3.5, 0.0], "size": [0.5, 0.02, 0.5]}
+    path = tmp_path / "plate_over_floor.json"
+    path.write_text(json.dumps({
+        "camera": {"position": [0, 1, 3], "look_at": [0, 0, 0], "width": 32, "height": 32},
+        "materials": {"m": {"albedo": [0.5, 0.5, 0.5]}}, "objects": [floor, plate], "environment": {"radiance": [1, 1, 1]}}))
+    scene = load_scene(path)
+    rest = 2 * engine.RenderSettings().bounce_interleave
+    with engine.Renderer(32, 32) as viewer:
+        viewer.progressive = True
+        for _ in range(rest):
+            viewer.render(scene, grid=32)
+        before = viewer.voxels("radiance")
+        for _ in range(rest):  # 0.2 m, a step a frame
+            scene.root.find("Plate").translation += [0.2 / rest, 0.0, 0.0]
+            viewer.render(scene, grid=32)
+        moving = viewer.voxels("radiance")
+        lo, hi = viewer.grid.level_bounds(0)
+        voxel = (hi - lo)[0] / 32
+        centres = lo + (np.indices((32, 32, 32)).transpose(1, 2, 3, 0)[..., ::-1] + 0.5) * voxel  # [z, y, x] -> (x, y, z)
+        reach = SKY_NEAR_REACH * 0.7 + (SKY_FILTER_RADIUS + 2) * voxel  # past the plates' box: the relit box's, the filter's
+        below = (centres[..., 1] < 3.5 - 0.01 - reach) & (np.abs(centres[..., 0] - 0.1) < 0.35) & (np.abs(centres[..., 2]) < 0.25)
+        below &= before[..., 3] > 0
+        assert below.sum() >= 8 and np.array_equal(moving[below], before[below])
+        for _ in range(rest):
+            viewer.render(scene, grid=32)
+        with engine.Renderer(32, 32) as fresh:
+            fresh.progressive = True
+            for _ in range(rest):
+                fresh.render(scene, grid=32)
+            expected = fresh.voxels("radiance")
+        assert not np.array_equal(expected[below], before[below])  # where the plate's shadow on the sky moved
+        assert np.array_equal(viewer.voxels("radiance"), expected)
 
 
 # What the card returns seen at n.v = 1/2: the diffuse layer's 1 - F(1/2) = 0.93 of the sky's 1

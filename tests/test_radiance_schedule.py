@@ -147,6 +147,21 @@ def test_voxel_light_restarted_every_frame_still_reaches_every_class():
     assert [[i.voxels.class_index for i in of_type(f, LightVoxels)] for f in frames] == [[0], [1], [2], [3], []]
 
 
+def test_the_sky_of_moving_draws_is_relit_near_them_and_everywhere_once_they_rest():
+    """While draws move, each frame's round lights the voxels in the box near them; the rest of
+    their levels waits, and once nothing moves a round over every class lights all of them."""
+    schedule, epoch = RadianceSchedule(), Epoch()
+    near, levels = ((0.0, 0.0, 0.0), (1.0, 1.0, 1.0)), frozenset({0, 1})
+    for _ in range(6):
+        items = run(schedule.light_voxels("sky_light", True, 4, epoch, levels, resting=False, near=near))
+        assert [(i.levels, i.box) for i in of_type(items, LightVoxels)] == [(levels, near)]
+    assert not schedule.idle
+    frames = [of_type(run(schedule.light_voxels("sky_light", False, 4, epoch, resting=True)), LightVoxels) for _ in range(5)]
+    assert [[(i.voxels.class_index, i.levels, i.box) for i in f] for f in frames] == \
+        [[(2, levels, None)], [(3, levels, None)], [(0, levels, None)], [(1, levels, None)], []]
+    assert schedule.idle
+
+
 def test_class_rounds_restart_where_the_last_round_stopped():
     """Rounds restarted before they finished go on from the class after the last one done."""
     rounds = ClassRounds()

@@ -8,6 +8,8 @@ grid.traced_sky_irradiance, the other voxels interpolating them as they interpol
 like-facing voxels around each covered voxel (or each of those taken in) into grid.sky_irradiance, which light injection adds to
 the base radiance and the image interpolates per pixel. The voxels a scrolled clipmap level took
 in may take theirs from the next coarser level instead (take_coarser), until the camera rests."""
+import numpy as np
+
 from ..constants import STORAGE_BINDING
 from ..voxel_grid import VoxelGrid, bind_values
 
@@ -24,31 +26,33 @@ class SkyLightPass:
             "sky_light/take_coarser_sky_light.comp", writes=("SSBO_VOXEL_TRACED_SKY_IRRADIANCE", "SSBO_VOXEL_SKY_IRRADIANCE"),
             reads=("SSBO_VOXEL_LIST", "SSBO_SEGMENTS", *VoxelGrid.SURFACE_READS, "SSBO_VOXEL_SKY_IRRADIANCE"))
 
-    def run(self, grid, environment, cone_uniforms, segment, anchors, levels=None):
+    def run(self, grid, environment, cone_uniforms, segment, anchors, levels=None, box=None):
         """`environment`: scene_gpu.EnvironmentMap; `segment`: a VoxelSegment (the anchors of a
         class, or the voxels a voxelization touched), whose anchors (`anchors`: the gather's
         anchor words, GatherPass.anchors) are lit where they lie in `levels` (None: every
-        level). Writes and returns grid.traced_sky_irradiance, at those voxels."""
+        level) and their centres in the world box `box` ((lo, hi); None: anywhere). Writes and
+        returns grid.traced_sky_irradiance, at those voxels."""
         grid.use_surface()
         grid.use_faces()
         segment.buffer.bind_to_storage_buffer(STORAGE_BINDING["VOXEL_LIST"])
         anchors.bind_to_storage_buffer(STORAGE_BINDING["GATHER_ANCHORS"])
         environment.bind(self.program)
         bind_values(grid.traced_sky_irradiance, "VOXEL_TRACED_SKY_IRRADIANCE")
-        self.program.set(**grid.uniforms(), **cone_uniforms, lit_levels=grid.level_mask(levels))
+        self.program.set(**grid.uniforms(), **cone_uniforms, lit_levels=grid.level_mask(levels), **_box_uniforms(box))
         grid.dispatch(self.program, segment)
         return grid.traced_sky_irradiance
 
-    def filter(self, grid, segment, levels=None):
+    def filter(self, grid, segment, levels=None, box=None):
         """grid.sky_irradiance of the voxels of `segment` (a VoxelSegment: the covered list, or
         the voxels a voxelization touched) that lie in `levels` (None: every level; a voxel's
-        filter reads its own level only) from grid.traced_sky_irradiance around each (written
-        and returned)."""
+        filter reads its own level only) and within the filter's reach of the world box `box`
+        (the voxels lit in it; None: anywhere) from grid.traced_sky_irradiance around each
+        (written and returned)."""
         grid.use_surface()
         bind_values(grid.traced_sky_irradiance, "VOXEL_TRACED_SKY_IRRADIANCE")
         bind_values(grid.sky_irradiance, "VOXEL_SKY_IRRADIANCE")
         segment.buffer.bind_to_storage_buffer(STORAGE_BINDING["VOXEL_LIST"])
-        self.filter_program.set(**grid.uniforms(), lit_levels=grid.level_mask(levels))
+        self.filter_program.set(**grid.uniforms(), lit_levels=grid.level_mask(levels), **_box_uniforms(box))
         grid.dispatch(self.filter_program, segment)
         return grid.sky_irradiance
 
@@ -69,3 +73,9 @@ class SkyLightPass:
         self.program.release()
         self.filter_program.release()
         self.coarser_program.release()
+
+
+def _box_uniforms(box):
+    """The uniforms lit_box_min and lit_box_max of a world box (lo, hi); None: all of space."""
+    lo, hi = box if box is not None else (np.full(3, -np.inf), np.full(3, np.inf))
+    return dict(lit_box_min=tuple(float(c) for c in lo), lit_box_max=tuple(float(c) for c in hi))

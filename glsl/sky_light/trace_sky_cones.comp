@@ -37,11 +37,15 @@ vec3 sky_cone(int j, vec2 jitter) {
 }
 
 uniform uint lit_levels;  // bit k: level k's voxels take their light now, the others keep theirs
+uniform vec3 lit_box_min;  // and only those whose centres lie in this world box
+uniform vec3 lit_box_max;
 
 void main() {
     if (gl_GlobalInvocationID.x >= segment_count()) return;
     ivec3 v = unpack_voxel(voxel_list[segment_first() + gl_GlobalInvocationID.x]);
     if (!in_level_mask(lit_levels, v)) return;
+    vec3 centre = voxel_center(v);
+    if (any(lessThan(centre, lit_box_min)) || any(greaterThan(centre, lit_box_max))) return;
     uint record = voxel_record(v);
     if (record == NO_RECORD || (gather_anchors[record] & ANCHOR_SELF) == 0u) return;  // empty, or interpolated (GatherPass.fill)
     VoxelSurface s = voxel_surface(v, record);
