@@ -238,8 +238,8 @@ SPECULAR_CONE_OPACITY = 2.0
 SKY_CONE_COUNT = 32
 SKY_CONE_HALF_ANGLE = math.acos(1.0 - 1.0 / SKY_CONE_COUNT)
 SKY_FILTER_RADIUS = 3
-# While draws move, the sky's light is traced again at the voxels within this many times a moved
-# draw's size of it, the others once the draws rest: an occluder of size s at distance d hides at
+# While draws move, the sky's light is traced again at the voxels within this many times the
+# largest moved draw's size of where they were and are, the others once the draws rest: an occluder of size s at distance d hides at
 # most pi (s/2)^2 / d^2 of the sky's 2 pi, 1/128 at d = 4 s.
 SKY_NEAR_REACH = 4.0
 # The sky's cones read 1.75 mip levels below their footprint's (lookups over the inner 30 % of the

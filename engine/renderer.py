@@ -424,8 +424,8 @@ class Renderer:
             if not spread:  # converged within the frame: every voxel of a scrolled level too
                 levels, scrolled = levels | scrolled, frozenset()
             elif near_reach is not None and draws_moved and not update.full:
-                lo, hi = update.touched_bounds(margin=0.0)
-                near = tuple(tuple(float(c) for c in corner) for corner in update.touched_bounds(margin=near_reach * float(np.max(hi - lo))))
+                size = max(float(np.max(d.bounds[1] - d.bounds[0])) for d in update.removed + update.added)
+                near = tuple(tuple(float(c) for c in corner) for corner in update.touched_bounds(margin=near_reach * size))
         restart = bool(changed) and levels != frozenset()
         plan = self.schedule.light_voxels(name, restart, s.bounce_interleave if spread else 1, self.grid.epoch, levels, scrolled,
                                           resting and not scrolled and not draws_moved, near)
