@@ -391,7 +391,7 @@ class RadianceSchedule:
         voxels = tuple(dict.fromkeys(voxels))
         voxels = tuple(v for v in voxels if not any(_holds(every, v) for every in voxels))
         yield ComposeFaces(voxels, gathered)
-        yield Mipmap(tuple(voxels))
+        yield Mipmap(voxels)
         self.stale_faces = []
 
     def _gather_every(self, epoch):

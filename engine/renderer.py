@@ -419,7 +419,7 @@ class Renderer:
         draws_moved = update is not None and update.draws_changed
         if changed == {"voxels"} and update is not None:
             levels = update.relit_levels(self.grid.levels)
-            if not update.draws_changed:
+            if not draws_moved:
                 scrolled = frozenset(update.scrolled)
             if not spread:  # converged within the frame: every voxel of a scrolled level too
                 levels, scrolled = levels | scrolled, frozenset()

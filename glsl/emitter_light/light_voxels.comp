@@ -43,8 +43,8 @@ float patch_visibility(vec3 p, vec3 n, int level, EmitterPatch e) {
 uniform uint lit_levels;  // bit k: level k's voxels take their light now, the others keep theirs
 
 void main() {
-    if (gl_GlobalInvocationID.x >= segment_count()) return;
-    ivec3 v = unpack_voxel(voxel_list[segment_first() + gl_GlobalInvocationID.x]);
+    ivec3 v;
+    if (!segment_voxel(gl_GlobalInvocationID.x, v)) return;
     if (!in_level_mask(lit_levels, v)) return;
     uint record = voxel_record(v);
     if (record == NO_RECORD) return;  // a touched voxel the voxelization emptied

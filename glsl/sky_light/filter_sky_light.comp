@@ -14,18 +14,17 @@ layout(std430, binding = SSBO_VOXEL_SKY_IRRADIANCE) writeonly buffer VoxelSkyIrr
 // The voxels to filter: every covered one (the covered list, NO_VOXEL at free records), or those
 // a voxelization touched.
 #include "lib/voxel_list.glsl"
+#include "lib/lit_box.glsl"
 
-uniform uint lit_levels;  // bit k: level k's voxels are filtered, the others keep theirs
-uniform vec3 lit_box_min;  // and only those within the filter's reach of this world box, where
-uniform vec3 lit_box_max;  // the cones were traced again
+// Bit k: level k's voxels within the filter's reach of the lit box (lib/lit_box.glsl), where the
+// cones were traced again, are filtered, the others keep theirs.
+uniform uint lit_levels;
 
 void main() {
     ivec3 v;
     if (!segment_voxel(gl_GlobalInvocationID.x, v)) return;
     if (!in_level_mask(lit_levels, v)) return;  // its neighbours' light did not change
-    vec3 centre = voxel_center(v);
-    float reach = float(SKY_FILTER_RADIUS + 1) * voxel_extent(v);  // its neighbours and their anchors
-    if (any(lessThan(centre, lit_box_min - reach)) || any(greaterThan(centre, lit_box_max + reach))) return;
+    if (!near_lit_box(voxel_center(v), float(SKY_FILTER_RADIUS + 1) * voxel_extent(v))) return;  // its neighbours and their anchors
     uint record = voxel_record(v);
     if (record == NO_RECORD) return;  // a touched voxel the voxelization emptied
     vec3 n_v = unpack_value(voxel_normal[record]).xyz;

@@ -19,6 +19,7 @@
 layout(local_size_x = LIST_GROUP) in;
 layout(std430, binding = SSBO_VOXEL_TRACED_SKY_IRRADIANCE) writeonly buffer TracedSky { uvec2 sky_traced_out[]; };
 #include "lib/voxel_list.glsl"
+#include "lib/lit_box.glsl"
 
 // The voxel's own offsets of its cones in [0, 1)^2: a hash of its coordinates.
 vec2 cone_jitter(ivec3 v) {
@@ -36,16 +37,15 @@ vec3 sky_cone(int j, vec2 jitter) {
     return vec3(r * cos(azimuth), r * sin(azimuth), z);
 }
 
-uniform uint lit_levels;  // bit k: level k's voxels take their light now, the others keep theirs
-uniform vec3 lit_box_min;  // and only those whose centres lie in this world box
-uniform vec3 lit_box_max;
+// Bit k: level k's voxels whose centres lie in the lit box (lib/lit_box.glsl) take their light
+// now, the others keep theirs.
+uniform uint lit_levels;
 
 void main() {
-    if (gl_GlobalInvocationID.x >= segment_count()) return;
-    ivec3 v = unpack_voxel(voxel_list[segment_first() + gl_GlobalInvocationID.x]);
+    ivec3 v;
+    if (!segment_voxel(gl_GlobalInvocationID.x, v)) return;
     if (!in_level_mask(lit_levels, v)) return;
-    vec3 centre = voxel_center(v);
-    if (any(lessThan(centre, lit_box_min)) || any(greaterThan(centre, lit_box_max))) return;
+    if (!near_lit_box(voxel_center(v), 0.0)) return;
     uint record = voxel_record(v);
     if (record == NO_RECORD || (gather_anchors[record] & ANCHOR_SELF) == 0u) return;  // empty, or interpolated (GatherPass.fill)
     VoxelSurface s = voxel_surface(v, record);
