@@ -6,7 +6,10 @@
 // (injection, composition) is one segment. Within a part by block of CLASS_BLOCK^3 voxels, and
 // within a block by facing (the mean normal's dominant axis and sign), so neighbouring
 // invocations of the gather trace neighbouring voxels with cones along the same directions,
-// which end after as many steps. A counting sort: a pass counting the entries of each bucket
+// which end after as many steps. The levels' blocks alternate (block_key), so that a driver
+// handing each thread one contiguous range of the workgroups (llvmpipe) gives each a share of
+// every level: level by level, one thread would take the near, fine levels' long cones.
+// A counting sort: a pass counting the entries of each bucket
 // (class, part, block, facing), then, once the host has turned the counts into each bucket's first entry, a
 // pass scattering the voxels into their buckets, which also marks the classes each level-1
 // cell holds (CELL_CLASS_BITS, zeroed by the host before). gather/find_anchors.comp has found the
@@ -21,6 +24,14 @@ layout(std430, binding = SSBO_CELL_CLASS_BITS) buffer CellClassBits { uint cell_
 uniform int interleave;
 uniform bool scatter;
 
+// Position of block `block` (of `blocks` per side of a level) among a part's blocks: block by
+// block in the order of space, the levels' blocks at each position one after the other.
+uint block_key(ivec3 block, int blocks) {
+    int level = block.z / blocks;
+    uint index = uint(block.x + blocks * (block.y + blocks * (block.z - level * blocks)));
+    return uint(level) + uint(voxel_levels) * index;
+}
+
 void main() {
     uint record = gl_GlobalInvocationID.x;
     ivec3 v;
@@ -32,8 +43,8 @@ void main() {
     int facing = int(anchors >> ANCHOR_FACING_SHIFT);
     int class_index = voxel_class(v, facing, interleave);
     int part = anchor ? 0 : 1;
-    uint block_index = uint((class_index * CLASS_PARTS + part) * voxel_levels * blocks * blocks * blocks + block.x
-                            + blocks * (block.y + blocks * block.z));
+    uint block_index = uint((class_index * CLASS_PARTS + part) * voxel_levels * blocks * blocks * blocks)
+                       + block_key(block, blocks);
     uint bucket = block_index * uint(CLASS_FACINGS) + uint(facing);
     if (scatter) {
         class_list[atomicAdd(buckets[bucket], 1u)] = pack_voxel(v);
