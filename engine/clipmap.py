@@ -76,3 +76,10 @@ def scrolled_regions(held, target):
         return tuple(held)
     finest = min(moved)
     return tuple(target[level] if level == finest else region for level, region in enumerate(held))
+
+
+def with_coarser_levels(levels, count):
+    """`levels` and the next coarser level of each, of `count` levels: a level's voxels beneath
+    the finer level take their gather and sky light from it (gather/take_finer_gather.comp),
+    and which of them lie beneath it changes where the finer level moves."""
+    return frozenset(levels) | frozenset(level + 1 for level in levels if level + 1 < count)

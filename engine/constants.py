@@ -277,12 +277,14 @@ VOXEL_PACK_BITS = 10
 TOUCHED_FLAG = 1 << 31
 UNLISTED_PLACE = TOUCHED_FLAG - 1
 # A covered voxel's gather anchors (lib/gather_anchors.glsl): ANCHOR_SELF where it traces its own
-# gather, ANCHOR_STALE where a voxelization touched it; else a bit per anchor neighbour (0..25);
-# and its facing (0..CLASS_FACINGS - 1) from bit ANCHOR_FACING_SHIFT.
+# gather, ANCHOR_FINER where it takes it from the finer level's voxels beneath it, ANCHOR_STALE
+# where a voxelization touched it; else a bit per anchor neighbour (0..25); and its facing
+# (0..CLASS_FACINGS - 1, 3 bits) from bit ANCHOR_FACING_SHIFT.
 ANCHOR_SELF = 1 << 26
 ANCHOR_STALE = 1 << 27
+ANCHOR_FINER = 1 << 28
 ANCHOR_NEIGHBOURS = (1 << 26) - 1
-ANCHOR_FACING_SHIFT = 28
+ANCHOR_FACING_SHIFT = 29
 MIN_ANCHOR_WEIGHT = 0.2  # below this total weight of its anchors a voxel traces its own gather
 # How much a voxel stands for a surface of unit normal n: max(0, n . n_v / |n_v|)^FACING_EXPONENT
 # times the coherence |n_v| of its mean normal (lib/voxel.glsl: facing_weight).
@@ -339,6 +341,7 @@ def glsl_header():
         f"#define ANCHOR_STALE {ANCHOR_STALE:#x}u",
         f"#define ANCHOR_NEIGHBOURS {ANCHOR_NEIGHBOURS:#x}u",
         f"#define ANCHOR_FACING_SHIFT {ANCHOR_FACING_SHIFT}",
+        f"#define ANCHOR_FINER {ANCHOR_FINER:#x}u",
         f"#define MIN_ANCHOR_WEIGHT {MIN_ANCHOR_WEIGHT}",
         f"#define FACING_EXPONENT {FACING_EXPONENT:.1f}",
         f"#define MIN_ROUGHNESS {MIN_ROUGHNESS}",

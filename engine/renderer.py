@@ -19,7 +19,7 @@ import numpy as np
 from . import transforms
 from . import bounces
 from .changes import BoundsCache, FrameInputs, Stage, voxel_update
-from .clipmap import frame_levels, level_shift, moved_levels, scrolled_regions
+from .clipmap import frame_levels, level_shift, moved_levels, scrolled_regions, with_coarser_levels
 from .constants import SKY_NEAR_REACH
 from .emitters import frame_emitters
 from .errors import VctError
@@ -402,7 +402,8 @@ class Renderer:
         """The emitters' or the sky's light at the voxels ("emitter_light", "sky_light"), when
         the voxels, its `source` or the cones that bring it changed: where only the voxels
         changed (`update`, this frame's changes.VoxelUpdate), at the voxels of the levels it
-        relit and of those that scrolled (cones from a level never read the finer ones).
+        relit and of those that scrolled, and of the next coarser ones (cones from a level never
+        read the finer ones, but a level's voxels beneath the finer level take its light).
         Progressive frames (the viewer, converging bounces) spread a relight over the
         interleave classes, one a frame, as the bounce is spread: an edit makes no frame pay
         for more than 1 voxel in K, and while an emitter or the sky keeps changing every voxel
@@ -418,9 +419,10 @@ class Renderer:
         levels, scrolled, near = None, frozenset(), None
         draws_moved = update is not None and update.draws_changed
         if changed == {"voxels"} and update is not None:
-            levels = update.relit_levels(self.grid.levels)
+            count = self.grid.levels
+            levels = with_coarser_levels(update.relit_levels(count), count)
             if not draws_moved:
-                scrolled = frozenset(update.scrolled)
+                scrolled = with_coarser_levels(update.scrolled, count)
             if not spread:  # converged within the frame: every voxel of a scrolled level too
                 levels, scrolled = levels | scrolled, frozenset()
             elif near_reach is not None and draws_moved and not update.full:

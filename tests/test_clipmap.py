@@ -9,7 +9,7 @@ import pytest
 
 import engine
 from engine.clipmap import LEVEL_SNAP_VOXELS, default_clipmap, level_regions, level_shift, moved_levels
-from engine.constants import VOXEL_PACK_BITS
+from engine.constants import FACING_EXPONENT, VOXEL_PACK_BITS
 from engine.passes.voxelize import entered_slabs
 from engine.errors import SceneError
 from engine.scene import Clipmap, VoxelRegion
@@ -137,6 +137,35 @@ def test_a_plane_under_a_uniform_sky_is_lit_alike_across_the_levels_borders(smal
     assert np.abs(np.diff(lit, axis=0)).max() < 0.03  # no seam between rows
 
 
+def test_a_coarser_levels_voxels_beneath_the_finer_level_take_the_gather_of_the_voxels_tiling_them(small, cornell):
+    """Where level 0's cube holds a level-1 voxel, the 8 level-0 voxels that tile it hold the
+    same surfaces in more detail: its gather is theirs, averaged with the weights the image
+    gives voxels by how alike they face, G = sum_c W_c G_c / sum_c W_c."""
+    cornell.clipmap = Clipmap(levels=2, resolution=32, voxel_size=0.05)
+    small.render(cornell, mode="gi", bounces=1)
+    gathered, normals = small.voxels("gathered"), small.voxels("normal")
+    fine, coarse = small.grid.regions
+    n, voxel = 32, 0.05
+    first_fine = np.rint((np.asarray(coarse.center) - coarse.size / 2 - (np.asarray(fine.center) - fine.size / 2)) / voxel).astype(int)
+    checked = 0
+    for z, y, x in zip(*np.nonzero(gathered[n:, ..., 3] > 0)):
+        first = first_fine + 2 * np.array([x, y, z])
+        if np.any(first < 0) or np.any(first > n - 2):
+            continue  # not beneath level 0
+        tile = (slice(first[2], first[2] + 2), slice(first[1], first[1] + 2), slice(first[0], first[0] + 2))
+        g, m = gathered[tile].reshape(-1, 4), normals[tile].reshape(-1, 4)[:, :3]
+        lit = g[:, 3] > 0
+        unit = normals[n + z, y, x, :3] / np.linalg.norm(normals[n + z, y, x, :3])
+        coherence = np.linalg.norm(m[lit], axis=1)
+        weight = np.maximum(m[lit] @ unit / coherence, 0.0) ** FACING_EXPONENT * coherence
+        if not lit.any() or weight.sum() <= 0:
+            continue
+        expected = (weight[:, None] * g[lit, :3]).sum(axis=0) / weight.sum()
+        np.testing.assert_allclose(gathered[n + z, y, x, :3], expected, rtol=2e-2, atol=1e-3)
+        checked += 1
+    assert checked > 100
+
+
 def test_after_the_camera_moves_the_image_is_the_one_a_new_renderer_makes_there(small, cornell):
     cornell.clipmap = Clipmap(levels=2, resolution=32, voxel_size=0.05)
     small.render(cornell, mode="gi")
@@ -209,10 +238,11 @@ def test_an_object_that_moves_in_a_clipmap_leaves_each_level_as_a_new_grid_holds
     assert np.array_equal(moved, expected)
 
 
-def test_a_level_that_moves_alone_relights_its_own_voxels_from_the_sky(small):
-    """Under a sky, level 0 steps along x: its voxels take the sky's light again, the coarser
-    level's keep theirs (its cones never read the finer level): the voxels' light and the image
-    are the bits a new renderer makes there."""
+def test_a_level_that_moves_alone_relights_its_voxels_and_the_coarser_ones_beneath_it_from_the_sky(small):
+    """Under a sky, level 0 steps along x: its voxels take the sky's light again, and so do the
+    coarser level's (its cones never read the finer level, but its voxels beneath level 0 take
+    their light from the level-0 voxels tiling them, and which lie beneath it changed): the
+    voxels' light and the image are the bits a new renderer makes there."""
     scene = engine.load_scene(SCENES / "references" / "open_box_sky.json")
     clipmap = Clipmap(levels=2, resolution=32, voxel_size=0.05)
     scene.clipmap = clipmap

@@ -1,13 +1,15 @@
 """The diffuse gather of the voxels: the anchors (1 in 4 of a surface's voxels, and those with
 no anchor of a like facing around them: glsl/lib/gather_anchors.glsl) trace the lecture's 6
 cones from their surface point through the face views, G = sum_j w_j L(p, w_j), and the other
-voxels interpolate theirs. A bounce is a gather followed by composing the face views again
+voxels interpolate theirs; a clipmap level's voxels beneath the finer level take the mean of
+the finer voxels that tile them, level by level from the finest. A bounce is a gather followed by composing the face views again
 (passes/faces.py); the image interpolates the gathers per pixel (passes/cone_trace.py). Also
 sorts the covered voxels into interleave classes for the progressive bounce, each its anchors
 then the others, and the covered level-1 cells by class, and closes the bounce series by
 extrapolation."""
 import numpy as np
 
+from ..clipmap import with_coarser_levels
 from ..constants import CLASS_BLOCK, CLASS_FACINGS, CLASS_PARTS, MAX_INTERLEAVE, MAX_SEGMENT_ROWS, STORAGE_BINDING
 from ..voxel_grid import GridStorage, VoxelGrid, bind_values
 from ..voxel_lists import ClassIndex, SegmentTable, VoxelList
@@ -37,6 +39,9 @@ class GatherPass:
                                                    writes=("SSBO_CLASS_BUCKETS", "SSBO_CELLS_BY_CLASS"))
         self.fill_program = programs.compute("gather/interpolate_from_anchors.comp", writes=("SSBO_GATHERED_OUT",),
                                              reads=("SSBO_CLASS_LIST", "SSBO_SEGMENTS", "SSBO_GATHER_ANCHORS", *VoxelGrid.SURFACE_READS))
+        self.take_finer_program = programs.compute("gather/take_finer_gather.comp", writes=("SSBO_GATHERED_OUT",),
+                                                   reads=("SSBO_CLASS_LIST", "SSBO_SEGMENTS", "SSBO_GATHER_ANCHORS",
+                                                          *VoxelGrid.SURFACE_READS))
         self.scan_program = programs.compute("gather/scan_buckets.comp", writes=("SSBO_CLASS_BUCKETS", "SSBO_SEGMENTS"))
         self.extrapolate_program = programs.compute("gather/close_bounce_series.comp", reads=("SSBO_COVERED", "SSBO_VOXEL_RECORD", "SSBO_VOXEL_GATHERED"),
                                                     writes=("SSBO_GATHERED_OUT",))
@@ -122,7 +127,8 @@ class GatherPass:
     def find_anchors(self, grid):
         """The anchor records of the grid's voxels, when the records were found for the epoch
         before: again for the voxels of the levels a scroll alone changed (their voxels moved,
-        some neighbours left), or else for those around the voxels the last voxelization
+        some neighbours left) and of the next coarser ones (which of their voxels lie beneath
+        the finer level changed), or else for those around the voxels the last voxelization
         touched (self.stale); for every covered voxel otherwise."""
         self._ensure_storage(grid)
         if self.anchors_epoch is grid.epoch:
@@ -142,7 +148,7 @@ class GatherPass:
             grid.size_list(self.stale)
             voxels = self.stale.segment()
         grid.covered.bind("COVERED")
-        found_levels = grid.level_mask() if scrolled is None else grid.level_mask(scrolled)
+        found_levels = grid.level_mask() if scrolled is None else grid.level_mask(with_coarser_levels(scrolled, grid.levels))
         self.find_anchors_program.set(**grid.uniforms(), every_voxel=every_voxel, found_levels=found_levels)
         grid.dispatch(self.find_anchors_program, voxels)
         self.anchors_epoch = grid.epoch
@@ -164,13 +170,17 @@ class GatherPass:
     def fill(self, grid, values, segment):
         """Interpolate `values` (an array of the grid, the anchors' values written) at the
         voxels of `segment` (a class's voxels that are not anchors, or the touched voxels, whose
-        anchors keep theirs) from the anchors around them. Returns `values`."""
+        anchors keep theirs) from the anchors around them, then at those beneath a finer level
+        take the finer voxels' mean, level after level. Returns `values`."""
         grid.use_surface()
         segment.buffer.bind_to_storage_buffer(STORAGE_BINDING["CLASS_LIST"])
         bind_values(values, "GATHERED_OUT")
         self.anchors.bind_to_storage_buffer(STORAGE_BINDING["GATHER_ANCHORS"])
         self.fill_program.set(**grid.uniforms())
         grid.dispatch(self.fill_program, segment)
+        for level in range(1, grid.levels):
+            self.take_finer_program.set(**grid.uniforms(), level=level)
+            grid.dispatch(self.take_finer_program, segment)
         return values
 
     def extrapolate(self, grid, latest, older, gain):
@@ -185,7 +195,7 @@ class GatherPass:
 
     def release(self):
         for handle in (self.trace_program, self.mark_stale_program, self.find_anchors_program, self.sort_classes_program,
-                       self.sort_cells_program, self.fill_program,
+                       self.sort_cells_program, self.fill_program, self.take_finer_program,
                        self.extrapolate_program, self.scan_program):
             handle.release()
         self._storage.release()

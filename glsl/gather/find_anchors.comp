@@ -1,9 +1,10 @@
 #version 450 core
 // Which covered voxels trace the diffuse gather, and which anchors the others take it from
-// (lib/gather_anchors.glsl): per voxel ANCHOR_SELF, or the bits of its anchor neighbours
-// (none where it reflects no light). Runs when the voxels change: over the voxels whose
-// records were marked stale (gather/mark_stale_anchors.comp), or over every covered voxel of
-// the levels in `found_levels` (all of them, or those a scroll moved).
+// (lib/gather_anchors.glsl): per voxel ANCHOR_SELF, ANCHOR_FINER beneath a finer level, or the
+// bits of its anchor neighbours (none where it reflects no light). Runs when the voxels
+// change: over the voxels whose records were marked stale (gather/mark_stale_anchors.comp), or
+// over every covered voxel of the levels in `found_levels` (all of them, or those a scroll
+// moved and the next coarser ones).
 #include "lib/gather_anchors.glsl"
 #include "lib/list_append.glsl"
 
@@ -27,7 +28,9 @@ void main() {
     vec3 n = unpack_value(voxel_normal[record]).xyz;
     uint anchors = 0u;
     if (reflects_light(record, n)) {
-        if (on_anchor_lattice(v, n)) {
+        if (beneath_finer_level(v)) {
+            anchors = ANCHOR_FINER;
+        } else if (on_anchor_lattice(v, n)) {
             anchors = ANCHOR_SELF;
         } else {
             vec3 unit = normalize(n);
@@ -37,7 +40,7 @@ void main() {
                 uint u_record = neighbour_record(v, u);
                 if (u_record == NO_RECORD) continue;
                 vec3 n_u = unpack_value(voxel_normal[u_record]).xyz;
-                if (dot(n, n_u) <= 0.0 || !on_anchor_lattice(u, n_u) || !reflects_light(u_record, n_u)) continue;
+                if (dot(n, n_u) <= 0.0 || !on_anchor_lattice(u, n_u) || beneath_finer_level(u) || !reflects_light(u_record, n_u)) continue;
                 anchors |= 1u << k;
                 total += anchor_weight(v, unit, u, n_u);
             }

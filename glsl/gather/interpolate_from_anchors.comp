@@ -1,6 +1,7 @@
 #version 450 core
 // The gather of the voxels that are not anchors (lib/gather_anchors.glsl), from the anchors
-// gather/find_anchors.comp found around them:
+// gather/find_anchors.comp found around them (those beneath a finer level take the finer
+// voxels' after: gather/take_finer_gather.comp):
 //   G(v) = sum_u W(v, u) G(u) / sum_u W(v, u),
 // 0 where the voxel reflects no light (no anchors recorded). Reads and writes one record array:
 // the anchors it reads are not among the voxels it writes.
@@ -17,7 +18,7 @@ void main() {
     if (gl_GlobalInvocationID.x >= segment_count()) return;
     ivec3 v = unpack_voxel(class_list[segment_first() + gl_GlobalInvocationID.x]);
     uint record = voxel_record(v);
-    if (record == NO_RECORD || (gather_anchors[record] & ANCHOR_SELF) != 0u) return;  // empty, or an anchor: traced
+    if (record == NO_RECORD || (gather_anchors[record] & (ANCHOR_SELF | ANCHOR_FINER)) != 0u) return;  // empty, traced, or from finer
     uint anchors = gather_anchors[record] & ANCHOR_NEIGHBOURS;
     vec4 result = vec4(0.0);
     if (anchors != 0u) {

@@ -3,15 +3,20 @@
 // axes across their facing (1 in 4 of a plane's) trace the cones, and the others interpolate
 // the anchors around them: bilinearly along the surface, and weighted by how alike the
 // surfaces face, as the image interpolates the voxels (cone_trace/shade_pixels.frag). A voxel with too few
-// anchors of a like facing around it (a thin part, an edge) is an anchor too.
+// anchors of a like facing around it (a thin part, an edge) is an anchor too. A clipmap level's
+// voxels beneath the finer level inside it are none of these: the finer voxels that tile each
+// hold the same surfaces in more detail, and it takes their mean gather
+// (gather/take_finer_gather.comp).
 //
 // gather/find_anchors.comp writes the anchors of each covered voxel (GATHER_ANCHORS, a word per
-// record: lib/voxel_records.glsl): the bit ANCHOR_SELF when it traces the gather itself, or else
-// the bit k of each neighbour k (`neighbour`, within ANCHOR_NEIGHBOURS) that is an anchor it
-// takes its gather from, and its facing from bit ANCHOR_FACING_SHIFT (what the class sort
-// reads: voxel_facing). A voxel's anchors depend on it and its neighbours only: after a
+// record: lib/voxel_records.glsl): the bit ANCHOR_SELF when it traces the gather itself,
+// ANCHOR_FINER when it lies beneath a finer level, or else the bit k of each neighbour k
+// (`neighbour`, within ANCHOR_NEIGHBOURS) that is an anchor it takes its gather from, and its
+// facing from bit ANCHOR_FACING_SHIFT (what the class sort reads: voxel_facing). A voxel's
+// anchors depend on it, its neighbours and where the finer level lies only: after a
 // voxelization, gather/mark_stale_anchors.comp marks those around the voxels it touched
-// ANCHOR_STALE, and only those are found again.
+// ANCHOR_STALE, and only those are found again; after a scroll, those of the scrolled levels
+// and of the next coarser ones (GatherPass.find_anchors).
 #include "lib/voxel_surface.glsl"
 
 layout(std430, binding = SSBO_GATHER_ANCHORS) buffer GatherAnchors { uint gather_anchors[]; };
@@ -21,6 +26,23 @@ layout(std430, binding = SSBO_GATHER_ANCHORS) buffer GatherAnchors { uint gather
 bool reflects_light(uint record, vec3 n) {
     vec4 albedo = unpack_value(voxel_albedo[record]);
     return albedo.a > 0.0 && any(greaterThan(albedo.rgb, vec3(0.0))) && dot(n, n) > 1e-6;
+}
+
+// The first of the 8 voxels of level voxel_level(v) - 1 that tile voxel v (in that level's own
+// coordinates): the levels' corners lie on whole voxels of their own size, so v's corner lies
+// on a finer voxel's.
+ivec3 first_finer_voxel(ivec3 v) {
+    int level = voxel_level(v);
+    vec3 corner = voxel_center(v) - 0.5 * level_voxel_size[level];
+    return ivec3(round((corner - level_region_min[level - 1]) / level_voxel_size[level - 1]));
+}
+
+// Whether voxel v lies beneath a finer level: a level above the finest whose voxel lies within
+// the finer level's cube, so that the 8 finer voxels tiling it all exist.
+bool beneath_finer_level(ivec3 v) {
+    if (voxel_level(v) == 0) return false;
+    ivec3 first = first_finer_voxel(v);
+    return all(greaterThanEqual(first, ivec3(0))) && all(lessThanEqual(first, ivec3(voxel_grid - 2)));
 }
 
 // The axes along a surface across `axis` (its normal's dominant one): the two others.

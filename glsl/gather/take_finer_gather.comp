@@ -1,0 +1,43 @@
+#version 450 core
+// The gather of level `level`'s voxels beneath the finer level (lib/gather_anchors.glsl:
+// beneath_finer_level), from the 8 finer voxels c that tile each voxel V:
+//   G(V) = sum_c W_c G(c) / sum_c W_c,   W_c = facing_weight(n_V, n_c) over the c that reflect light
+// (their gather's a = 1), their plain mean where none faces V's way; where none of the 8
+// reflects light, from the finer voxels around them; 0 where none does. The finer level's gather is complete before (GatherPass.fill runs the levels in order).
+#include "lib/gather_anchors.glsl"
+
+layout(local_size_x = LIST_GROUP) in;
+layout(std430, binding = SSBO_GATHERED_OUT) buffer GatheredOut { uvec2 gathered[]; };
+layout(std430, binding = SSBO_CLASS_LIST) readonly buffer ClassList { uint class_list[]; };
+// The voxels of a list whose gather to take from the finer level: those of `level` among them.
+#include "lib/list_segment.glsl"
+uniform int level;
+
+void main() {
+    if (gl_GlobalInvocationID.x >= segment_count()) return;
+    ivec3 v = unpack_voxel(class_list[segment_first() + gl_GlobalInvocationID.x]);
+    if (voxel_level(v) != level) return;
+    uint record = voxel_record(v);
+    if (record == NO_RECORD || (gather_anchors[record] & ANCHOR_FINER) == 0u) return;
+    vec3 n = normalize(unpack_value(voxel_normal[record]).xyz);
+    ivec3 first = first_finer_voxel(v);
+    vec4 faced = vec4(0.0);  // weighted sum of the finer gathers (rgb) and of the weights (a)
+    vec4 plain = vec4(0.0);
+    // The 8 finer voxels tiling V, then, where none reflects light (a surface on V's side that
+    // the finer voxelization put in the voxels beyond), the 56 around them.
+    for (int ring = 0; ring < 2 && plain.a == 0.0; ++ring) {
+        for (int k = 0; k < 64; ++k) {
+            ivec3 offset = ivec3(k & 3, (k >> 2) & 3, k >> 4) - 1;  // -1..2 per axis
+            bool inner = all(greaterThanEqual(offset, ivec3(0))) && all(lessThanEqual(offset, ivec3(1)));
+            if (inner != (ring == 0)) continue;
+            uint finer = level_record(first + offset, level - 1);
+            if (finer == NO_RECORD) continue;
+            vec4 g = unpack_value(gathered[finer]);
+            if (g.a <= 0.0) continue;  // reflects no light
+            faced += facing_weight(n, unpack_value(voxel_normal[finer]).xyz) * vec4(g.rgb, 1.0);
+            plain += vec4(g.rgb, 1.0);
+        }
+    }
+    vec4 sum = faced.a > 0.0 ? faced : plain;
+    gathered[record] = pack_value(sum.a > 0.0 ? vec4(sum.rgb / sum.a, 1.0) : vec4(0.0));
+}
