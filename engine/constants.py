@@ -168,12 +168,13 @@ CELL_LIST_LEVELS = 16
 # the invocations running side by side trace neighbouring voxels along the same directions.
 CLASS_BLOCK = 16
 CLASS_FACINGS = 7
-# A class's two parts: the voxels that trace the gather (anchors), then those that take it
-# from them (glsl/lib/gather_anchors.glsl).
-CLASS_PARTS = 2
-# The rows a bucket scan writes at most (gather/scan_buckets.comp: 1 + 3 per class), and its
-# workgroup's size.
-MAX_SEGMENT_ROWS = 1 + 3 * MAX_INTERLEAVE
+# A class's three parts: the voxels that trace the gather (anchors), those that interpolate
+# it from them, and those beneath a finer level, which take it from the finer voxels tiling
+# them (glsl/lib/gather_anchors.glsl).
+CLASS_PARTS = 3
+# The rows a bucket scan writes at most (gather/scan_buckets.comp: every voxel, then per class
+# its voxels and each of its parts), and its workgroup's size.
+MAX_SEGMENT_ROWS = 1 + (1 + CLASS_PARTS) * MAX_INTERLEAVE
 SCAN_GROUP = 256
 
 

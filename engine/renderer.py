@@ -501,13 +501,15 @@ class Renderer:
 
     def _gather_segments(self, voxels):
         """What the gather of a bounces.Voxels selection runs over: (the segment holding the
-        anchors to trace, the one holding the voxels to interpolate): a class's anchors and its
-        other voxels, or the touched voxels twice (the passes take the anchors or the others
-        among them)."""
+        anchors to trace, the one holding the voxels to interpolate, the one holding those
+        beneath a finer level): a class's parts, or the touched voxels three times (the passes
+        take their own among them)."""
         if voxels.kind == "touched":
             touched = self.grid.touched.segment()
-            return touched, touched
-        return self.class_index.anchor_segment(voxels.class_index), self.class_index.filled_segment(voxels.class_index)
+            return touched, touched, touched
+        classes = self.class_index
+        return (classes.anchor_segment(voxels.class_index), classes.filled_segment(voxels.class_index),
+                classes.finer_segment(voxels.class_index))
 
     def _sky_segments(self, voxels):
         """What the sky's light at a bounces.Voxels selection runs over: (the segment holding
@@ -549,7 +551,7 @@ class Renderer:
                 levels = [level for level in levels if level == grid.levels - 1]
             if levels:
                 self.sky_light.run(grid, work.environment, work.cone_uniforms, traced, self.gather.anchors, levels, item.box)
-                self.gather.fill(grid, grid.traced_sky_irradiance, filled)
+                self.gather.fill(grid, grid.traced_sky_irradiance, filled, filled)
                 self.sky_light.filter(grid, filtered, levels, item.box)
         elif isinstance(item, bounces.ComposeFaces):
             gathered = None if item.gathered is None else self._gathered(item.gathered)

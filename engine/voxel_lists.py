@@ -88,25 +88,25 @@ class Epoch:
 @dataclass(frozen=True)
 class ClassIndex:
     """The covered voxels sorted into interleave classes for the progressive bounce
-    (GatherPass.sort_classes): in `voxel_list` each class is one run, its gather anchors then
-    its other voxels; in `cell_list` the covered level-1 cells one run per class, the cells of
+    (GatherPass.sort_classes): in `voxel_list` each class is one run, its gather anchors, the
+    voxels that interpolate them, then those beneath a finer level; in `cell_list` the covered level-1 cells one run per class, the cells of
     several classes last. The segments are rows of `voxel_rows` and `cell_rows`, as sorted
     into `interleave` classes (the radiance schedule knows for which covered list)."""
 
     interleave: int
     voxel_list: object
-    voxel_rows: SegmentTable  # every voxel; per class its voxels; its anchors; its other voxels
+    voxel_rows: SegmentTable  # every voxel; per class its voxels; then per part, per class its voxels of the part
     cell_list: object
     cell_rows: SegmentTable   # per class the run of its level-1 cells; the mixed cells last
 
     @staticmethod
     def voxel_row_buckets(interleave, parts, buckets):
-        """The buckets of the class sort each voxel row spans, [first, end): every voxel, then
-        per class its voxels, its anchors (part 0) and its other voxels (part 1)."""
+        """The buckets of the class sort each voxel row spans, [first, end): every voxel, per
+        class its voxels, then per part (the anchors, the voxels that interpolate them, those
+        beneath a finer level) each class's voxels of that part."""
         span = parts * buckets
         return ([(0, interleave * span)] + [(c * span, (c + 1) * span) for c in range(interleave)]
-                + [(c * span, c * span + buckets) for c in range(interleave)]
-                + [(c * span + buckets, (c + 1) * span) for c in range(interleave)])
+                + [(c * span + p * buckets, c * span + (p + 1) * buckets) for p in range(parts) for c in range(interleave)])
 
     def segment(self, class_index=None):
         """The voxels of an interleave class (None: every covered voxel)."""
@@ -119,6 +119,10 @@ class ClassIndex:
     def filled_segment(self, class_index):
         """The voxels of an interleave class that interpolate the anchors."""
         return VoxelSegment(self.voxel_list, self.voxel_rows, 1 + 2 * self.interleave + class_index)
+
+    def finer_segment(self, class_index):
+        """The voxels of an interleave class beneath a finer level."""
+        return VoxelSegment(self.voxel_list, self.voxel_rows, 1 + 3 * self.interleave + class_index)
 
     def cell_segments(self, class_index):
         """The level-1 cells an interleave class's voxels lie in: its own, then the mixed."""

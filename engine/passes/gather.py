@@ -153,11 +153,10 @@ class GatherPass:
         grid.dispatch(self.find_anchors_program, voxels)
         self.anchors_epoch = grid.epoch
 
-    def run(self, grid, cone_uniforms, out, anchors, filled):
+    def run(self, grid, cone_uniforms, out, anchors, filled, finer):
         """Gather the anchors among the voxels of segment `anchors` (an interleave class's
-        anchors, of the class index, or the touched voxels) into array `out`, then interpolate
-        the gather of the others of segment `filled` in it from the anchors around them.
-        Returns `out`."""
+        anchors, of the class index, or the touched voxels) into array `out`, then the others
+        from them (`fill`). Returns `out`."""
         grid.use_surface()
         grid.use_faces()
         anchors.buffer.bind_to_storage_buffer(STORAGE_BINDING["CLASS_LIST"])
@@ -165,22 +164,24 @@ class GatherPass:
         bind_values(out, "GATHERED_OUT")
         self.trace_program.set(**grid.uniforms(), **cone_uniforms)
         grid.dispatch(self.trace_program, anchors)
-        return self.fill(grid, out, filled)
+        return self.fill(grid, out, filled, finer)
 
-    def fill(self, grid, values, segment):
+    def fill(self, grid, values, filled, finer):
         """Interpolate `values` (an array of the grid, the anchors' values written) at the
-        voxels of `segment` (a class's voxels that are not anchors, or the touched voxels, whose
-        anchors keep theirs) from the anchors around them, then at those beneath a finer level
-        take the finer voxels' mean, level after level. Returns `values`."""
+        voxels of segment `filled` that are not anchors (a class's that interpolate, or the
+        touched voxels) from the anchors around them, then at those of segment `finer` beneath
+        a finer level (a class's, or the touched voxels again) take the finer voxels' mean,
+        level after level. Returns `values`."""
         grid.use_surface()
-        segment.buffer.bind_to_storage_buffer(STORAGE_BINDING["CLASS_LIST"])
         bind_values(values, "GATHERED_OUT")
         self.anchors.bind_to_storage_buffer(STORAGE_BINDING["GATHER_ANCHORS"])
+        filled.buffer.bind_to_storage_buffer(STORAGE_BINDING["CLASS_LIST"])
         self.fill_program.set(**grid.uniforms())
-        grid.dispatch(self.fill_program, segment)
+        grid.dispatch(self.fill_program, filled)
+        finer.buffer.bind_to_storage_buffer(STORAGE_BINDING["CLASS_LIST"])
         for level in range(1, grid.levels):
             self.take_finer_program.set(**grid.uniforms(), level=level)
-            grid.dispatch(self.take_finer_program, segment)
+            grid.dispatch(self.take_finer_program, finer)
         return values
 
     def extrapolate(self, grid, latest, older, gain):

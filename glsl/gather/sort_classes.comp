@@ -2,8 +2,9 @@
 // Sorts the covered voxels into `interleave` classes for the progressive bounce (one class is
 // updated per frame, evenly spread over the surfaces: voxel_class). Each class is one run of
 // the list, its anchors (which trace the gather: lib/gather_anchors.glsl) first (part 0), then
-// the others (part 1), which take their gather from them, so that a pass over a whole class
-// (injection, composition) is one segment. Within a part by block of CLASS_BLOCK^3 voxels, and
+// the voxels that interpolate them (part 1), then those beneath a finer level, which take the
+// finer voxels' (part 2), so that a pass over a whole class (injection, composition) is one
+// segment. Within a part by block of CLASS_BLOCK^3 voxels, and
 // within a block by facing (the mean normal's dominant axis and sign), so neighbouring
 // invocations of the gather trace neighbouring voxels with cones along the same directions,
 // which end after as many steps. The levels' blocks alternate (block_key), so that a driver
@@ -42,7 +43,7 @@ void main() {
     bool anchor = (anchors & ANCHOR_SELF) != 0u;
     int facing = int(anchors >> ANCHOR_FACING_SHIFT);
     int class_index = voxel_class(v, facing, interleave);
-    int part = anchor ? 0 : 1;
+    int part = anchor ? 0 : (anchors & ANCHOR_FINER) != 0u ? 2 : 1;
     uint block_index = uint((class_index * CLASS_PARTS + part) * voxel_levels * blocks * blocks * blocks)
                        + block_key(block, blocks);
     uint bucket = block_index * uint(CLASS_FACINGS) + uint(facing);

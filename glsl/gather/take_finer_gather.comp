@@ -13,6 +13,17 @@ layout(std430, binding = SSBO_CLASS_LIST) readonly buffer ClassList { uint class
 #include "lib/list_segment.glsl"
 uniform int level;
 
+// Adds finer voxel `finer`'s gather to the sums, weighted by how alike it faces unit normal n
+// (`faced`) and plainly (`plain`), where it reflects light.
+void add_finer(ivec3 finer, vec3 n, inout vec4 faced, inout vec4 plain) {
+    uint record = level_record(finer, level - 1);
+    if (record == NO_RECORD) return;
+    vec4 g = unpack_value(gathered[record]);
+    if (g.a <= 0.0) return;  // reflects no light
+    faced += facing_weight(n, unpack_value(voxel_normal[record]).xyz) * vec4(g.rgb, 1.0);
+    plain += vec4(g.rgb, 1.0);
+}
+
 void main() {
     if (gl_GlobalInvocationID.x >= segment_count()) return;
     ivec3 v = unpack_voxel(class_list[segment_first() + gl_GlobalInvocationID.x]);
@@ -23,19 +34,13 @@ void main() {
     ivec3 first = first_finer_voxel(v);
     vec4 faced = vec4(0.0);  // weighted sum of the finer gathers (rgb) and of the weights (a)
     vec4 plain = vec4(0.0);
-    // The 8 finer voxels tiling V, then, where none reflects light (a surface on V's side that
-    // the finer voxelization put in the voxels beyond), the 56 around them.
-    for (int ring = 0; ring < 2 && plain.a == 0.0; ++ring) {
+    for (int k = 0; k < 8; ++k) add_finer(first + corner_offset(k), n, faced, plain);
+    if (plain.a == 0.0) {
+        // None of the 8 reflects light (a surface on V's side that the finer voxelization put
+        // in the voxels beyond): the 56 finer voxels around them.
         for (int k = 0; k < 64; ++k) {
             ivec3 offset = ivec3(k & 3, (k >> 2) & 3, k >> 4) - 1;  // -1..2 per axis
-            bool inner = all(greaterThanEqual(offset, ivec3(0))) && all(lessThanEqual(offset, ivec3(1)));
-            if (inner != (ring == 0)) continue;
-            uint finer = level_record(first + offset, level - 1);
-            if (finer == NO_RECORD) continue;
-            vec4 g = unpack_value(gathered[finer]);
-            if (g.a <= 0.0) continue;  // reflects no light
-            faced += facing_weight(n, unpack_value(voxel_normal[finer]).xyz) * vec4(g.rgb, 1.0);
-            plain += vec4(g.rgb, 1.0);
+            if (any(lessThan(offset, ivec3(0))) || any(greaterThan(offset, ivec3(1)))) add_finer(first + offset, n, faced, plain);
         }
     }
     vec4 sum = faced.a > 0.0 ? faced : plain;
