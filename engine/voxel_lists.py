@@ -89,9 +89,10 @@ class Epoch:
 class ClassIndex:
     """The covered voxels sorted into interleave classes for the progressive bounce
     (GatherPass.sort_classes): in `voxel_list` each class is one run, its gather anchors, the
-    voxels that interpolate them, then those beneath a finer level; in `cell_list` the covered level-1 cells one run per class, the cells of
-    several classes last. The segments are rows of `voxel_rows` and `cell_rows`, as sorted
-    into `interleave` classes (the radiance schedule knows for which covered list)."""
+    voxels that interpolate them, then those beneath a finer level; in `cell_list` the covered
+    level-1 cells one run per class, the cells of several classes last. The segments are rows
+    of `voxel_rows` and `cell_rows`, as sorted into `interleave` classes (the radiance schedule
+    knows for which covered list)."""
 
     interleave: int
     voxel_list: object

@@ -2,10 +2,11 @@
 no anchor of a like facing around them: glsl/lib/gather_anchors.glsl) trace the lecture's 6
 cones from their surface point through the face views, G = sum_j w_j L(p, w_j), and the other
 voxels interpolate theirs; a clipmap level's voxels beneath the finer level take the mean of
-the finer voxels that tile them, level by level from the finest. A bounce is a gather followed by composing the face views again
-(passes/faces.py); the image interpolates the gathers per pixel (passes/cone_trace.py). Also
-sorts the covered voxels into interleave classes for the progressive bounce, each its anchors
-then the others, and the covered level-1 cells by class, and closes the bounce series by
+the finer voxels that tile them, level by level from the finest. A bounce is a gather followed
+by composing the face views again (passes/faces.py); the image interpolates the gathers per
+pixel (passes/cone_trace.py). Also sorts the covered voxels into interleave classes for the
+progressive bounce, each its anchors, the voxels that interpolate them, then those beneath a
+finer level, and the covered level-1 cells by class, and closes the bounce series by
 extrapolation."""
 import numpy as np
 
@@ -75,8 +76,8 @@ class GatherPass:
         return self._storage.memory_bytes()
 
     def sort_classes(self, grid, interleave):
-        """Sort the covered voxels into `interleave` classes, each its anchors then the others,
-        grouped by block and facing, finding the anchors first where the voxels changed, and
+        """Sort the covered voxels into `interleave` classes, each its anchors, the voxels that
+        interpolate them, then those beneath a finer level, grouped by block and facing, finding the anchors first where the voxels changed, and
         the covered level-1 cells by class: counting sorts whose prefix sums and segments the
         GPU computes (gather/scan_buckets.comp). Returns the ClassIndex of the sorted lists."""
         self._ensure_storage(grid)

@@ -96,7 +96,7 @@ void add_level_voxels(inout VoxelSums sums, Surface s, int level, float share, b
 VoxelInterpolation interpolate_voxels(Surface s, bool want_gathered, bool want_visibility, bool want_sky) {
     VoxelSums sums = VoxelSums(vec3(0.0), vec3(0.0), 0.0, 0.0, 0.0);
     int level = surface_level(s.position);
-    float share = level_share(level_depth(s.position, level), level, 1.0);
+    float share = level_share(s.position, level, 1.0);
     add_level_voxels(sums, s, level, share, want_gathered, want_visibility, want_sky);
     if (share < 1.0) add_level_voxels(sums, s, level + 1, 1.0 - share, want_gathered, want_visibility, want_sky);
     VoxelInterpolation result;

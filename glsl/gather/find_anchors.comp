@@ -40,7 +40,8 @@ void main() {
                 uint u_record = neighbour_record(v, u);
                 if (u_record == NO_RECORD) continue;
                 vec3 n_u = unpack_value(voxel_normal[u_record]).xyz;
-                if (dot(n, n_u) <= 0.0 || !on_anchor_lattice(u, n_u) || beneath_finer_level(u) || !reflects_light(u_record, n_u)) continue;
+                if (dot(n, n_u) <= 0.0 || !on_anchor_lattice(u, n_u) || beneath_finer_level(u)
+                    || !reflects_light(u_record, n_u)) continue;
                 anchors |= 1u << k;
                 total += anchor_weight(v, unit, u, n_u);
             }

@@ -3,7 +3,8 @@
 // beneath_finer_level), from the 8 finer voxels c that tile each voxel V:
 //   G(V) = sum_c W_c G(c) / sum_c W_c,   W_c = facing_weight(n_V, n_c) over the c that reflect light
 // (their gather's a = 1), their plain mean where none faces V's way; where none of the 8
-// reflects light, from the finer voxels around them; 0 where none does. The finer level's gather is complete before (GatherPass.fill runs the levels in order).
+// reflects light, from the finer voxels around them; 0 where none does. The finer level's
+// gather is complete before (GatherPass.fill runs the levels in order).
 #include "lib/gather_anchors.glsl"
 
 layout(local_size_x = LIST_GROUP) in;
@@ -40,7 +41,8 @@ void main() {
         // in the voxels beyond): the 56 finer voxels around them.
         for (int k = 0; k < 64; ++k) {
             ivec3 offset = ivec3(k & 3, (k >> 2) & 3, k >> 4) - 1;  // -1..2 per axis
-            if (any(lessThan(offset, ivec3(0))) || any(greaterThan(offset, ivec3(1)))) add_finer(first + offset, n, faced, plain);
+            bool around = any(lessThan(offset, ivec3(0))) || any(greaterThan(offset, ivec3(1)));
+            if (around) add_finer(first + offset, n, faced, plain);
         }
     }
     vec4 sum = faced.a > 0.0 ? faced : plain;

@@ -214,14 +214,12 @@ vec4 trace_cone(vec3 p, vec3 n, int start_level, vec3 direction, float tan_half_
             // A lookup reaches half a cell (d/4) past its point: cells whose centres lie within a
             // cell of it, half a cell wide each side.
             float reach = 0.25 * diameter;
-            float depth;
-            level = holding_level(q, clamp(int(mip) - 1, start_level, voxel_levels - 1), reach, 0.0, depth);
-            float reach_voxels = level_reach(level, reach, 0.0);
+            level = holding_level(q, clamp(int(mip) - 1, start_level, voxel_levels - 1), reach, 0.0);
             // Stop half a cell past the coarsest level: the lookups clamp to the outer cells, which
             // hold the surfaces at its edge once; further out they would repeat them.
-            if (depth < -reach_voxels) break;
+            if (level_depth(q, level) < -level_reach(level, reach, 0.0)) break;
             step_length = cone_step * (narrow_steps ? diameter : cone_diameter);
-            share = level_share(depth, level, reach_voxels);
+            share = level_share(q, level, level_reach(level, reach, 0.0));
         }
         vec4 lookup = level_lookup(q, coarser_due ? level + 1 : level, mip, weights, wide, blend_levels, emitted,
                                    step_length, opacity_scale);

@@ -52,29 +52,26 @@ float level_reach(int level, float distance, float voxels) {
 }
 
 // The finest level from `first` up whose cube holds a lookup at p that reaches `distance` plus
-// `voxels` of the level's own (level_reach), else the coarsest; `depth`: how deep p lies in it
-// (level_depth). Levels nest: the finer ones hold less.
-int holding_level(vec3 p, int first, float distance, float voxels, out float depth) {
+// `voxels` of the level's own (level_reach), else the coarsest. Levels nest: the finer ones
+// hold less.
+int holding_level(vec3 p, int first, float distance, float voxels) {
     int level = first;
-    depth = level_depth(p, level);
-    while (level < voxel_levels - 1 && depth < level_reach(level, distance, voxels)) depth = level_depth(p, ++level);
+    while (level < voxel_levels - 1 && level_depth(p, level) < level_reach(level, distance, voxels)) ++level;
     return level;
 }
 
-// The share a lookup `depth` voxels deep in level `level` (level_depth) that reaches `reach`
-// voxels of it takes from that level; the next coarser level takes the rest. It falls from 1
-// to 0 over the LEVEL_BLEND_VOXELS before the lookup would reach past the border (the coarsest
-// level takes all: nothing lies beyond it).
-float level_share(float depth, int level, float reach) {
+// The share a lookup at p reaching `reach` voxels of level `level` takes from that level; the
+// next coarser level takes the rest. It falls from 1 to 0 over the LEVEL_BLEND_VOXELS before the
+// lookup would reach past the border (the coarsest level takes all: nothing lies beyond it).
+float level_share(vec3 p, int level, float reach) {
     if (level == voxel_levels - 1) return 1.0;
-    return clamp((depth - reach) / LEVEL_BLEND_VOXELS, 0.0, 1.0);
+    return clamp((level_depth(p, level) - reach) / LEVEL_BLEND_VOXELS, 0.0, 1.0);
 }
 
 // The finest level that holds a surface point p with the 8 voxels around it (its voxels'
 // light is read there and its cones start there).
 int surface_level(vec3 p) {
-    float depth;
-    return holding_level(p, 0, 0.0, 1.0, depth);
+    return holding_level(p, 0, 0.0, 1.0);
 }
 
 // The side of voxel v.
