@@ -501,28 +501,34 @@ class Renderer:
 
     def _gather_segments(self, voxels):
         """What the gather of a bounces.Voxels selection runs over: (the segment holding the
-        anchors to trace, the one holding the voxels to interpolate, the one holding those
-        beneath a finer level): a class's parts, or the touched voxels three times (the passes
-        take their own among them)."""
+        anchors to trace, the one holding the voxels to interpolate, those holding the ones
+        beneath a finer level by level): a class's parts, or the touched voxels three times
+        (the passes take their own among them)."""
         if voxels.kind == "touched":
             touched = self.grid.touched.segment()
-            return touched, touched, touched
+            return touched, touched, self._by_level(touched)
         classes = self.class_index
         return (classes.anchor_segment(voxels.class_index), classes.filled_segment(voxels.class_index),
-                classes.finer_segment(voxels.class_index))
+                classes.finer_segments(voxels.class_index))
+
+    def _by_level(self, segment):
+        """`segment` for each level above the finest, as GatherPass.fill takes the voxels
+        beneath a finer level (the pass takes those of the level among them)."""
+        return {level: [segment] for level in range(1, self.grid.levels)}
 
     def _sky_segments(self, voxels):
         """What the sky's light at a bounces.Voxels selection runs over: (the segment holding
-        the anchors to trace, the one holding the voxels to interpolate, the voxels to filter):
-        for a class, its anchors, then every voxel (whose anchors may lie in any class: once
-        the last class is traced every voxel holds what all the anchors brought) and every
-        covered voxel; or the touched voxels three times. The passes take the anchors or the
-        others among them."""
+        the anchors to trace, the one holding the voxels to interpolate, those holding the
+        voxels beneath a finer level by level, the voxels to filter): for a class, its
+        anchors, then every voxel (whose anchors may lie in any class: once the last class is
+        traced every voxel holds what all the anchors brought), every class's voxels beneath a
+        finer level and every covered voxel; or the touched voxels four times. The passes take
+        their own among them."""
         if voxels.kind == "touched":
             touched = self.grid.touched.segment()
-            return touched, touched, touched
+            return touched, touched, self._by_level(touched), touched
         classes = self.class_index
-        return classes.anchor_segment(voxels.class_index), classes.segment(), self.grid.covered.segment()
+        return classes.anchor_segment(voxels.class_index), classes.segment(), classes.finer_segments(), self.grid.covered.segment()
 
     def _cell_segments(self, voxels):
         """The level-1 cells of a bounces.Voxels selection, as (VoxelSegment, the level of its
@@ -544,14 +550,14 @@ class Renderer:
         elif isinstance(item, bounces.LightVoxels) and item.source == "emitter_light":
             self.emitter_light.run(grid, work.emitters, work.cone_uniforms, self._voxel_segment(item.voxels), item.levels)
         elif isinstance(item, bounces.LightVoxels):
-            traced, filled, filtered = self._sky_segments(item.voxels)
+            traced, filled, finer, filtered = self._sky_segments(item.voxels)
             levels = range(grid.levels) if item.levels is None else item.levels
             if item.voxels.kind == "touched":  # a scroll's: lit as the coarser level is, until the camera rests
                 self.sky_light.take_coarser(grid, traced, [level for level in levels if level < grid.levels - 1])
                 levels = [level for level in levels if level == grid.levels - 1]
             if levels:
                 self.sky_light.run(grid, work.environment, work.cone_uniforms, traced, self.gather.anchors, levels, item.box)
-                self.gather.fill(grid, grid.traced_sky_irradiance, filled, filled)
+                self.gather.fill(grid, grid.traced_sky_irradiance, filled, finer)
                 self.sky_light.filter(grid, filtered, levels, item.box)
         elif isinstance(item, bounces.ComposeFaces):
             gathered = None if item.gathered is None else self._gathered(item.gathered)

@@ -13,7 +13,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .constants import CELL_LIST_LEVELS, LIST_GROUP, STORAGE_BINDING, struct_dtype
+from .constants import CELL_LIST_LEVELS, CLASS_PARTS, LIST_GROUP, STORAGE_BINDING, struct_dtype
 
 SEGMENT = struct_dtype("ListSegment")
 
@@ -95,19 +95,24 @@ class ClassIndex:
     knows for which covered list)."""
 
     interleave: int
+    levels: int
     voxel_list: object
-    voxel_rows: SegmentTable  # every voxel; per class its voxels; then per part, per class its voxels of the part
+    voxel_rows: SegmentTable  # every voxel; per class its voxels; its anchors; its interpolated ones; per level its voxels beneath a finer one
     cell_list: object
     cell_rows: SegmentTable   # per class the run of its level-1 cells; the mixed cells last
 
     @staticmethod
-    def voxel_row_buckets(interleave, parts, buckets):
+    def voxel_row_buckets(interleave, levels, buckets):
         """The buckets of the class sort each voxel row spans, [first, end): every voxel, per
-        class its voxels, then per part (the anchors, the voxels that interpolate them, those
-        beneath a finer level) each class's voxels of that part."""
-        span = parts * buckets
+        class its voxels, its anchors (part 0), the voxels that interpolate them (part 1),
+        then per class and level its voxels beneath a finer level (part 2, level by level:
+        `buckets` per part, as many to each level)."""
+        span, per_level = CLASS_PARTS * buckets, buckets // levels
         return ([(0, interleave * span)] + [(c * span, (c + 1) * span) for c in range(interleave)]
-                + [(c * span + p * buckets, c * span + (p + 1) * buckets) for p in range(parts) for c in range(interleave)])
+                + [(c * span, c * span + buckets) for c in range(interleave)]
+                + [(c * span + buckets, c * span + 2 * buckets) for c in range(interleave)]
+                + [(c * span + 2 * buckets + k * per_level, c * span + 2 * buckets + (k + 1) * per_level)
+                   for c in range(interleave) for k in range(levels)])
 
     def segment(self, class_index=None):
         """The voxels of an interleave class (None: every covered voxel)."""
@@ -121,9 +126,13 @@ class ClassIndex:
         """The voxels of an interleave class that interpolate the anchors."""
         return VoxelSegment(self.voxel_list, self.voxel_rows, 1 + 2 * self.interleave + class_index)
 
-    def finer_segment(self, class_index):
-        """The voxels of an interleave class beneath a finer level."""
-        return VoxelSegment(self.voxel_list, self.voxel_rows, 1 + 3 * self.interleave + class_index)
+    def finer_segments(self, class_index=None):
+        """The voxels beneath a finer level of an interleave class (None: of every class), by
+        level: {level: [VoxelSegment, one a class]} for the levels above the finest."""
+        classes = range(self.interleave) if class_index is None else [class_index]
+        first = 1 + 3 * self.interleave
+        return {k: [VoxelSegment(self.voxel_list, self.voxel_rows, first + c * self.levels + k) for c in classes]
+                for k in range(1, self.levels)}
 
     def cell_segments(self, class_index):
         """The level-1 cells an interleave class's voxels lie in: its own, then the mixed."""

@@ -104,7 +104,7 @@ def test_a_voxel_facing_a_wide_lit_wall_gathers_the_walls_radiance(gl):
     gl["faces"].mipmap(grid)
     classes = gl["gather"].sort_classes(grid, 1)
     gathered = grid.read_level(gl["gather"].run(grid, RenderSettings().cone_uniforms(), grid.gathered[0],
-                                                classes.anchor_segment(0), classes.filled_segment(0), classes.finer_segment(0)))
+                                                classes.anchor_segment(0), classes.filled_segment(0), classes.finer_segments(0)))
     assert gathered[5, 8, 8, :3] == pytest.approx(np.full(3, 3.0 / np.pi), rel=0.01)
 
 
@@ -157,6 +157,6 @@ def test_voxels_between_anchors_take_a_gather_that_varies_linearly_along_the_wal
     anchors[side_anchors] = (10.0, 10.0, 10.0, 1.0)
     values = grid.gathered[0]
     grid.write_values(values, anchors)
-    filled = grid.read_level(gl["gather"].fill(grid, values, classes.filled_segment(0), classes.finer_segment(0)))
+    filled = grid.read_level(gl["gather"].fill(grid, values, classes.filled_segment(0), classes.finer_segments(0)))
     inner = (z == 5) & (x >= 3) & (y >= 3) & (x < 13) & (y < 13)
     assert np.allclose(filled[inner][:, :3], linear[inner], rtol=2e-3)

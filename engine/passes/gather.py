@@ -93,11 +93,11 @@ class GatherPass:
         self.cell_class_bits.bind_to_storage_buffer(STORAGE_BINDING["CELL_CLASS_BITS"])
         self.sort_classes_program.set(**grid.uniforms(), interleave=interleave, scatter=False)
         grid.dispatch(self.sort_classes_program, grid.covered.segment())
-        self._scan(grid, total, self.voxel_rows, ClassIndex.voxel_row_buckets(interleave, CLASS_PARTS, buckets))
+        self._scan(grid, total, self.voxel_rows, ClassIndex.voxel_row_buckets(interleave, grid.levels, buckets))
         self.sort_classes_program.set(scatter=True)
         grid.dispatch(self.sort_classes_program, grid.covered.segment())
         self._sort_cells(grid, interleave)
-        return ClassIndex(interleave=interleave, voxel_list=self.class_list, voxel_rows=self.voxel_rows,
+        return ClassIndex(interleave=interleave, levels=grid.levels, voxel_list=self.class_list, voxel_rows=self.voxel_rows,
                           cell_list=self.cells_by_class, cell_rows=self.cell_rows)
 
     def _sort_cells(self, grid, interleave):
@@ -170,19 +170,21 @@ class GatherPass:
     def fill(self, grid, values, filled, finer):
         """Interpolate `values` (an array of the grid, the anchors' values written) at the
         voxels of segment `filled` that are not anchors (a class's that interpolate, or the
-        touched voxels) from the anchors around them, then at those of segment `finer` beneath
-        a finer level (a class's, or the touched voxels again) take the finer voxels' mean,
-        level after level. Returns `values`."""
+        touched voxels) from the anchors around them, then at those beneath a finer level take
+        the finer voxels' mean, level after level: `finer` maps each level above the finest to
+        the segments holding them (a class's, every class's, or the touched voxels again).
+        Returns `values`."""
         grid.use_surface()
         bind_values(values, "GATHERED_OUT")
         self.anchors.bind_to_storage_buffer(STORAGE_BINDING["GATHER_ANCHORS"])
         filled.buffer.bind_to_storage_buffer(STORAGE_BINDING["CLASS_LIST"])
         self.fill_program.set(**grid.uniforms())
         grid.dispatch(self.fill_program, filled)
-        finer.buffer.bind_to_storage_buffer(STORAGE_BINDING["CLASS_LIST"])
         for level in range(1, grid.levels):
             self.take_finer_program.set(**grid.uniforms(), level=level)
-            grid.dispatch(self.take_finer_program, finer)
+            for segment in finer[level]:
+                segment.buffer.bind_to_storage_buffer(STORAGE_BINDING["CLASS_LIST"])
+                grid.dispatch(self.take_finer_program, segment)
         return values
 
     def extrapolate(self, grid, latest, older, gain):

@@ -4,12 +4,10 @@
 // the list, its anchors (which trace the gather: lib/gather_anchors.glsl) first (part 0), then
 // the voxels that interpolate them (part 1), then those beneath a finer level, which take the
 // finer voxels' (part 2), so that a pass over a whole class (injection, composition) is one
-// segment. Within a part by block of CLASS_BLOCK^3 voxels, and
-// within a block by facing (the mean normal's dominant axis and sign), so neighbouring
-// invocations of the gather trace neighbouring voxels with cones along the same directions,
-// which end after as many steps. The levels' blocks alternate (block_key), so that a driver
-// handing each thread one contiguous range of the workgroups (llvmpipe) gives each a share of
-// every level: level by level, one thread would take the near, fine levels' long cones.
+// segment. Within a part level by level (the levels' blocks follow along z: a part's voxels of
+// one level are one run), by block of CLASS_BLOCK^3 voxels, and within a block by facing (the
+// mean normal's dominant axis and sign), so neighbouring invocations of the gather trace
+// neighbouring voxels with cones along the same directions, which end after as many steps.
 // A counting sort: a pass counting the entries of each bucket
 // (class, part, block, facing), then, once the host has turned the counts into each bucket's first entry, a
 // pass scattering the voxels into their buckets, which also marks the classes each level-1
@@ -25,14 +23,6 @@ layout(std430, binding = SSBO_CELL_CLASS_BITS) buffer CellClassBits { uint cell_
 uniform int interleave;
 uniform bool scatter;
 
-// Position of block `block` (of `blocks` per side of a level) among a part's blocks: block by
-// block in the order of space, the levels' blocks at each position one after the other.
-uint block_key(ivec3 block, int blocks) {
-    int level = block.z / blocks;
-    uint index = uint(block.x + blocks * (block.y + blocks * (block.z - level * blocks)));
-    return uint(level) + uint(voxel_levels) * index;
-}
-
 void main() {
     uint record = gl_GlobalInvocationID.x;
     ivec3 v;
@@ -44,8 +34,8 @@ void main() {
     int facing = int(anchors >> ANCHOR_FACING_SHIFT);
     int class_index = voxel_class(v, facing, interleave);
     int part = anchor ? 0 : (anchors & ANCHOR_FINER) != 0u ? 2 : 1;
-    uint block_index = uint((class_index * CLASS_PARTS + part) * voxel_levels * blocks * blocks * blocks)
-                       + block_key(block, blocks);
+    uint block_index = uint((class_index * CLASS_PARTS + part) * voxel_levels * blocks * blocks * blocks + block.x
+                            + blocks * (block.y + blocks * block.z));
     uint bucket = block_index * uint(CLASS_FACINGS) + uint(facing);
     if (scatter) {
         class_list[atomicAdd(buckets[bucket], 1u)] = pack_voxel(v);
