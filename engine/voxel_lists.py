@@ -97,7 +97,7 @@ class ClassIndex:
     interleave: int
     levels: int
     voxel_list: object
-    voxel_rows: SegmentTable  # every voxel; per class its voxels; its anchors; its interpolated ones; per level its voxels beneath a finer one
+    voxel_rows: SegmentTable  # every voxel; per class its voxels, anchors, interpolated ones; per level its anchors, its voxels beneath a finer one
     cell_list: object
     cell_rows: SegmentTable   # per class the run of its level-1 cells; the mixed cells last
 
@@ -105,14 +105,17 @@ class ClassIndex:
     def voxel_row_buckets(interleave, levels, buckets):
         """The buckets of the class sort each voxel row spans, [first, end): every voxel, per
         class its voxels, its anchors (part 0), the voxels that interpolate them (part 1),
-        then per class and level its voxels beneath a finer level (part 2, level by level:
-        `buckets` per part, as many to each level)."""
+        then per class and level its anchors and its voxels beneath a finer level (part 2; a
+        part holds `buckets`, level by level, as many to each)."""
         span, per_level = CLASS_PARTS * buckets, buckets // levels
+
+        def by_level(part):
+            first = [c * span + part * buckets + k * per_level for c in range(interleave) for k in range(levels)]
+            return [(b, b + per_level) for b in first]
         return ([(0, interleave * span)] + [(c * span, (c + 1) * span) for c in range(interleave)]
                 + [(c * span, c * span + buckets) for c in range(interleave)]
                 + [(c * span + buckets, c * span + 2 * buckets) for c in range(interleave)]
-                + [(c * span + 2 * buckets + k * per_level, c * span + 2 * buckets + (k + 1) * per_level)
-                   for c in range(interleave) for k in range(levels)])
+                + by_level(0) + by_level(2))
 
     def segment(self, class_index=None):
         """The voxels of an interleave class (None: every covered voxel)."""
@@ -122,6 +125,11 @@ class ClassIndex:
         """The gather's anchors of an interleave class."""
         return VoxelSegment(self.voxel_list, self.voxel_rows, 1 + self.interleave + class_index)
 
+    def anchor_segments(self, class_index):
+        """The gather's anchors of an interleave class, a segment a level."""
+        first = 1 + 3 * self.interleave + class_index * self.levels
+        return [VoxelSegment(self.voxel_list, self.voxel_rows, first + k) for k in range(self.levels)]
+
     def filled_segment(self, class_index):
         """The voxels of an interleave class that interpolate the anchors."""
         return VoxelSegment(self.voxel_list, self.voxel_rows, 1 + 2 * self.interleave + class_index)
@@ -130,7 +138,7 @@ class ClassIndex:
         """The voxels beneath a finer level of an interleave class (None: of every class), by
         level: {level: [VoxelSegment, one a class]} for the levels above the finest."""
         classes = range(self.interleave) if class_index is None else [class_index]
-        first = 1 + 3 * self.interleave
+        first = 1 + 3 * self.interleave + self.interleave * self.levels
         return {k: [VoxelSegment(self.voxel_list, self.voxel_rows, first + c * self.levels + k) for c in classes]
                 for k in range(1, self.levels)}
 
