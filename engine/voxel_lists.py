@@ -127,8 +127,7 @@ class ClassIndex:
 
     def anchor_segments(self, class_index):
         """The gather's anchors of an interleave class, a segment a level."""
-        first = 1 + 3 * self.interleave + class_index * self.levels
-        return [VoxelSegment(self.voxel_list, self.voxel_rows, first + k) for k in range(self.levels)]
+        return [self._level_segment(0, class_index, level) for level in range(self.levels)]
 
     def filled_segment(self, class_index):
         """The voxels of an interleave class that interpolate the anchors."""
@@ -138,9 +137,13 @@ class ClassIndex:
         """The voxels beneath a finer level of an interleave class (None: of every class), by
         level: {level: [VoxelSegment, one a class]} for the levels above the finest."""
         classes = range(self.interleave) if class_index is None else [class_index]
-        first = 1 + 3 * self.interleave + self.interleave * self.levels
-        return {k: [VoxelSegment(self.voxel_list, self.voxel_rows, first + c * self.levels + k) for c in classes]
-                for k in range(1, self.levels)}
+        return {level: [self._level_segment(1, c, level) for c in classes] for level in range(1, self.levels)}
+
+    def _level_segment(self, section, class_index, level):
+        """A class's voxels of one level in the rows by level (voxel_row_buckets): section 0 its
+        anchors, section 1 its voxels beneath a finer level."""
+        row = 1 + 3 * self.interleave + (section * self.interleave + class_index) * self.levels + level
+        return VoxelSegment(self.voxel_list, self.voxel_rows, row)
 
     def cell_segments(self, class_index):
         """The level-1 cells an interleave class's voxels lie in: its own, then the mixed."""

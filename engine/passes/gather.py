@@ -77,9 +77,10 @@ class GatherPass:
 
     def sort_classes(self, grid, interleave):
         """Sort the covered voxels into `interleave` classes, each its anchors, the voxels that
-        interpolate them, then those beneath a finer level, grouped by block and facing, finding the anchors first where the voxels changed, and
-        the covered level-1 cells by class: counting sorts whose prefix sums and segments the
-        GPU computes (gather/scan_buckets.comp). Returns the ClassIndex of the sorted lists."""
+        interpolate them, then those beneath a finer level, grouped by block and facing,
+        finding the anchors first where the voxels changed, and the covered level-1 cells by
+        class: counting sorts whose prefix sums and segments the GPU computes
+        (gather/scan_buckets.comp). Returns the ClassIndex of the sorted lists."""
         self._ensure_storage(grid)
         buckets = class_buckets(grid)
         total = interleave * CLASS_PARTS * buckets
