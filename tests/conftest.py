@@ -19,6 +19,10 @@ TEST_SCENES = Path(__file__).resolve().parent / "scenes"
 REFERENCE = ROOT.parent / "shared" / "reference"
 REQUIRE_REFERENCES = "VCT_REQUIRE_REFERENCES"
 
+# The commands the tests run in child processes print their Python stack on a fatal signal
+# (a crash in the GL driver), so a failing test's output says where the child died.
+os.environ.setdefault("PYTHONFAULTHANDLER", "1")
+
 
 def interruptible():
     """preexec_fn of a child process a test interrupts: SIGINT takes its default action there
