@@ -154,6 +154,15 @@ vec4 level_lookup(vec3 p, int level, float mip, FaceWeights weights, bool wide, 
     return vec4(radiance, coverage);
 }
 
+// A number in [0, 1) that is the same for the same point and looks random from one point to the
+// next (a hash of its bits, lowbias32 by Chris Wellons).
+float level_dither(vec3 q) {
+    uvec3 bits = floatBitsToUint(q);
+    uint h = bits.x ^ (bits.y * 0x9e3779b9u) ^ (bits.z * 0x85ebca6bu);
+    h ^= h >> 16; h *= 0x7feb352du; h ^= h >> 15; h *= 0x846ca68bu; h ^= h >> 16;
+    return float(h >> 8) * (1.0 / 16777216.0);
+}
+
 // Radiance (rgb) and opacity (a) gathered along a cone from surface point p with normal n
 // whose voxels are `start_level`'s (`wide`: a half-angle over 35.3 degrees), starting one of
 // its voxels out along the normal and along the cone, one sample per step. Each lookup reads the
@@ -174,6 +183,11 @@ vec4 level_lookup(vec3 p, int level, float mip, FaceWeights weights, bool wide, 
 // below counts the step's length). `min_diameter`: the narrowest
 // lookups, in voxels (1, or SPECULAR_CONE_MIN_DIAMETER for the specular cones).
 // `opacity_scale` k: how many times a cell's coverage counts (1, or SPECULAR_CONE_OPACITY).
+// `dither_levels`: near a level's border a step reads one of the two levels, chosen by a hash of
+// its point with odds of their shares (the same blend on average, and no second lookup), else
+// both, weighed by their shares. The cones from voxels dither: their light reaches the image
+// through trilinear lookups and interpolation that average it over many voxels and steps. The
+// screen's cones blend: a pixel's own choice would show as grain.
 // With voxel the start level's voxel side and v0 the finest level's:
 //   D = max(min_diameter voxel, 2 tan(a/2) t)    the cone's diameter at distance t, at least
 //                                                the narrowest lookup's
@@ -189,7 +203,7 @@ vec4 level_lookup(vec3 p, int level, float mip, FaceWeights weights, bool wide, 
 //   t += step = cone_step * (narrow_steps ? d : D)
 vec4 trace_cone(vec3 p, vec3 n, int start_level, vec3 direction, float tan_half_angle, float max_distance, bool wide,
                 bool blend_levels, bool emitted, float level_offset, bool narrow_steps, float min_diameter,
-                float opacity_scale) {
+                float opacity_scale, bool dither_levels) {
     float unit = level_voxel_size[start_level];
     vec3 start = p + n * (cone_offset * unit);
     vec4 gathered = vec4(0.0);
@@ -220,6 +234,10 @@ vec4 trace_cone(vec3 p, vec3 n, int start_level, vec3 direction, float tan_half_
             if (level_depth(q, level) < -level_reach(level, reach, 0.0)) break;
             step_length = cone_step * (narrow_steps ? diameter : cone_diameter);
             share = level_share(q, level, level_reach(level, reach, 0.0));
+            if (dither_levels && share < 1.0) {  // one of the two levels, chosen with odds share : 1 - share
+                if (level_dither(q) >= share) ++level;
+                share = 1.0;
+            }
         }
         vec4 lookup = level_lookup(q, coarser_due ? level + 1 : level, mip, weights, wide, blend_levels, emitted,
                                    step_length, opacity_scale);
@@ -245,12 +263,13 @@ vec4 trace_cone(vec3 p, vec3 n, int start_level, vec3 direction, float tan_half_
 // Diffuse gather with the lecture's 6 cones from p in start_level, read 0.4 levels finer than
 // their footprints (DIFFUSE_CONE_LEVEL_OFFSET): returns sum_j w_j Lv(p, w_j) (rgb) and the cosine-weighted
 // occlusion sum_j w_j a_j (a).
-vec4 trace_diffuse(vec3 p, vec3 n, int start_level, float max_distance) {
+vec4 trace_diffuse(vec3 p, vec3 n, int start_level, float max_distance, bool dither_levels) {
     mat3 frame = tangent_frame(n);
     float tan_half = tan(DIFFUSE_CONE_HALF_ANGLE);
     vec4 sum = vec4(0.0);
     for (int j = 0; j < DIFFUSE_CONE_COUNT; ++j) {
-        vec4 cone = trace_cone(p, n, start_level, frame * DIFFUSE_CONE_DIRECTIONS[j], tan_half, max_distance, false, true, false, DIFFUSE_CONE_LEVEL_OFFSET, false, 1.0, 1.0);
+        vec4 cone = trace_cone(p, n, start_level, frame * DIFFUSE_CONE_DIRECTIONS[j], tan_half, max_distance, false, true, false, DIFFUSE_CONE_LEVEL_OFFSET, false, 1.0, 1.0,
+                                 dither_levels);
         sum += DIFFUSE_CONE_WEIGHTS[j] * cone;
     }
     return sum;
