@@ -173,9 +173,9 @@ CLASS_FACINGS = 7
 # them (glsl/lib/gather_anchors.glsl).
 CLASS_PARTS = 3
 # The rows a bucket scan writes at most (gather/scan_buckets.comp: every voxel, then per class
-# its voxels, its anchors, those that interpolate them, then per level its anchors and those
-# beneath a finer level), and its workgroup's size.
-MAX_SEGMENT_ROWS = 1 + 3 * MAX_INTERLEAVE + 2 * MAX_INTERLEAVE * MAX_VOXEL_LEVELS
+# its voxels, its anchors, those that interpolate them, then per level those beneath a finer
+# level), and its workgroup's size.
+MAX_SEGMENT_ROWS = 1 + 3 * MAX_INTERLEAVE + MAX_INTERLEAVE * MAX_VOXEL_LEVELS
 SCAN_GROUP = 256
 
 

@@ -500,15 +500,15 @@ class Renderer:
         return self.class_index.segment(voxels.class_index)
 
     def _gather_segments(self, voxels):
-        """What the gather of a bounces.Voxels selection runs over: (the segments holding the
+        """What the gather of a bounces.Voxels selection runs over: (the segment holding the
         anchors to trace, the one holding the voxels to interpolate, those holding the ones
-        beneath a finer level by level): a class's parts, its anchors level by level, or the
-        touched voxels three times (the passes take their own among them)."""
+        beneath a finer level by level): a class's parts, or the touched voxels three times
+        (the passes take their own among them)."""
         if voxels.kind == "touched":
             touched = self.grid.touched.segment()
-            return [touched], touched, self._by_level(touched)
+            return touched, touched, self._by_level(touched)
         classes = self.class_index
-        return (classes.anchor_segments(voxels.class_index), classes.filled_segment(voxels.class_index),
+        return (classes.anchor_segment(voxels.class_index), classes.filled_segment(voxels.class_index),
                 classes.finer_segments(voxels.class_index))
 
     def _by_level(self, segment):

@@ -97,7 +97,7 @@ class ClassIndex:
     interleave: int
     levels: int
     voxel_list: object
-    voxel_rows: SegmentTable  # every voxel; per class its voxels, anchors, interpolated ones; per level its anchors, its voxels beneath a finer one
+    voxel_rows: SegmentTable  # every voxel; per class its voxels, anchors, interpolated ones; per level its voxels beneath a finer one
     cell_list: object
     cell_rows: SegmentTable   # per class the run of its level-1 cells; the mixed cells last
 
@@ -105,17 +105,14 @@ class ClassIndex:
     def voxel_row_buckets(interleave, levels, buckets):
         """The buckets of the class sort each voxel row spans, [first, end): every voxel, per
         class its voxels, its anchors (part 0), the voxels that interpolate them (part 1),
-        then per class and level its anchors and its voxels beneath a finer level (part 2; a
-        part holds `buckets`, level by level, as many to each)."""
+        then per class and level its voxels beneath a finer level (part 2; a part holds
+        `buckets`, level by level, as many to each)."""
         span, per_level = CLASS_PARTS * buckets, buckets // levels
-
-        def by_level(part):
-            first = [c * span + part * buckets + k * per_level for c in range(interleave) for k in range(levels)]
-            return [(b, b + per_level) for b in first]
+        beneath_finer = [c * span + 2 * buckets + k * per_level for c in range(interleave) for k in range(levels)]
         return ([(0, interleave * span)] + [(c * span, (c + 1) * span) for c in range(interleave)]
                 + [(c * span, c * span + buckets) for c in range(interleave)]
                 + [(c * span + buckets, c * span + 2 * buckets) for c in range(interleave)]
-                + by_level(0) + by_level(2))
+                + [(b, b + per_level) for b in beneath_finer])
 
     def segment(self, class_index=None):
         """The voxels of an interleave class (None: every covered voxel)."""
@@ -125,10 +122,6 @@ class ClassIndex:
         """The gather's anchors of an interleave class."""
         return VoxelSegment(self.voxel_list, self.voxel_rows, 1 + self.interleave + class_index)
 
-    def anchor_segments(self, class_index):
-        """The gather's anchors of an interleave class, a segment a level."""
-        return [self._level_segment(0, class_index, level) for level in range(self.levels)]
-
     def filled_segment(self, class_index):
         """The voxels of an interleave class that interpolate the anchors."""
         return VoxelSegment(self.voxel_list, self.voxel_rows, 1 + 2 * self.interleave + class_index)
@@ -137,12 +130,12 @@ class ClassIndex:
         """The voxels beneath a finer level of an interleave class (None: of every class), by
         level: {level: [VoxelSegment, one a class]} for the levels above the finest."""
         classes = range(self.interleave) if class_index is None else [class_index]
-        return {level: [self._level_segment(1, c, level) for c in classes] for level in range(1, self.levels)}
+        return {level: [self._finer_segment(c, level) for c in classes] for level in range(1, self.levels)}
 
-    def _level_segment(self, section, class_index, level):
-        """A class's voxels of one level in the rows by level (voxel_row_buckets): section 0 its
-        anchors, section 1 its voxels beneath a finer level."""
-        row = 1 + 3 * self.interleave + (section * self.interleave + class_index) * self.levels + level
+    def _finer_segment(self, class_index, level):
+        """A class's voxels of one level beneath a finer level, in the rows by level
+        (voxel_row_buckets)."""
+        row = 1 + 3 * self.interleave + class_index * self.levels + level
         return VoxelSegment(self.voxel_list, self.voxel_rows, row)
 
     def cell_segments(self, class_index):

@@ -104,7 +104,7 @@ def test_a_voxel_facing_a_wide_lit_wall_gathers_the_walls_radiance(gl):
     gl["faces"].mipmap(grid)
     classes = gl["gather"].sort_classes(grid, 1)
     gathered = grid.read_level(gl["gather"].run(grid, RenderSettings().cone_uniforms(), grid.gathered[0],
-                                                classes.anchor_segments(0), classes.filled_segment(0), classes.finer_segments(0)))
+                                                classes.anchor_segment(0), classes.filled_segment(0), classes.finer_segments(0)))
     assert gathered[5, 8, 8, :3] == pytest.approx(np.full(3, 3.0 / np.pi), rel=0.01)
 
 

@@ -156,19 +156,17 @@ class GatherPass:
         self.anchors_epoch = grid.epoch
 
     def run(self, grid, cone_uniforms, out, anchors, filled, finer):
-        """Gather the anchors among the voxels of the segments `anchors` (an interleave class's
-        anchors level by level, of the class index, or the touched voxels) into array `out`,
-        then the others from them (`fill`). A dispatch a level: a driver that hands each thread
-        one contiguous range of a dispatch's workgroups (llvmpipe) then gives each a share of
-        every level, whose cones differ in length. Returns `out`."""
+        """Gather the anchors among the voxels of segment `anchors` (an interleave class's
+        anchors, of the class index, or the touched voxels) into array `out`, then the others
+        from them (`fill`). Every level's anchors in one dispatch: on a GPU a dispatch a level
+        waits for each level's longest cones in turn. Returns `out`."""
         grid.use_surface()
         grid.use_faces()
         self.anchors.bind_to_storage_buffer(STORAGE_BINDING["GATHER_ANCHORS"])
         bind_values(out, "GATHERED_OUT")
         self.trace_program.set(**grid.uniforms(), **cone_uniforms)
-        for segment in anchors:
-            segment.buffer.bind_to_storage_buffer(STORAGE_BINDING["CLASS_LIST"])
-            grid.dispatch(self.trace_program, segment)
+        anchors.buffer.bind_to_storage_buffer(STORAGE_BINDING["CLASS_LIST"])
+        grid.dispatch(self.trace_program, anchors)
         return self.fill(grid, out, filled, finer)
 
     def fill(self, grid, values, filled, finer):
