@@ -212,8 +212,9 @@ vec4 trace_cone(vec3 p, vec3 n, int start_level, vec3 direction, float tan_half_
     float t = unit;  // start one voxel out along the cone
     float narrowing = exp2(-level_offset);
     float top_mip = voxel_max_mip + float(voxel_levels - 1);  // the coarsest level's 1^3
-    // Near a level's border a step reads the level (its share) and then, in the next pass of the
-    // loop, the next coarser level (the rest): one lookup a pass keeps the loop small.
+    // Near a level's border a step that does not dither reads the level (its share) and then, in
+    // the next pass of the loop, the next coarser level (the rest): one lookup a pass keeps the
+    // loop small.
     bool coarser_due = false;
     vec4 finer = vec4(0.0);  // the finer level's share of the step, premultiplied, while coarser_due
     float cone_diameter, diameter, mip, step_length, share;
