@@ -180,15 +180,17 @@ float level_dither(vec3 q) {
 // SKY_CONE_LEVEL_OFFSET; the diffuse ones: DIFFUSE_CONE_LEVEL_OFFSET; 0 for the others);
 // `narrow_steps`: step by the narrower lookups (the sky's cones) or by the footprint (the
 // diffuse ones: less than a level finer, their steps span 1.3 of their cells and the opacity
-// below counts the step's length). `min_diameter`: the narrowest
-// lookups, in voxels (1, or SPECULAR_CONE_MIN_DIAMETER for the specular cones).
+// below counts the step's length). `min_diameter`: the narrowest lookups, in voxels of the
+// level holding the step (1, or SPECULAR_CONE_MIN_DIAMETER for the specular cones): a narrow
+// cone passing into a coarser level steps as one that started there.
 // `opacity_scale` k: how many times a cell's coverage counts (1, or SPECULAR_CONE_OPACITY).
 // `dither_levels`: near a level's border a step reads one of the two levels, chosen by a hash of
 // its point with odds of their shares (the same blend on average, and no second lookup), else
 // both, weighed by their shares. The cones from voxels dither: their light reaches the image
 // through trilinear lookups and interpolation that average it over many voxels and steps. The
 // screen's cones blend: a pixel's own choice would show as grain.
-// With voxel the start level's voxel side and v0 the finest level's:
+// With voxel the side of the voxels of the finest level from the start level up that holds the
+// step's point, and v0 the finest level's:
 //   D = max(min_diameter voxel, 2 tan(a/2) t)    the cone's diameter at distance t, at least
 //                                                the narrowest lookup's
 //   d = max(min_diameter voxel, D 2^-level_offset)   the lookups' diameter (narrowed)
@@ -222,10 +224,13 @@ vec4 trace_cone(vec3 p, vec3 n, int start_level, vec3 direction, float tan_half_
     int level;
     while (gathered.a < 1.0 && t < max_distance) {
         if (!coarser_due) {
-            cone_diameter = max(min_diameter * unit, 2.0 * tan_half_angle * t);
-            diameter = max(min_diameter * unit, narrowing * cone_diameter);
-            mip = min(max(log2(diameter / voxel_size) - 1.0, 0.0), top_mip);
             q = start + direction * t;
+            // The narrowest lookup: min_diameter voxels of the finest level that holds q (from
+            // the start level up: no finer level is read).
+            float narrowest = min_diameter * level_voxel_size[holding_level(q, start_level, 0.0, 0.0)];
+            cone_diameter = max(narrowest, 2.0 * tan_half_angle * t);
+            diameter = max(narrowest, narrowing * cone_diameter);
+            mip = min(max(log2(diameter / voxel_size) - 1.0, 0.0), top_mip);
             // A lookup reaches half a cell (d/4) past its point: cells whose centres lie within a
             // cell of it, half a cell wide each side.
             float reach = 0.25 * diameter;
