@@ -2,15 +2,19 @@
 levels centred on the camera (GL-free).
 
 Level k of a clipmap is a cube of N^3 voxels 2^k v0 wide, its corner on a lattice of
-LEVEL_SNAP_VOXELS of its own voxels: a level moves in whole steps of that lattice as the camera
-moves, and the cells of level k's mip 2 (4 of its voxels) fall on those of level k+1's mip 1,
-so a cone passing from one level to the next reads the same cells at the same size."""
+level_snap_voxels(N) of its own voxels: a level moves in whole steps of that lattice as the
+camera moves, and the cells of level k's mip 2 (4 of its voxels) fall on those of level k+1's
+mip 1, so a cone passing from one level to the next reads the same cells at the same size."""
 import numpy as np
 
 from .scene import Clipmap, VoxelRegion
 
-# A level's corner lies on multiples of this many of its voxels.
-LEVEL_SNAP_VOXELS = 4
+
+def level_snap_voxels(resolution):
+    """The voxels of a level's lattice step: an eighth of the level, so that a level scrolls as
+    often whatever its resolution (each scroll sorts the classes and rebuilds the mips once,
+    whatever the slab's size), and at least 4, the cells of its mip 2."""
+    return max(4, resolution // 8)
 
 
 def default_clipmap(levels, resolution, region):
@@ -25,7 +29,7 @@ def level_regions(clipmap, eye):
     for level in range(clipmap.levels):
         voxel = clipmap.voxel_size * 2.0 ** level
         side = clipmap.resolution * voxel
-        step = LEVEL_SNAP_VOXELS * voxel
+        step = level_snap_voxels(clipmap.resolution) * voxel
         corner = np.floor((np.asarray(eye, float) - side / 2.0) / step + 0.5) * step
         regions.append(VoxelRegion(corner + side / 2.0, side))
     return tuple(regions)

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 import engine
-from engine.clipmap import LEVEL_SNAP_VOXELS, default_clipmap, level_regions, level_shift, moved_levels
+from engine.clipmap import default_clipmap, level_regions, level_shift, level_snap_voxels, moved_levels
 from engine.constants import FACING_EXPONENT, VOXEL_PACK_BITS
 from engine.passes.voxelize import entered_slabs
 from engine.errors import SceneError
@@ -27,9 +27,9 @@ def test_each_level_doubles_the_voxels_of_the_one_inside_it_and_holds_the_camera
         voxel = 0.04 * 2 ** k
         assert region.size == pytest.approx(32 * voxel)
         corner = np.asarray(region.center) - region.size / 2
-        lattice = corner / (LEVEL_SNAP_VOXELS * voxel)
+        lattice = corner / (level_snap_voxels(32) * voxel)
         np.testing.assert_allclose(lattice, np.round(lattice), atol=1e-9)  # on the level's own lattice
-        assert np.all(np.abs(eye - region.center) <= LEVEL_SNAP_VOXELS * voxel / 2 + 1e-9)  # centred on the camera
+        assert np.all(np.abs(eye - region.center) <= level_snap_voxels(32) * voxel / 2 + 1e-9)  # centred on the camera
         if k:
             inner = regions[k - 1]
             assert np.all(np.abs(np.asarray(inner.center) - region.center) + inner.size / 2 <= region.size / 2)  # nested
@@ -43,6 +43,20 @@ def test_a_level_moves_only_when_the_camera_leaves_its_lattice_step():
     moved = level_regions(clipmap, eye + [0.4, 0, 0])    # a whole step of level 0
     assert all(np.array_equal(a.center, b.center) for a, b in zip(before, nudged))
     assert moved[0].center[0] == pytest.approx(before[0].center[0] + 0.4)
+
+
+def test_a_levels_lattice_step_is_an_eighth_of_it_and_at_least_its_mip_2_cells():
+    """A level scrolls as often whatever its resolution, and its mip-2 cells stay on the next
+    coarser level's mip-1 cells."""
+    for n, step in ((16, 4), (32, 4), (64, 8), (256, 32)):
+        clipmap = Clipmap(levels=2, resolution=n, voxel_size=0.1)
+        eye = np.array([0.05, 0.0, 0.0])
+        before = level_regions(clipmap, eye)
+        within = level_regions(clipmap, eye + [0.1 * step * 0.25, 0, 0])
+        past = level_regions(clipmap, eye + [0.1 * step, 0, 0])
+        assert level_snap_voxels(n) == step
+        assert np.array_equal(before[0].center, within[0].center)
+        assert past[0].center[0] == pytest.approx(before[0].center[0] + 0.1 * step)
 
 
 def test_the_default_clipmaps_coarsest_level_spans_twice_the_scene():
@@ -247,7 +261,7 @@ def test_a_level_that_moves_alone_relights_its_voxels_and_the_coarser_ones_benea
     clipmap = Clipmap(levels=2, resolution=32, voxel_size=0.05)
     scene.clipmap = clipmap
     eye = np.array([-0.15, 0.0, 0.95])
-    step = np.array([LEVEL_SNAP_VOXELS * clipmap.voxel_size, 0.0, 0.0])
+    step = np.array([level_snap_voxels(clipmap.resolution) * clipmap.voxel_size, 0.0, 0.0])
     assert moved_levels(level_regions(clipmap, eye), level_regions(clipmap, eye + step)) == {0}
     scene.camera.position, scene.camera.look_at = eye, eye + [0.0, 0.0, -1.9]
     small.render(scene, mode="gi")
@@ -267,8 +281,8 @@ def test_in_the_viewer_a_scrolled_level_takes_in_the_coarser_levels_light_until_
     and the voxels are a new renderer's bits."""
     scene = engine.load_scene(SCENES / "references" / "open_box_sky.json")
     scene.clipmap = Clipmap(levels=2, resolution=32, voxel_size=0.05)
-    eye, step = np.array([-0.15, 0.0, 0.95]), np.array([LEVEL_SNAP_VOXELS * 0.05, 0.0, 0.0])
-    n, shift = 32, LEVEL_SNAP_VOXELS
+    eye, step = np.array([-0.15, 0.0, 0.95]), np.array([level_snap_voxels(32) * 0.05, 0.0, 0.0])
+    n, shift = 32, level_snap_voxels(32)
 
     def frames_at(renderer, position, count):
         scene.camera.position, scene.camera.look_at = position, position + [0.0, 0.0, -1.9]
