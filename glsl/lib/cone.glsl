@@ -227,14 +227,16 @@ vec4 trace_cone(vec3 p, vec3 n, int start_level, vec3 direction, float tan_half_
             q = start + direction * t;
             // The narrowest lookup: min_diameter voxels of the finest level that holds q (from
             // the start level up: no finer level is read).
-            float narrowest = min_diameter * level_voxel_size[holding_level(q, start_level, 0.0, 0.0)];
+            int point_level = holding_level(q, start_level, 0.0, 0.0);
+            float narrowest = min_diameter * level_voxel_size[point_level];
             cone_diameter = max(narrowest, 2.0 * tan_half_angle * t);
             diameter = max(narrowest, narrowing * cone_diameter);
             mip = min(max(log2(diameter / voxel_size) - 1.0, 0.0), top_mip);
             // A lookup reaches half a cell (d/4) past its point: cells whose centres lie within a
             // cell of it, half a cell wide each side.
             float reach = 0.25 * diameter;
-            level = holding_level(q, clamp(int(mip) - 1, start_level, voxel_levels - 1), reach, 0.0);
+            // No level finer than point_level holds q, let alone the lookup's reach around it.
+            level = holding_level(q, clamp(max(int(mip) - 1, point_level), start_level, voxel_levels - 1), reach, 0.0);
             // Stop half a cell past the coarsest level: the lookups clamp to the outer cells, which
             // hold the surfaces at its edge once; further out they would repeat them.
             if (level_depth(q, level) < -level_reach(level, reach, 0.0)) break;
