@@ -24,6 +24,7 @@ from .constants import SKY_NEAR_REACH
 from .emitters import frame_emitters
 from .errors import VctError
 from .gl import create_headless_context
+from .gl_bindings import forget_bindings
 from .output import save_png
 from .passes.cone_trace import ConeTracePass
 from .passes.emitter_light import EmitterLightPass
@@ -254,6 +255,7 @@ class Renderer:
             raise VctError(f"must be an engine Scene (engine.load_scene), got {type(scene).__name__}", field="scene")
         s = _settings(settings or self.settings)
         self.frame_settings = s
+        forget_bindings(self.ctx)  # GL code between frames (a window's GUI) may have bound anything
         self.timings, self.passes_ran = {}, []
         self.geometry.draw_calls = 0
         frame = FrameInputs(scene, self.bounds_cache)
@@ -598,6 +600,7 @@ class Renderer:
     def display_target(self):
         """Tone-map the last frame on the GPU; returns the 8-bit ScreenTarget (for a window)."""
         s = self.frame_settings
+        forget_bindings(self.ctx)
         with self.timed("tonemap"):
             if s.shown.data:  # encoded data: shown as stored, no curve, no sRGB
                 return self.tonemap.render(self.output.texture, 1.0, "none", encode_srgb=False)

@@ -14,9 +14,9 @@ import math
 import numpy as np
 
 from . import transforms
-from .constants import STORAGE_BINDING, TEXTURE_UNIT
 from .emitters import frame_emitters
 from .errors import VctError
+from .gl_bindings import bind_storage, bind_texture
 from .scene import IDENTITY_UV
 
 # Vertex attributes in buffer order, with their float counts. Meshes without texture
@@ -190,7 +190,7 @@ class SceneGeometry:
         for field, (unit, _) in MATERIAL_TEXTURES.items():
             texture = getattr(material, field)
             gl_texture = self.textures.get(texture) if texture is not None else self.textures.defaults[field]
-            gl_texture.use(TEXTURE_UNIT[unit])
+            bind_texture(gl_texture, unit)
 
     def draw(self, handle, draws, materials=False, cull_single_sided=False, view_projection=None, box=None):
         """Draw each of `draws` (changes.Draw) with `handle`, with its material bound if asked,
@@ -273,7 +273,7 @@ class EnvironmentMap:
     def bind(self, handle):
         """Bind the map and set the uniforms of glsl/lib/environment.glsl."""
         environment = self.environment
-        self.texture.use(TEXTURE_UNIT["ENVIRONMENT"])
+        bind_texture(self.texture, "ENVIRONMENT")
         rotation = environment.rotation() if environment is not None else np.eye(3)
         handle.set(environment_present=environment is not None,
                    environment_scale=float(environment.scale) if environment is not None else 0.0,
@@ -304,8 +304,8 @@ class EmitterBuffers:
         self.count = emitters.count
 
     def bind(self, handle):
-        self.triangles.bind_to_storage_buffer(STORAGE_BINDING["EMITTER_TRIANGLES"])
-        self.patches.bind_to_storage_buffer(STORAGE_BINDING["EMITTER_PATCHES"])
+        bind_storage(self.triangles, "EMITTER_TRIANGLES")
+        bind_storage(self.patches, "EMITTER_PATCHES")
         handle.set(emitter_patch_count=self.count)
 
     def release(self):

@@ -237,6 +237,14 @@ def _shader_error(exc, sources):
     return error
 
 
+def _same_value(a, b):
+    """Whether two uniform values (numbers, bools, bytes, tuples of them) are the same value."""
+    try:
+        return type(a) is type(b) and bool(a == b)
+    except ValueError:  # arrays inside: compared element by element
+        return False
+
+
 def _mtime(path):
     """Modification time in ns, None for a file that is missing."""
     try:
@@ -282,6 +290,7 @@ class ProgramHandle:
         if self.program is not None:
             self.program.release()
         self.program, self.error, self.files = program, None, tuple(sorted(map(str, paths)))
+        self._uniforms = {}  # name -> the value the program's uniform holds (`set`)
         return program
 
     def changed(self):
@@ -298,14 +307,20 @@ class ProgramHandle:
 
     def set(self, **uniforms):
         """Set the uniforms the program uses; ones the compiler removed are skipped, and so are
-        the trailing elements of an array it shortened to the ones it reads."""
+        the trailing elements of an array it shortened to the ones it reads. A uniform that
+        holds the value given already is not written again: every write costs GL calls, and
+        most of a frame's uniforms hold what they held the frame before."""
+        held = self._uniforms
         for name, value in uniforms.items():
+            if name in held and _same_value(held[name], value):
+                continue
             if name in self.program:
                 member = self.program[name]
                 if isinstance(value, (bytes, bytearray)):
                     member.write(value[:member.array_length * member.element_size])
                 else:
                     member.value = value
+            held[name] = value
 
 
 class ProgramLibrary:

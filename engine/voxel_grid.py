@@ -42,9 +42,10 @@ import math
 import moderngl
 import numpy as np
 
-from .constants import (GL_IMAGE_FORMAT, GRID_SIZES, IMAGE_UNIT, LIST_GROUP, MAX_VOXEL_LEVELS, STORAGE_BINDING, TEXTURE_UNIT,
+from .constants import (GL_IMAGE_FORMAT, GRID_SIZES, LIST_GROUP, MAX_VOXEL_LEVELS,
                         VOLUME_GROUP, VOXEL_FACES, VOXEL_FORMAT, VOXEL_MEMORY_BUDGET, VOXEL_PACK_BITS, VOXEL_SUM_CHANNELS)
 from .errors import VctError
+from .gl_bindings import bind_image, bind_storage, bind_texture
 from .voxel_lists import SEGMENT, CellLists, Epoch, VoxelList
 from .voxel_records import VALUE_BYTES, VoxelRecords
 from .voxel_room import ListBound
@@ -283,9 +284,9 @@ class VoxelGrid:
         volume = self._inspection
         volume.write(bytes(TEXEL_BYTES * self.voxel_count))
         self.records.bind()
-        values.bind_to_storage_buffer(STORAGE_BINDING["INSPECT_VALUES"])
+        bind_storage(values, "INSPECT_VALUES")
         self.covered.bind("COVERED")
-        bind_image(volume, IMAGE_UNIT["INSPECT_OUT"])
+        bind_volume(volume, "INSPECT_OUT")
         self.scatter_program.set(**self.uniforms())
         self.dispatch(self.scatter_program, self.covered.segment())
         return self.viewable(volume) if mips else volume
@@ -383,9 +384,9 @@ class VoxelGrid:
         (level 0), the face views and the emission volume (level 1 up)."""
         self.use_surface()
         bind_values(self.reflected, "VOXEL_REFLECTED")
-        self.faces.use(TEXTURE_UNIT["VOXEL_FACES"])
+        bind_texture(self.faces, "VOXEL_FACES")
         if self.cone_emission is not None:
-            self.cone_emission.use(TEXTURE_UNIT["VOXEL_CONE_EMISSION"])
+            bind_texture(self.cone_emission, "VOXEL_CONE_EMISSION")
 
     def covered_changed(self, scrolled_levels=None):
         """After a voxelization wrote the covered list: its segment row from its count, and a
@@ -400,7 +401,7 @@ class VoxelGrid:
 
     def bind_faces(self, level):
         """Mip level `level` (1 up) of the face views, to write."""
-        bind_image(self.faces, IMAGE_UNIT["FACES_OUT"], level=level - 1)
+        bind_volume(self.faces, "FACES_OUT", level=level - 1)
 
     def read_faces(self, level):
         """Mip level `level` (1 up) of the face views, as read_level reads a volume."""
@@ -425,7 +426,7 @@ class VoxelGrid:
         self._size(self.cells.buffer, level, self.cells.entries_first(level), self.cells.table, level)
 
     def _size(self, buffer, count_index, entries_first, table, row):
-        buffer.bind_to_storage_buffer(STORAGE_BINDING["COUNTED"])
+        bind_storage(buffer, "COUNTED")
         table.bind()
         self.size_program.set(count_index=count_index, entries_first=entries_first, row=row)
         self.size_program.program.run(1)
@@ -451,9 +452,9 @@ class VoxelGrid:
             return np.frombuffer(volume.read(), dtype="f2").reshape(shape).astype("f4")
         buffer = self.ctx.buffer(reserve=width * height * depth * 16)
         try:
-            volume.use(TEXTURE_UNIT["VOXEL_INSPECT"])
+            bind_texture(volume, "VOXEL_INSPECT")
             self.read_program.set(level=level)
-            buffer.bind_to_storage_buffer(STORAGE_BINDING["READBACK"])
+            bind_storage(buffer, "READBACK")
             self.read_program.program.run(*(math.ceil(side / VOLUME_GROUP) for side in (width, height, depth)))
             self.ctx.memory_barrier(self.ctx.SHADER_STORAGE_BARRIER_BIT)
             return np.frombuffer(buffer.read(), dtype="f4").reshape(shape).copy()
@@ -516,8 +517,9 @@ def pack_voxels(coords):
 
 def bind_values(values, name):
     """An array of values at the storage binding `name`."""
-    values.bind_to_storage_buffer(STORAGE_BINDING[name])
+    bind_storage(values, name)
 
 
-def bind_image(volume, unit, level=0, read=False):
-    volume.bind_to_image(unit, read=read, write=True, level=level, format=GL_IMAGE_FORMAT["rgba16f"])
+def bind_volume(volume, name, level=0, read=False):
+    """A level of an RGBA16F volume at the image unit `name`, to write (and read, if `read`)."""
+    bind_image(volume, name, read=read, write=True, level=level, format=GL_IMAGE_FORMAT["rgba16f"])

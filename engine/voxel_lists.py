@@ -13,7 +13,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .constants import CELL_LIST_LEVELS, CLASS_PARTS, LIST_GROUP, STORAGE_BINDING, struct_dtype
+from .constants import CELL_LIST_LEVELS, CLASS_PARTS, LIST_GROUP, struct_dtype
+from .gl_bindings import bind_storage
 
 SEGMENT = struct_dtype("ListSegment")
 
@@ -28,7 +29,7 @@ class SegmentTable:
         self.rows = rows
 
     def bind(self):
-        self.buffer.bind_to_storage_buffer(STORAGE_BINDING["SEGMENTS"])
+        bind_storage(self.buffer, "SEGMENTS")
 
     def write(self, row, first, count):
         """Set a row from the host (a list it filled itself)."""
@@ -167,7 +168,7 @@ class VoxelList:
         return VoxelSegment(self.buffer, self.table, 0)
 
     def bind(self, binding):
-        self.buffer.bind_to_storage_buffer(STORAGE_BINDING[binding])
+        bind_storage(self.buffer, binding)
 
     def release(self):
         self.buffer.release()
@@ -205,10 +206,10 @@ class CellLists:
         return self.generation
 
     def bind(self):
-        self.buffer.bind_to_storage_buffer(STORAGE_BINDING["CELLS"])
+        bind_storage(self.buffer, "CELLS")
 
     def bind_stamps(self):
-        self.stamps.bind_to_storage_buffer(STORAGE_BINDING["CELL_STAMPS"])
+        bind_storage(self.stamps, "CELL_STAMPS")
 
     def release(self):
         for resource in (self.buffer, self.stamps, self.table):

@@ -12,7 +12,7 @@ record, and so its values, while it stays covered. The pool has room for as many
 the grid's lists have for covered voxels."""
 import numpy as np
 
-from .constants import STORAGE_BINDING
+from .gl_bindings import bind_storage
 
 VALUE_BYTES = 8  # an RGBA16F value
 POOL_HEADER = 2  # the stack's height, the records asked for in vain
@@ -38,8 +38,8 @@ class VoxelRecords:
         return self.ctx.buffer(data=bytes(VALUE_BYTES * self.room))
 
     def bind(self):
-        self.index.bind_to_storage_buffer(STORAGE_BINDING["VOXEL_RECORD"])
-        self.pool.bind_to_storage_buffer(STORAGE_BINDING["RECORD_POOL"])
+        bind_storage(self.index, "VOXEL_RECORD")
+        bind_storage(self.pool, "RECORD_POOL")
 
     def hold(self, coords):
         """Give the voxels at `coords` (k, 3: x, y, z) records 0..k-1, in order, as a grid

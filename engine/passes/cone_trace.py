@@ -8,7 +8,8 @@ anchors and unshared cones first, then the pixels between anchors, then those of
 anchor stood for."""
 import numpy as np
 
-from ..constants import GL_IMAGE_FORMAT, IMAGE_UNIT, SHADER_ENUMS, STORAGE_BINDING, TEXTURE_UNIT
+from ..constants import GL_IMAGE_FORMAT, SHADER_ENUMS
+from ..gl_bindings import bind_image, bind_storage, bind_texture
 from ..voxel_grid import VoxelGrid, bind_values
 from .gbuffer import GBuffer
 from .target import ScreenTarget
@@ -67,7 +68,7 @@ class ConeTracePass:
         grid.use_surface()
         grid.use_faces()
         bind_values(gathered, "VOXEL_GATHERED")
-        direct.texture.use(TEXTURE_UNIT["DIRECT_LIGHT"])
+        bind_texture(direct.texture, "DIRECT_LIGHT")
         grid_uniforms = dict(grid.uniforms(), voxel_emitters=emitters.count > 0)
         program.set(**grid_uniforms, **cone_uniforms, output_kind=SHADER_ENUMS["OUTPUT"]["ao" if terms.ao else "radiance"], include_direct=terms.direct,
                          include_diffuse=terms.diffuse, include_specular=terms.specular, ao_distance=float(ao_distance),
@@ -76,14 +77,14 @@ class ConeTracePass:
             pixel_list.write(np.array([0, 1, 1, 0], dtype="u4").tobytes())  # no group, no pixel yet
         for name, pixel_list in (("CONE_PIXELS", self.cone_pixels), ("SHARED_PIXELS", self.shared_pixels),
                                  ("UNSHARED_PIXELS", self.unshared_pixels)):
-            pixel_list.bind_to_storage_buffer(STORAGE_BINDING[name])
+            bind_storage(pixel_list, name)
         for name, anchor_image in (("SPECULAR_IN", self.specular_in), ("DIFFUSE_IN", self.diffuse_in)):
-            anchor_image.bind_to_image(IMAGE_UNIT[name], read=True, write=True, format=GL_IMAGE_FORMAT["rgba32f"])
+            bind_image(anchor_image, name, read=True, write=True, format=GL_IMAGE_FORMAT["rgba32f"])
         self.target.draw(program)
         if terms.diffuse or terms.specular:
             self.ctx.memory_barrier(self.ctx.SHADER_STORAGE_BARRIER_BIT | self.ctx.COMMAND_BARRIER_BIT
                                     | self.ctx.SHADER_IMAGE_ACCESS_BARRIER_BIT)
-            self.target.texture.bind_to_image(IMAGE_UNIT["IMAGE_OUT"], read=True, write=True, format=GL_IMAGE_FORMAT["rgba32f"])
+            bind_image(self.target.texture, "IMAGE_OUT", read=True, write=True, format=GL_IMAGE_FORMAT["rgba32f"])
             barrier = (self.ctx.SHADER_IMAGE_ACCESS_BARRIER_BIT | self.ctx.TEXTURE_FETCH_BARRIER_BIT
                        | self.ctx.SHADER_STORAGE_BARRIER_BIT | self.ctx.COMMAND_BARRIER_BIT)
             cone_program, unshared_program = self.traced_programs

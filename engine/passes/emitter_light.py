@@ -3,7 +3,7 @@ triangle at its surface point (Lambert's polygon formula), shadowed by one cone 
 through the face views (which must hold the grid's current coverage), and the fraction of it
 that arrives, which the image interpolates per pixel. Runs over a segment of the grid's class
 list when the voxels or the emitters change; light injection adds it to the base radiance."""
-from ..constants import STORAGE_BINDING
+from ..gl_bindings import bind_storage
 from ..voxel_grid import VoxelGrid, bind_values
 
 
@@ -20,7 +20,7 @@ class EmitterLightPass:
         grid.emitter_irradiance, at those voxels."""
         grid.use_surface()
         grid.use_faces()
-        segment.buffer.bind_to_storage_buffer(STORAGE_BINDING["VOXEL_LIST"])
+        bind_storage(segment.buffer, "VOXEL_LIST")
         emitters.bind(self.program)
         bind_values(grid.emitter_irradiance, "VOXEL_EMITTER_IRRADIANCE")
         self.program.set(**grid.uniforms(), **cone_uniforms, lit_levels=grid.level_mask(levels))

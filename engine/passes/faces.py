@@ -4,7 +4,8 @@ each face direction (level 0); then their mip levels, built over the covered cel
 level only."""
 import numpy as np
 
-from ..constants import STORAGE_BINDING, VOXEL_FACES
+from ..constants import VOXEL_FACES
+from ..gl_bindings import bind_storage
 from ..voxel_grid import VoxelGrid, bind_values
 
 
@@ -29,7 +30,7 @@ class FaceViewsPass:
         if gathered is not None:
             bind_values(gathered, "VOXEL_GATHERED")
         bind_values(grid.reflected, "VOXEL_REFLECTED")
-        segment.buffer.bind_to_storage_buffer(STORAGE_BINDING["VOXEL_LIST"])
+        bind_storage(segment.buffer, "VOXEL_LIST")
         self.compose_program.set(**grid.uniforms(), include_gathered=gathered is not None, composed_levels=grid.level_mask(levels))
         grid.dispatch(self.compose_program, segment)
         return grid.reflected
@@ -47,7 +48,7 @@ class FaceViewsPass:
         for level in range(1, grid.mip_count):
             grid.bind_faces(level)
             for segment, entry_level in level_one if level == 1 else [(grid.cells.segment(level), level)]:
-                segment.buffer.bind_to_storage_buffer(STORAGE_BINDING["CELLS"])
+                bind_storage(segment.buffer, "CELLS")
                 self.mipmap_program.set(**uniforms, level=level, entry_level=entry_level, mipmapped_levels=grid.level_mask(levels))
                 grid.dispatch(self.mipmap_program, segment)
         return grid.faces
@@ -56,7 +57,7 @@ class FaceViewsPass:
         """Compute the mean premultiplied radiance (rgb) of the face views over the grid,
         summed over the six faces (from the 1^3 levels), into a buffer read_totals reads."""
         grid.use_faces()
-        self.totals_buffer.bind_to_storage_buffer(STORAGE_BINDING["READBACK"])
+        bind_storage(self.totals_buffer, "READBACK")
         self.totals_program.set(top_level=grid.mip_count - 2)  # the face views hold levels 1 and up
         self.totals_program.program.run(1)
         self.ctx.memory_barrier(self.ctx.SHADER_STORAGE_BARRIER_BIT)

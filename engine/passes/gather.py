@@ -11,7 +11,8 @@ extrapolation."""
 import numpy as np
 
 from ..clipmap import with_coarser_levels
-from ..constants import CLASS_BLOCK, CLASS_FACINGS, CLASS_PARTS, MAX_INTERLEAVE, MAX_SEGMENT_ROWS, STORAGE_BINDING
+from ..constants import CLASS_BLOCK, CLASS_FACINGS, CLASS_PARTS, MAX_INTERLEAVE, MAX_SEGMENT_ROWS
+from ..gl_bindings import bind_storage
 from ..voxel_grid import GridStorage, VoxelGrid, bind_values
 from ..voxel_lists import ClassIndex, SegmentTable, VoxelList
 
@@ -88,10 +89,10 @@ class GatherPass:
         self.find_anchors(grid)
         grid.covered.bind("COVERED")
         self.class_buckets.write(bytes(4 * total))
-        self.class_buckets.bind_to_storage_buffer(STORAGE_BINDING["CLASS_BUCKETS"])
-        self.class_list.bind_to_storage_buffer(STORAGE_BINDING["CLASS_LIST"])
+        bind_storage(self.class_buckets, "CLASS_BUCKETS")
+        bind_storage(self.class_list, "CLASS_LIST")
         self.cell_class_bits.write(bytes(self.cell_class_bits.size))
-        self.cell_class_bits.bind_to_storage_buffer(STORAGE_BINDING["CELL_CLASS_BITS"])
+        bind_storage(self.cell_class_bits, "CELL_CLASS_BITS")
         self.sort_classes_program.set(**grid.uniforms(), interleave=interleave, scatter=False)
         grid.dispatch(self.sort_classes_program, grid.covered.segment())
         self._scan(grid, total, self.voxel_rows, ClassIndex.voxel_row_buckets(interleave, grid.levels, buckets))
@@ -108,7 +109,7 @@ class GatherPass:
         buckets = interleave + 1
         self.class_buckets.write(bytes(4 * buckets))
         grid.cells.bind()
-        self.cells_by_class.bind_to_storage_buffer(STORAGE_BINDING["CELLS_BY_CLASS"])
+        bind_storage(self.cells_by_class, "CELLS_BY_CLASS")
         self.sort_cells_program.set(**grid.uniforms(), first=grid.cells.first[1], interleave=interleave, scatter=False)
         grid.dispatch(self.sort_cells_program, grid.cells.segment(1))
         self._scan(grid, buckets, self.cell_rows, [(c, c + 1) for c in range(buckets)])
@@ -118,7 +119,7 @@ class GatherPass:
     def _scan(self, grid, bucket_count, table, row_buckets):
         """Each of the first `bucket_count` buckets' counts becomes its first entry, and row r
         of `table` the segment of buckets row_buckets[r] = (first, end)."""
-        self.class_buckets.bind_to_storage_buffer(STORAGE_BINDING["CLASS_BUCKETS"])
+        bind_storage(self.class_buckets, "CLASS_BUCKETS")
         table.bind()
         rows = np.zeros((MAX_SEGMENT_ROWS, 2), "u4")
         rows[:len(row_buckets)] = row_buckets
@@ -136,7 +137,7 @@ class GatherPass:
         if self.anchors_epoch is grid.epoch:
             return
         grid.use_surface()
-        self.anchors.bind_to_storage_buffer(STORAGE_BINDING["GATHER_ANCHORS"])
+        bind_storage(self.anchors, "GATHER_ANCHORS")
         follows = grid.epoch.follows(self.anchors_epoch)
         scrolled = grid.epoch.scrolled_levels if follows else None
         every_voxel = not follows or scrolled is not None
@@ -162,10 +163,10 @@ class GatherPass:
         waits for each level's longest cones in turn. Returns `out`."""
         grid.use_surface()
         grid.use_faces()
-        self.anchors.bind_to_storage_buffer(STORAGE_BINDING["GATHER_ANCHORS"])
+        bind_storage(self.anchors, "GATHER_ANCHORS")
         bind_values(out, "GATHERED_OUT")
         self.trace_program.set(**grid.uniforms(), **cone_uniforms)
-        anchors.buffer.bind_to_storage_buffer(STORAGE_BINDING["CLASS_LIST"])
+        bind_storage(anchors.buffer, "CLASS_LIST")
         grid.dispatch(self.trace_program, anchors)
         return self.fill(grid, out, filled, finer)
 
@@ -178,14 +179,14 @@ class GatherPass:
         Returns `values`."""
         grid.use_surface()
         bind_values(values, "GATHERED_OUT")
-        self.anchors.bind_to_storage_buffer(STORAGE_BINDING["GATHER_ANCHORS"])
-        filled.buffer.bind_to_storage_buffer(STORAGE_BINDING["CLASS_LIST"])
+        bind_storage(self.anchors, "GATHER_ANCHORS")
+        bind_storage(filled.buffer, "CLASS_LIST")
         self.fill_program.set(**grid.uniforms())
         grid.dispatch(self.fill_program, filled)
         for level in range(1, grid.levels):
             self.take_finer_program.set(**grid.uniforms(), level=level)
             for segment in finer[level]:
-                segment.buffer.bind_to_storage_buffer(STORAGE_BINDING["CLASS_LIST"])
+                bind_storage(segment.buffer, "CLASS_LIST")
                 grid.dispatch(self.take_finer_program, segment)
         return values
 

@@ -3,7 +3,8 @@ roughness, albedo + metalness and emission + dielectric F0 targets (material fac
 textures), with a depth buffer; back faces of single-sided materials are culled. Returns the
 GBuffer the screen passes read."""
 from .. import transforms
-from ..constants import HDR_FORMAT, TEXTURE_UNIT
+from ..constants import HDR_FORMAT
+from ..gl_bindings import bind_texture
 from ..scene_gpu import vertex_extras
 
 
@@ -24,7 +25,7 @@ class GBuffer:
 
     def use(self):
         for name, texture in zip(self.UNITS, self.textures):
-            texture.use(TEXTURE_UNIT[name])
+            bind_texture(texture, name)
 
     def release(self):
         for resource in [self.framebuffer, self.depth, *self.textures]:

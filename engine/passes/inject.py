@@ -2,7 +2,7 @@
 its surface receives from every light (with the shadow maps), evaluated per voxel at its
 surface point, and from the emitters (passes/emitter_light.py). Runs when lights, shadows,
 the emitters' light or the voxels change, over a segment of a voxel list."""
-from ..constants import STORAGE_BINDING
+from ..gl_bindings import bind_storage
 from ..voxel_grid import VoxelGrid, bind_values
 
 
@@ -18,7 +18,7 @@ class InjectPass:
         and the sky's irradiance at the voxels where the scene has them (`emitters`:
         scene_gpu.EmitterBuffers, `environment`: scene_gpu.EnvironmentMap)."""
         grid.use_surface()
-        segment.buffer.bind_to_storage_buffer(STORAGE_BINDING["VOXEL_LIST"])
+        bind_storage(segment.buffer, "VOXEL_LIST")
         shadow_maps.bind(self.program)
         bind_values(grid.base, "VOXEL_BASE")
         self.program.set(**grid.uniforms(), voxel_emitters=emitters.count > 0, voxel_sky=environment.environment is not None)

@@ -7,8 +7,9 @@ import math
 import numpy as np
 
 from .. import transforms
-from ..constants import LIGHT_TYPE, MAX_LIGHTS, MAX_SHADOW_VIEWS, TEXTURE_UNIT, UNIFORM_BLOCK, struct_dtype
+from ..constants import LIGHT_TYPE, MAX_LIGHTS, MAX_SHADOW_VIEWS, struct_dtype
 from ..errors import VctError
+from ..gl_bindings import bind_texture, bind_uniform_block
 
 CUBE_FACES = (  # (direction, up) in the order of cube_face() in glsl/lib/lights.glsl
     ((1, 0, 0), (0, -1, 0)), ((-1, 0, 0), (0, -1, 0)),
@@ -54,9 +55,9 @@ class ShadowMaps:
 
     def bind(self, handle):
         """Bind the atlas and buffers, and set the light uniforms of a program that reads them."""
-        self.atlas.use(TEXTURE_UNIT["SHADOW_ATLAS"])
-        self.light_buffer.bind_to_uniform_block(UNIFORM_BLOCK["LIGHTS"])
-        self.view_buffer.bind_to_uniform_block(UNIFORM_BLOCK["SHADOW_VIEWS"])
+        bind_texture(self.atlas, "SHADOW_ATLAS")
+        bind_uniform_block(self.light_buffer, "LIGHTS")
+        bind_uniform_block(self.view_buffer, "SHADOW_VIEWS")
         handle.set(light_count=self.light_count, shadow_normal_offset=NORMAL_OFFSET_TEXELS)
 
     def _release_atlas(self):

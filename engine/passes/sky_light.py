@@ -10,7 +10,7 @@ the base radiance and the image interpolates per pixel. The voxels a scrolled cl
 in may take theirs from the next coarser level instead (take_coarser), until the camera rests."""
 import numpy as np
 
-from ..constants import STORAGE_BINDING
+from ..gl_bindings import bind_storage
 from ..voxel_grid import VoxelGrid, bind_values
 
 
@@ -34,8 +34,8 @@ class SkyLightPass:
         returns grid.traced_sky_irradiance, at those voxels."""
         grid.use_surface()
         grid.use_faces()
-        segment.buffer.bind_to_storage_buffer(STORAGE_BINDING["VOXEL_LIST"])
-        anchors.bind_to_storage_buffer(STORAGE_BINDING["GATHER_ANCHORS"])
+        bind_storage(segment.buffer, "VOXEL_LIST")
+        bind_storage(anchors, "GATHER_ANCHORS")
         environment.bind(self.program)
         bind_values(grid.traced_sky_irradiance, "VOXEL_TRACED_SKY_IRRADIANCE")
         self.program.set(**grid.uniforms(), **cone_uniforms, lit_levels=grid.level_mask(levels), **_box_uniforms(box))
@@ -51,7 +51,7 @@ class SkyLightPass:
         grid.use_surface()
         bind_values(grid.traced_sky_irradiance, "VOXEL_TRACED_SKY_IRRADIANCE")
         bind_values(grid.sky_irradiance, "VOXEL_SKY_IRRADIANCE")
-        segment.buffer.bind_to_storage_buffer(STORAGE_BINDING["VOXEL_LIST"])
+        bind_storage(segment.buffer, "VOXEL_LIST")
         self.filter_program.set(**grid.uniforms(), lit_levels=grid.level_mask(levels), **_box_uniforms(box))
         grid.dispatch(self.filter_program, segment)
         return grid.sky_irradiance
@@ -64,7 +64,7 @@ class SkyLightPass:
         grid.use_surface()
         bind_values(grid.traced_sky_irradiance, "VOXEL_TRACED_SKY_IRRADIANCE")
         bind_values(grid.sky_irradiance, "VOXEL_SKY_IRRADIANCE")
-        segment.buffer.bind_to_storage_buffer(STORAGE_BINDING["VOXEL_LIST"])
+        bind_storage(segment.buffer, "VOXEL_LIST")
         self.coarser_program.set(**grid.uniforms(), lit_levels=grid.level_mask(levels))
         grid.dispatch(self.coarser_program, segment)
         return grid.sky_irradiance

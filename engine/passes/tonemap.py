@@ -1,5 +1,6 @@
 """Tone mapping: exposure, a tone curve and sRGB encoding into an 8-bit target."""
-from ..constants import SHADER_ENUMS, TEXTURE_UNIT
+from ..constants import SHADER_ENUMS
+from ..gl_bindings import bind_texture
 from .target import ScreenTarget
 
 
@@ -13,7 +14,7 @@ class TonemapPass:
         self.target.resize(size)
 
     def render(self, hdr_texture, exposure, tonemap, encode_srgb=True):
-        hdr_texture.use(TEXTURE_UNIT["HDR_INPUT"])
+        bind_texture(hdr_texture, "HDR_INPUT")
         self.program.set(exposure=float(exposure), tonemap=SHADER_ENUMS["TONEMAP"][tonemap], encode_srgb=bool(encode_srgb))
         self.target.draw(self.program)
         return self.target

@@ -1,6 +1,7 @@
 """Voxel views: one level of the grid ray-marched from the camera at one mip level, as blocks:
 the base radiance (emission + injected direct light), the mean normals or the albedo."""
-from ..constants import SHADER_ENUMS, TEXTURE_UNIT
+from ..constants import SHADER_ENUMS
+from ..gl_bindings import bind_texture
 from .target import ScreenTarget
 
 # What each voxel view shows (voxel_view/march_voxels.frag's SHOW_*).
@@ -24,7 +25,7 @@ class VoxelViewPass:
 
     def render(self, grid, view, mip, level, camera):
         volume = grid.dense(shown_values(grid, view))  # an inspection volume, with its hardware mip chain
-        volume.use(TEXTURE_UNIT["VOXEL_INSPECT"])
+        bind_texture(volume, "VOXEL_INSPECT")
         self.program.set(**grid.uniforms(), **camera.uniforms(), show=SHOW[view], mip=float(mip), shown_level=level,
                          viewport_size=tuple(float(x) for x in self.target.size))
         self.target.draw(self.program)

@@ -18,10 +18,11 @@ lists (made anew, empty) and the whole scene is voxelized into it. Whether they 
 read back from the GPU only where the host cannot bound it (engine/voxel_room.py)."""
 import numpy as np
 
-from ..constants import IMAGE_UNIT, LIST_GROUP, SHADER_ENUMS, STORAGE_BINDING, VOXEL_FACES, VOXEL_SUM_CHANNELS
+from ..constants import LIST_GROUP, SHADER_ENUMS, VOXEL_FACES, VOXEL_SUM_CHANNELS
 from ..changes import VoxelUpdate
+from ..gl_bindings import bind_storage
 from ..scene_gpu import vertex_extras
-from ..voxel_grid import GridStorage, VoxelGrid, bind_image, bind_values, sum_room
+from ..voxel_grid import GridStorage, VoxelGrid, bind_values, bind_volume, sum_room
 from ..voxel_room import CoveredBound
 
 GL_CLIP_DISTANCES = [0x3000 + plane for plane in range(6)]  # GL_CLIP_DISTANCE0..5: rasterize.geom's planes
@@ -78,7 +79,7 @@ class VoxelizePass:
 
     def _bind_scratch(self, grid):
         for name, buffer in (("VOXEL_SUMS", self.sums), ("FRONT_KEYS", self.front_keys), ("TOUCHED_RECORDS", self.touched_records)):
-            buffer.bind_to_storage_buffer(STORAGE_BINDING[name])
+            bind_storage(buffer, name)
         grid.records.bind()
 
     def update(self, grid, update, draws):
@@ -116,8 +117,8 @@ class VoxelizePass:
             volumes.append((grid.cone_emission, 1, 2))  # its level 1: the coarser ones are its hardware mips
         for volume, views, mips in volumes:
             for mip in range(1, mips):
-                bind_image(volume, IMAGE_UNIT["FACES_OUT"], level=mip - 1)
-                cells.segment(mip).buffer.bind_to_storage_buffer(STORAGE_BINDING["CELLS"])
+                bind_volume(volume, "FACES_OUT", level=mip - 1)
+                bind_storage(cells.segment(mip).buffer, "CELLS")
                 self.clear_cells.set(**grid.uniforms(), level=mip, entry_level=mip, views=views, cleared_levels=mask)
                 grid.dispatch(self.clear_cells, cells.segment(mip))
         grid.records.bind()
@@ -204,8 +205,8 @@ class VoxelizePass:
         voxelization touched."""
         grid.use_surface()
         segment = grid.touched.segment() if touched else grid.cells.segment(1)
-        segment.buffer.bind_to_storage_buffer(STORAGE_BINDING["CELLS"])
-        bind_image(grid.cone_emission, IMAGE_UNIT["CONE_EMISSION_OUT"])
+        bind_storage(segment.buffer, "CELLS")
+        bind_volume(grid.cone_emission, "CONE_EMISSION_OUT")
         self.fill_emission.set(**grid.uniforms(), entry_level=0 if touched else 1)
         grid.dispatch(self.fill_emission, segment)
 
@@ -235,7 +236,7 @@ class VoxelizePass:
         for level in range(1, grid.mip_count) if not zeroed else ():
             grid.bind_faces(level)
             segment = cells.segment(level) if full else grid.touched.segment()
-            segment.buffer.bind_to_storage_buffer(STORAGE_BINDING["CELLS"])
+            bind_storage(segment.buffer, "CELLS")
             self.clear_cells.set(**uniforms, level=level, entry_level=level if full else 0, views=VOXEL_FACES,
                                  cleared_levels=grid.level_mask())
             grid.dispatch(self.clear_cells, segment)

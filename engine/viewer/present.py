@@ -4,6 +4,8 @@ triangle over that viewport), and a read-back of the whole window, panels includ
 window screenshots."""
 import numpy as np
 
+from ..gl_bindings import bind_texture
+
 _VERTEX = """
 #version 450
 void main() {
@@ -43,7 +45,7 @@ class Presenter:
         self.ctx.viewport = (*origin, rect.width, rect.height)
         self.program["origin"].value = origin
         self.ctx.disable(self.ctx.DEPTH_TEST | self.ctx.BLEND)
-        texture.use(FRAME_UNIT)
+        bind_texture(texture, FRAME_UNIT)
         self.vertex_array.render(self.ctx.TRIANGLES, vertices=3)
 
     def read_window(self, size):
