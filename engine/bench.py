@@ -144,7 +144,7 @@ def time_frames(scene, renderer, settings, kind, frames, warmup):
     passes = {name: statistics.median(per_pass[name] + [0.0] * (frames - len(per_pass[name])))
               for name in PASS_ORDER if name in per_pass}
     return {"frame": kind, "moves": path.subject, "total_ms": statistics.median(totals), "max_ms": max(totals), "passes": passes,
-            "draw_calls": renderer.geometry.draw_calls}
+            "draw_calls": renderer.scene_buffers.draw_calls}
 
 
 def benchmark(scene, renderer, settings, grids, frames, warmup, kinds=FRAME_KINDS, reference=None):
@@ -164,7 +164,7 @@ def benchmark(scene, renderer, settings, grids, frames, warmup, kinds=FRAME_KIND
             voxel_bytes = renderer.voxel_memory_bytes() if uses_voxels else 0
             record.update(levels=renderer.grid.levels if uses_voxels else None, voxel_count=renderer.grid.voxel_count if uses_voxels else 0,
                           voxel_bytes=voxel_bytes, voxel_bytes_per_voxel=voxel_bytes / renderer.grid.voxel_count if uses_voxels else 0.0,
-                          texture_bytes=renderer.geometry.textures.memory_bytes(), peak_rss_mb=peak_rss_mb())
+                          texture_bytes=renderer.scene_buffers.textures.memory_bytes(), peak_rss_mb=peak_rss_mb())
             rows.append(record)
         if reference is not None and uses_voxels:  # the accuracy of this grid, converged within one frame
             renderer.progressive = False

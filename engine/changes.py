@@ -1,24 +1,9 @@
-"""What a frame is made from, read off the scene itself, and what changed since a stage of the
-frame last ran. GL-free: the renderer decides from this which passes a frame needs.
-
-Mesh arrays are read-only, so a mesh is unchanged while it holds the same array objects;
-transforms, materials and lights are compared by value.
-"""
+"""What a frame is made from, read off the scene table (engine/scene_table.py), and what
+changed since a stage of the frame last ran. GL-free: the renderer decides from this which
+passes a frame needs."""
 from dataclasses import dataclass, field
 
 import numpy as np
-
-from .emitters import is_emissive
-
-
-def material_values(material):
-    """Everything about a material the passes read, as a comparable tuple (textures compare
-    by identity)."""
-    return (tuple(float(x) for x in material.albedo), float(material.roughness), float(material.metalness),
-            float(material.specular), tuple(float(x) for x in material.emission), float(material.alpha),
-            material.alpha_mode, float(material.alpha_cutoff), bool(material.double_sided),
-            float(material.normal_scale), tuple(material.textures()), tuple(sorted(material.uv_sets.items())),
-            tuple(sorted(material.uv_transforms.items())))
 
 
 class _Same:
@@ -42,129 +27,75 @@ def environment_values(environment):
             float(environment.rotation_y_deg))
 
 
-def cutout_values(material):
-    """What of a material shadow maps see: its alpha cut-out, if it has one."""
-    if material.alpha_mode == "OPAQUE":
-        return None
-    return (material.alpha_mode, float(material.alpha_cutoff), float(material.alpha), material.base_color_texture)
-
-
-def light_values(light):
-    """A world-space light as a comparable tuple."""
-    return (light.type, tuple(light.position.tolist()), tuple(light.direction.tolist()),
-            tuple(float(x) for x in light.intensity), float(light.range), float(light.inner_angle_deg),
-            float(light.outer_angle_deg), bool(light.cast_shadows))
-
-
-@dataclass(frozen=True, eq=False)
-class Draw:
-    """One mesh instance of a frame: its node, mesh, world matrix, material and world bounds."""
-
-    key: tuple          # (id(node), occurrence): the same instance from frame to frame
-    node: object
-    mesh: object
-    mesh_arrays: tuple  # the mesh's arrays this frame (scene.Mesh.arrays)
-    world: np.ndarray
-    material: object
-    material_values: tuple
-    bounds: tuple       # (lo, hi) in world space
-
-    def same_geometry(self, other):
-        return (self.mesh is other.mesh and all(a is b for a, b in zip(self.mesh_arrays, other.mesh_arrays))
-                and np.array_equal(self.world, other.world))
-
-    def same_caster(self, other):
-        """The same as shadow maps see it: geometry and alpha cut-out."""
-        return self.key == other.key and self.same_geometry(other) and \
-            cutout_values(self.material) == cutout_values(other.material)
-
-    def __eq__(self, other):
-        return (isinstance(other, Draw) and self.key == other.key and self.same_geometry(other)
-                and self.material_values == other.material_values)
-
-    __hash__ = None
-
-
 class FrameInputs:
-    """A snapshot of the scene for one frame: draws, world-space lights, bounds, voxel region or clipmap."""
+    """What one frame is made from besides the scene table: the lights, the scene's bounds, its
+    voxel region or clipmap and its environment."""
 
-    def __init__(self, scene, bounds_cache):
-        self.draws = []
-        seen = {}
-        for node, world in scene.drawables():
-            occurrence = seen[id(node)] = seen.get(id(node), -1) + 1
-            world = np.array(world, dtype=np.float64)
-            world.flags.writeable = False
-            self.draws.append(Draw((id(node), occurrence), node, node.mesh, node.mesh.arrays(), world, node.material,
-                                   material_values(node.material), bounds_cache.bounds(node.mesh, world)))
-        bounds_cache.keep_only(self.draws)
-        self.lights = [light for _, light in scene.lights()]
-        self.light_values = tuple(light_values(light) for light in self.lights)
+    def __init__(self, scene, table):
+        self.table = table
+        self.lights, self.light_values = table.lights, table.light_values
         self.environment = scene.environment
         self.environment_values = environment_values(scene.environment)
-        if self.draws:
-            self.bounds = (np.min([d.bounds[0] for d in self.draws], axis=0), np.max([d.bounds[1] for d in self.draws], axis=0))
-        else:
-            self.bounds = (np.zeros(3), np.zeros(3))
+        self.bounds = table.bounds
         self.region = scene.region(self.bounds)
         self.clipmap = scene.clipmap
 
     def emissive_draws(self):
-        """The draws whose material emits light."""
-        return tuple(d for d in self.draws if is_emissive(d.material))
-
-    def casters(self):
-        """What shadow maps depend on besides the lights: every draw's mesh, transform and cut-out."""
-        return Casters(self.draws)
+        """The draws whose material emits light, as the table's DrawViews."""
+        return [self.table.draw(index) for index in self.table.emissive_draws()]
 
 
-class Casters:
-    """The draws as shadow maps see them, compared draw by draw (Draw.same_caster)."""
-
-    def __init__(self, draws):
-        self.draws = draws
-
-    def __eq__(self, other):
-        return isinstance(other, Casters) and len(self.draws) == len(other.draws) and \
-            all(a.same_caster(b) for a, b in zip(self.draws, other.draws))
-
-    def changed_bounds(self, other):
-        """World boxes (lo, hi) of the draws that differ from `other`'s as shadow maps see
-        them, as they were and as they are: a shadow view none of them reaches is unchanged."""
-        removed, added = changed_draws(other.draws, self.draws, Draw.same_caster)
-        return [d.bounds for d in removed + added]
-
-    __hash__ = None
+@dataclass(frozen=True, eq=False)
+class PlacedDraw:
+    """A draw where the voxels hold it or where it is now: its index in the table, its world
+    matrix, the mesh arrays it had, its world bounds (lo, hi) and its mesh's place in the GPU's
+    pool (scene_gpu.MeshEntry)."""
+    index: int
+    world: np.ndarray
+    mesh_arrays: tuple
+    bounds: tuple
+    entry: object
 
 
-class BoundsCache:
-    """World bounds per (mesh, transform), computed once: transforming every vertex each frame
-    would cost more than a whole frame on large meshes."""
+class HeldDraws:
+    """The draws as the voxel grid holds them: what each was at the last voxelization, for the
+    next one to take out where it has moved (engine/passes/voxelize.py marks the voxels a held
+    draw covered). Valid for one table structure and one packing of the mesh pool."""
 
     def __init__(self):
-        self._bounds = {}
+        self.key = None
+        self.draws = []
 
-    def bounds(self, mesh, world):
-        key = (id(mesh.positions), world.tobytes())
-        entry = self._bounds.get(key)
-        if entry is None or entry[0] is not mesh.positions:
-            entry = (mesh.positions, *mesh.bounds(world))
-            self._bounds[key] = entry
-        return entry[1], entry[2]
+    def holds(self, key):
+        """Whether it holds the draws of (table structure, pool epoch) `key`."""
+        return key == self.key
 
-    def keep_only(self, draws):
-        live = {(id(d.mesh_arrays[0]), d.world.tobytes()) for d in draws}
-        for key in [k for k in self._bounds if k not in live]:
-            del self._bounds[key]
+    def placed(self, table, buffers, indices):
+        """PlacedDraws of `indices` as they are now."""
+        return [PlacedDraw(int(i), table.draw_world[i].copy(), table.mesh_arrays[table.draw_mesh[i]],
+                           (table.draw_bounds[i, 0].copy(), table.draw_bounds[i, 1].copy()), buffers.draw_entries[i])
+                for i in indices]
+
+    def held(self, indices):
+        return [self.draws[i] for i in indices]
+
+    def hold(self, key, table, buffers, indices=None):
+        """Hold the draws of `indices` (None: all of them, for `key`) as they are now."""
+        if indices is None:
+            self.key = key
+            self.draws = self.placed(table, buffers, range(table.draw_count))
+            return
+        for draw in self.placed(table, buffers, indices):
+            self.draws[draw.index] = draw
 
 
 @dataclass
 class VoxelUpdate:
-    """The draws to take out of the grid (as they were) and to put in (as they are). `full`:
-    rebuild every voxel from `added` (all current draws). `levels`: the levels (moved with the
-    camera) whose every voxel is rebuilt from all the draws. `scrolled`: the levels that moved
-    by part of their cube, each with its shift (x, y, z, in its own voxels): their voxels move
-    with their records and only the slabs they took in are voxelized."""
+    """The draws (PlacedDraws) to take out of the grid (as they were) and to put in (as they
+    are). `full`: rebuild every voxel from every draw (`added` holds none). `levels`: the levels
+    (moved with the camera) whose every voxel is rebuilt from all the draws. `scrolled`: the
+    levels that moved by part of their cube, each with its shift (x, y, z, in its own voxels):
+    their voxels move with their records and only the slabs they took in are voxelized."""
 
     full: bool
     removed: list
@@ -204,25 +135,6 @@ class VoxelUpdate:
         """World box holding every voxel the removed and added draws cover, grown by `margin`."""
         boxes = [d.bounds for d in self.removed + self.added]
         return np.min([b[0] for b in boxes], axis=0) - margin, np.max([b[1] for b in boxes], axis=0) + margin
-
-
-def changed_draws(previous, current, same):
-    """(removed, added): the draws of `previous` that `current` holds no longer or holds
-    otherwise, and the draws of `current` new or changed, matched by key and compared by
-    `same(a, b)`."""
-    before = {d.key: d for d in previous}
-    after = {d.key: d for d in current}
-    removed = [d for key, d in before.items() if key not in after or not same(after[key], d)]
-    added = [d for key, d in after.items() if key not in before or not same(before[key], d)]
-    return removed, added
-
-
-def voxel_update(previous, current, levels=frozenset(), scrolled=None):
-    """The update from the draws a grid holds (`previous`, None for an empty grid) to `current`,
-    with the grid's `levels` moved and rebuilt, and those of `scrolled` ({level: shift}) scrolled."""
-    if previous is None:
-        return VoxelUpdate(True, [], list(current))
-    return VoxelUpdate(False, *changed_draws(previous, current, Draw.__eq__), frozenset(levels), dict(scrolled or {}))
 
 
 class Stage:

@@ -24,11 +24,12 @@ TEXTURE_UNIT = {
     "VOXEL_INSPECT": 14,    # the volume a voxel view or a readback reads
     "VOXEL_CONE_EMISSION": 15,    # emission (rgb) and coverage (a) from mip level 1 up: what specular cones add
     "ENVIRONMENT": 17,      # the sky's radiance, equirectangular, mipmapped (glsl/lib/environment.glsl)
-    "BASE_COLOR_MAP": 20,   # the textures of the material being drawn (glsl/lib/material.glsl)
-    "METAL_ROUGH_MAP": 21,
-    "EMISSIVE_MAP": 22,
-    "NORMAL_MAP": 23,
+    "MATERIAL_TEXTURES": 18,  # the materials' textures: MATERIAL_TEXTURE_ARRAYS texture arrays from here on
 }
+# The materials' textures are grouped by size, colour encoding and wrapping into this many 2D
+# texture arrays, bound once for every draw (engine/scene_gpu.py MaterialTextures; units 18..29:
+# unit 31 is moderngl's own).
+MATERIAL_TEXTURE_ARRAYS = 12
 
 # Image units. Each program binds at most 8 images, at units 0..7.
 IMAGE_UNIT = {
@@ -88,6 +89,18 @@ STORAGE_BINDING = {
     "VOXEL_TRACED_SKY_IRRADIANCE": 44,  # the same as the anchors' cones traced it and the others interpolated it
     "VOXEL_REFLECTED": 46,    # the light each voxel's surface reflects (rgb), a = 1: level 0 of the face views
     "INSPECT_VALUES": 45,     # an array of values made a volume for inspection (voxel_grid/scatter_values.comp)
+    # Drawing (engine/scene_gpu.py, engine/passes/cull.py, glsl/lib/draws.glsl): every draw's
+    # record and every material's, the meshes' clusters, and a draw list's items, views, commands
+    # and the instances the commands draw.
+    "DRAWS": 47,              # a DrawRecord per draw
+    "MATERIALS": 48,          # a MaterialRecord per material
+    "CLUSTERS": 49,           # a Cluster per cluster of every mesh
+    "DRAW_ITEMS": 50,         # what a draw list culls: a uvec4 (draw, cluster, command, 0) per draw and cluster
+    "DRAW_VIEWS": 51,         # the views a draw list is drawn into (DrawView)
+    "DRAW_COMMANDS": 52,      # indirect draw commands, 5 uints each (count, instances, first index, base vertex, base instance)
+    "COMMAND_TABLE": 53,      # per command: index count, first index, base vertex, first instance slot per view
+    "DRAW_INSTANCES": 54,     # per instance drawn: its draw (DRAW_INDEX_BITS) and view (from DRAW_VIEW_SHIFT)
+    "HELD_DRAWS": 55,         # DrawRecords of draws as the voxels hold them (before they moved), for the voxelizer
 }
 
 # Struct layouts shared with GLSL (vec4 and mat4 fields, so std140 and std430 lay them out
@@ -112,7 +125,36 @@ GLSL_STRUCTS = {
     # A segment of a list: the group count of an indirect dispatch over it (x; y = z = 1) and
     # its first entry and count (xy of `range`), as the GPU counted them (engine/voxel_lists.py).
     "ListSegment": (("uvec4", "dispatch"), ("uvec4", "range")),
+    # A draw: its world matrix, the inverse transpose of its upper 3x3 (in the upper 3x3 of a
+    # mat4) and its material's index (info.x).
+    "DrawRecord": (("mat4", "world"), ("mat4", "normal_matrix"), ("uvec4", "info")),
+    # A material (engine.scene.Material, glsl/lib/material.glsl): albedo (rgb) and alpha factor
+    # (a); emission (rgb) and alpha cut-off (a, negative: opaque); roughness, metalness,
+    # dielectric F0 and normal scale; per map (MAP_*) its texture (array << 16 | layer; -1:
+    # none), its texture coordinate set, and its coordinate transform as two rows (a, b, c, 0),
+    # (d, e, f, 0): (u, v) -> (a u + b v + c, d u + e v + f).
+    "MaterialRecord": (("vec4", "albedo_alpha"), ("vec4", "emission_cutoff"), ("vec4", "surface"), ("ivec4", "maps"),
+                       ("ivec4", "uv_sets"), ("vec4", "uv_rows", 8)),
+    # A cluster of a mesh's triangles: its bounds in the mesh's frame (xyz of lo, hi) and its
+    # indices: first index and count in the shared index buffer, the mesh's base vertex.
+    "Cluster": (("vec4", "lo"), ("vec4", "hi"), ("uvec4", "indices")),
+    # A view a draw list is drawn into: its view-projection (frustum culling, and the shadow
+    # views' drawing), a world box (box culling), a shadow view's tile in the atlas (NDC offset
+    # xy, scale zw), a voxelization job's level (voxels_min.w) and voxels [min, max), and the
+    # view's items (first, count) and tests (DRAW_TEST_* bits).
+    "DrawView": (("mat4", "view_projection"), ("vec4", "box_min"), ("vec4", "box_max"), ("vec4", "tile"),
+                 ("ivec4", "voxels_min"), ("ivec4", "voxels_max"), ("uvec4", "items")),
 }
+# An instance drawn from a draw list: its draw's index in the low DRAW_INDEX_BITS bits (a held
+# draw's, DRAW_HELD set), its view's from DRAW_VIEW_SHIFT.
+DRAW_INDEX_BITS = 24
+DRAW_VIEW_SHIFT = 24
+DRAW_HELD = 1 << 31
+NO_MATERIAL = 0xFFFFFFFF  # a held draw's material in the voxelizer: it is marked as if not cut out
+MAX_DRAW_VIEWS = 1 << (31 - DRAW_VIEW_SHIFT)  # 128
+MAX_DRAWS = 1 << DRAW_INDEX_BITS
+DRAW_TEST_FRUSTUM = 1
+DRAW_TEST_BOX = 2
 
 # Uniform block bindings (lights are read by every shaded pixel and voxel: uniform blocks are
 # the fastest constant storage).
@@ -300,9 +342,10 @@ PIXEL_SPECULAR_CONE = 2
 
 
 def struct_dtype(name):
-    """The numpy record of a GLSL_STRUCTS layout."""
-    kinds = {"vec4": ("<f4", 4), "uvec4": ("<u4", 4), "mat4": ("<f4", 16)}
-    return np.dtype([(field, kinds[kind][0], (kinds[kind][1],)) for kind, field in GLSL_STRUCTS[name]])
+    """The numpy record of a GLSL_STRUCTS layout (a field given a count is an array of it)."""
+    kinds = {"vec4": ("<f4", 4), "uvec4": ("<u4", 4), "ivec4": ("<i4", 4), "mat4": ("<f4", 16)}
+    return np.dtype([(member[1], kinds[member[0]][0], (*member[2:], kinds[member[0]][1]))
+                     for member in GLSL_STRUCTS[name]])
 
 
 @functools.lru_cache(maxsize=None)
@@ -349,9 +392,18 @@ def glsl_header():
         f"#define MIN_ROUGHNESS {MIN_ROUGHNESS}",
         f"#define PIXEL_DIFFUSE_CONES {PIXEL_DIFFUSE_CONES}u",
         f"#define PIXEL_SPECULAR_CONE {PIXEL_SPECULAR_CONE}u",
+        f"#define MATERIAL_TEXTURE_ARRAYS {MATERIAL_TEXTURE_ARRAYS}",
+        f"#define DRAW_INDEX_MASK {(1 << DRAW_INDEX_BITS) - 1:#x}u",
+        f"#define DRAW_VIEW_SHIFT {DRAW_VIEW_SHIFT}",
+        f"#define DRAW_VIEW_MASK {MAX_DRAW_VIEWS - 1:#x}u",
+        f"#define DRAW_HELD {DRAW_HELD:#x}u",
+        f"#define NO_MATERIAL {NO_MATERIAL:#x}u",
+        f"#define DRAW_TEST_FRUSTUM {DRAW_TEST_FRUSTUM}u",
+        f"#define DRAW_TEST_BOX {DRAW_TEST_BOX}u",
     ]
     for name, members in GLSL_STRUCTS.items():
-        lines.append(f"struct {name} {{ " + " ".join(f"{kind} {field};" for kind, field in members) + " };")
+        lines.append(f"struct {name} {{ " + " ".join(f"{kind} {field}" + "".join(f"[{n}]" for n in count) + ";"
+                                                    for kind, field, *count in members) + " };")
     directions, weights, half_angle = diffuse_cones()
     lines.append(f"#define DIFFUSE_CONE_COUNT {len(weights)}")
     lines.append(f"#define DIFFUSE_CONE_HALF_ANGLE {half_angle:.9f}")

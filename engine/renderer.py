@@ -1,5 +1,5 @@
 """The renderer: the frame's data flow, pass after pass, each stage run only when its inputs
-changed since it last ran (found from the scene itself: engine/changes.py).
+changed since it last ran (found from the scene's edits: engine/scene_table.py, engine/changes.py).
 
     scene = engine.load_scene("scenes/cornell_box.json")
     with engine.Renderer(256, 256) as r:
@@ -18,7 +18,7 @@ import numpy as np
 
 from . import transforms
 from . import bounces
-from .changes import BoundsCache, FrameInputs, Stage, voxel_update
+from .changes import FrameInputs, HeldDraws, Stage, VoxelUpdate
 from .clipmap import frame_levels, level_shift, moved_levels, scrolled_regions, with_coarser_levels
 from .constants import SKY_NEAR_REACH
 from .emitters import frame_emitters
@@ -27,6 +27,7 @@ from .gl import create_headless_context
 from .gl_bindings import forget_bindings
 from .output import save_png
 from .passes.cone_trace import ConeTracePass
+from .passes.cull import CullPass
 from .passes.emitter_light import EmitterLightPass
 from .passes.faces import FaceViewsPass
 from .passes.gather import GatherPass
@@ -40,7 +41,8 @@ from .passes.tonemap import TonemapPass
 from .passes.voxel_view import VoxelViewPass, shown_values
 from .passes.voxelize import VoxelizePass
 from .scene import Scene
-from .scene_gpu import EmitterBuffers, EnvironmentMap, SceneGeometry
+from .scene_gpu import EmitterBuffers, EnvironmentMap, SceneBuffers
+from .scene_table import SceneTable
 from .settings import RenderSettings
 from .shaders import GLSL_ROOT, ProgramLibrary
 from .voxel_grid import VoxelGrid
@@ -130,7 +132,8 @@ class Renderer:
         self.output = None          # the ScreenTarget holding the last frame's HDR result
         self.frame_settings = self.settings
         self.programs = ProgramLibrary(self.ctx, glsl_root)
-        self.geometry = SceneGeometry(self.ctx)
+        self.table = SceneTable()
+        self.scene_buffers = SceneBuffers(self.ctx)
         self.grid = None
         self.emitters = EmitterBuffers(self.ctx)
         self.environment = EnvironmentMap(self.ctx)
@@ -145,17 +148,19 @@ class Renderer:
         self.schedule = bounces.RadianceSchedule()
         self.class_index = None     # the covered voxels sorted into interleave classes (GatherPass.sort_classes)
         self.eye = None             # where the camera was at the last frame
-        self.bounds_cache = BoundsCache()
+        self.held = HeldDraws()     # the draws as the voxels hold them
+        self._caster_bounds = None  # (table structure, the draws' bounds as the shadow maps hold them)
         self.stages = {name: Stage() for name in ("shadows", "gbuffer", "lighting", "emitters", "environment", "voxels",
                                                   "emitter_light", "sky_light", "radiance", "bounces")}
 
     def _create_passes(self):
         """The passes of a frame, each with its programs and targets."""
-        self.shadow = self._add(ShadowPass(self.ctx, self.programs, self.geometry, self.settings.shadow_map_size))
-        self.gbuffer = self._add(GBufferPass(self.ctx, self.programs, self.geometry, self.size))
+        self.cull = self._add(CullPass(self.ctx, self.programs))
+        self.shadow = self._add(ShadowPass(self.ctx, self.programs, self.cull, self.settings.shadow_map_size))
+        self.gbuffer = self._add(GBufferPass(self.ctx, self.programs, self.cull, self.size))
         self.lighting = self._add(LightingPass(self.ctx, self.programs, self.size))
         self.gbuffer_view = self._add(GBufferViewPass(self.ctx, self.programs, self.size))
-        self.voxelize = self._add(VoxelizePass(self.ctx, self.programs, self.geometry))
+        self.voxelize = self._add(VoxelizePass(self.ctx, self.programs, self.cull))
         self.emitter_light = self._add(EmitterLightPass(self.ctx, self.programs))
         self.sky_light = self._add(SkyLightPass(self.ctx, self.programs))
         self.inject = self._add(InjectPass(self.ctx, self.programs))
@@ -257,10 +262,11 @@ class Renderer:
         self.frame_settings = s
         forget_bindings(self.ctx)  # GL code between frames (a window's GUI) may have bound anything
         self.timings, self.passes_ran = {}, []
-        self.geometry.draw_calls = 0
-        frame = FrameInputs(scene, self.bounds_cache)
+        self.scene_buffers.draw_calls = 0
+        self.table.sync(scene, rebuild=not self.track_changes)
+        self.scene_buffers.sync(self.table)
+        frame = FrameInputs(scene, self.table)
         self.output = self._frame(frame, scene, s)
-        self.geometry.retain(frame.draws)  # meshes no longer drawn leave the GPU
         return self.output
 
     def _frame(self, frame, scene, s):
@@ -307,27 +313,32 @@ class Renderer:
         """Shadow maps: the tiles of the lights that changed, or of the views that see a
         shadow caster that moved; all of them when both changed, the scene bounds changed or
         lights came or went."""
-        stage = self.stages["shadows"]
-        inputs = dict(casters=frame.casters(), bounds=_bytes(frame.bounds), lights=frame.light_values)
+        stage, table = self.stages["shadows"], self.table
+        inputs = dict(casters=(table.structure, table.casters_changed_at), bounds=_bytes(frame.bounds), lights=frame.light_values)
         changed = stage.changed(inputs, self.track_changes)
         if changed:
             redraw = changed_casters = None
             if changed == {"lights"} and len(stage.last("lights")) == len(inputs["lights"]):
                 redraw = {i for i, (a, b) in enumerate(zip(stage.last("lights"), inputs["lights"])) if a != b}
-            if changed == {"casters"}:
-                redraw, changed_casters = set(), inputs["casters"].changed_bounds(stage.last("casters"))
+            held = self._caster_bounds
+            if changed == {"casters"} and held is not None and held[0] == table.structure:
+                moved = table.changed_casters(stage.last("casters")[1])
+                redraw = set()
+                changed_casters = [(lo, hi) for lo, hi in held[1][moved]] + [(lo, hi) for lo, hi in table.draw_bounds[moved]]
             with self.timed("shadow"):
-                self.shadow.render(frame.lights, frame.draws, frame.bounds, redraw, source, changed_casters)
+                self.shadow.render(frame.lights, self.scene_buffers, frame.bounds, redraw, source, changed_casters)
+            self._caster_bounds = (table.structure, table.draw_bounds.copy())
             stage.ran(inputs)
         return self.shadow.maps
 
     def _gbuffer(self, frame, camera):
         """The G-buffer, drawn again when the view, the image size or a draw changed."""
-        stage = self.stages["gbuffer"]
-        inputs = dict(view_projection=_bytes(camera.view_projection), size=self.size, draws=tuple(frame.draws))
+        stage, table = self.stages["gbuffer"], self.table
+        inputs = dict(view_projection=_bytes(camera.view_projection), size=self.size,
+                      draws=(table.structure, table.draws_changed_at))
         if stage.changed(inputs, self.track_changes):
             with self.timed("gbuffer"):
-                self.gbuffer.render(frame.draws, camera.view_projection)
+                self.gbuffer.render(self.scene_buffers, camera.view_projection)
             stage.ran(inputs)
         return self.gbuffer.target
 
@@ -345,10 +356,10 @@ class Renderer:
     def _emitters(self, frame):
         """The emissive triangles, again when an emissive draw changed."""
         stage = self.stages["emitters"]
-        inputs = dict(emissive_draws=frame.emissive_draws())
+        inputs = dict(emissive_draws=(self.table.structure, self.table.emitters_changed_at))
         if stage.changed(inputs, self.track_changes):
             with self.timed("emitters"):
-                self.emitters.upload(frame_emitters(inputs["emissive_draws"]))
+                self.emitters.upload(frame_emitters(frame.emissive_draws()))
             stage.ran(inputs)
         return self.emitters
 
@@ -363,8 +374,8 @@ class Renderer:
         return self.environment
 
     def _voxels(self, frame, s, source, emitters, camera):
-        """Voxelize what changed: the draws whose mesh, transform or material differ from the
-        ones the grid holds, and the levels that moved with the camera: scrolled where they
+        """Voxelize what changed: the draws whose mesh, transform or material changed since the
+        grid last took them in (as it holds them: self.held), and the levels that moved with the camera: scrolled where they
         moved by part of their cube, else voxelized anew (every level of a new grid); where
         surfaces emit, the emission volume's mip chain follows. Progressive frames (the viewer)
         move one level a frame (clipmap.scrolled_regions). Returns the changes.VoxelUpdate
@@ -381,18 +392,26 @@ class Renderer:
             with self.timed("voxelize"):
                 self.voxelize.fill_cone_emission(self.grid)
         placed = tuple(_bytes([region.center, region.size]) for region in regions)
-        inputs = dict(grid=n, regions=placed, draws=tuple(frame.draws))
+        table, buffers = self.table, self.scene_buffers
+        held_key = (table.structure, buffers.pool.epoch)
+        inputs = dict(grid=n, regions=placed, draws=(*held_key, table.draws_changed_at))
         if stage.changed(inputs, self.track_changes):
-            tracked = self.track_changes and stage.inputs is not None
+            tracked = self.track_changes and stage.inputs is not None and self.held.holds(held_key)
             moved = moved_levels(held, regions) if tracked else frozenset()
             shifts = {level: level_shift(held[level], regions[level], n) for level in moved}
             scrolled = {level: shift for level, shift in shifts.items() if shift is not None}
-            update = voxel_update(stage.last("draws") if tracked else None, frame.draws, moved - set(scrolled), scrolled)
+            if tracked:
+                changed = table.changed_draws(stage.last("draws")[2])
+                update = VoxelUpdate(False, self.held.held(changed), self.held.placed(table, buffers, changed),
+                                     frozenset(moved - set(scrolled)), scrolled)
+            else:
+                changed, update = None, VoxelUpdate(True, [], [])
             if update.changed_levels(self.grid.levels):
                 with self.timed("voxelize"):
-                    self.voxelize.update(self.grid, update, frame.draws)
+                    self.voxelize.update(self.grid, update, buffers, table.draw_bounds)
                 if update.scrolled:
                     self.schedule.faces_moved(update.scrolled)
+            self.held.hold(held_key, table, buffers, changed)
             if emitters.count:
                 with self.timed("emission_mipmap"):
                     self.grid.build_emission_mips()
@@ -633,7 +652,7 @@ class Renderer:
                 self.grid.release()
             self.emitters.release()
             self.environment.release()
-            self.geometry.release()
+            self.scene_buffers.release()
         if self._owns_context:
             self.ctx.release()
         self.ctx = None

@@ -1,7 +1,16 @@
 """The scene model: nodes, transforms, meshes, materials, lights, camera. Plain Python and
-numpy, no GL: the renderer uploads what it needs and reads it again every frame, so an
-edit (a moved light, a new albedo) shows on the next frame."""
+numpy, no GL: the renderer uploads what it needs, and an edit (a moved light, a new albedo)
+shows on the next frame.
+
+Edits are found without walking the scene: every Node, Mesh, Material, Light and NodeCamera
+records itself in the edit log (`EDITS`) whenever one of its fields is set after it was made,
+or one of its small arrays (a node's transform, a light's position, a material's albedo) is
+written into (`node.translation += step`, `light.position[:] = p`: TrackedArray), and a node
+whenever its list of children changes. A mesh's arrays are read-only: a geometry edit assigns
+a new array."""
+import collections
 import math
+import weakref
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -15,6 +24,156 @@ WRAP_MODES = ("REPEAT", "CLAMP_TO_EDGE", "MIRRORED_REPEAT")
 ALPHA_MODES = ("OPAQUE", "MASK", "BLEND")
 TEXTURE_FIELDS = ("base_color_texture", "metallic_roughness_texture", "emissive_texture", "normal_texture")
 IDENTITY_UV = ((1.0, 0.0, 0.0), (0.0, 1.0, 0.0))
+
+
+class EditLog:
+    """The scene model's objects edited after they were made, each once, in the order of their
+    latest edit, with the log's serial number at that edit: a reader keeps the serial it read
+    up to and asks for what was edited since (the renderer does, each frame), at a cost that
+    grows with the objects edited, not with the scene. Objects are held weakly: one dropped
+    leaves the log."""
+
+    def __init__(self):
+        self.serial = 0
+        self._latest = collections.OrderedDict()  # id(object) -> (serial of its latest edit, weak reference)
+        self._dropped = []                        # (id, reference) of objects gone, to take out of _latest
+
+    def record(self, obj):
+        self.serial += 1
+        self._purge()
+        key = id(obj)
+        entry = self._latest.pop(key, None)
+        if entry is None or entry[1]() is not obj:
+            entry = (0, weakref.ref(obj, lambda ref, key=key: self._dropped.append((key, ref))))
+        self._latest[key] = (self.serial, entry[1])
+
+    def since(self, serial):
+        """The objects edited after log serial `serial`, the latest edit first."""
+        self._purge()
+        edited = []
+        for key in reversed(self._latest):
+            edit_serial, ref = self._latest[key]
+            if edit_serial <= serial:
+                break
+            obj = ref()
+            if obj is not None:
+                edited.append(obj)
+        return edited
+
+    def _purge(self):
+        while self._dropped:
+            key, ref = self._dropped.pop()
+            entry = self._latest.get(key)
+            if entry is not None and entry[1] is ref:
+                del self._latest[key]
+
+
+EDITS = EditLog()
+# Counts the edits of the scene graph's shape (a node's children, mesh, light, camera or
+# animation given or taken): what a scene caches about its shape is kept while it is unchanged.
+STRUCTURE_FIELDS = frozenset({"children", "mesh", "light", "camera", "animation"})
+_structure_edits = [0]
+
+
+def structure_edits():
+    """How many edits of a scene graph's shape there have been (STRUCTURE_FIELDS)."""
+    return _structure_edits[0]
+
+
+class TrackedArray(np.ndarray):
+    """A scene-model object's small array (float64): writing into it, by item assignment or an
+    in-place operation, records its owner in EDITS as setting the field does. What is computed
+    from it is a plain array."""
+
+    def __array_finalize__(self, obj):
+        self._owner = getattr(obj, "_owner", None)  # a weak reference to the object holding it (views share it)
+
+    def __setitem__(self, key, value):
+        super().__setitem__(key, value)
+        self._written()
+
+    def __array_ufunc__(self, ufunc, method, *inputs, out=None, **kwargs):
+        plain = [np.asarray(value) if isinstance(value, TrackedArray) else value for value in inputs]
+        if out is not None:
+            kwargs["out"] = tuple(np.asarray(value) if isinstance(value, TrackedArray) else value for value in out)
+        result = getattr(ufunc, method)(*plain, **kwargs)
+        if out is None:
+            return result
+        for value in out:
+            if isinstance(value, TrackedArray):
+                value._written()
+        return out[0] if len(out) == 1 else out
+
+    def __repr__(self):
+        return repr(np.asarray(self))
+
+    def _written(self):
+        owner = self._owner() if self._owner is not None else None
+        if owner is not None and owner.__dict__.get("_tracked"):
+            EDITS.record(owner)
+
+
+def tracked_array(value, owner):
+    """A TrackedArray copy of `value` (float64) that records `owner` when written into."""
+    array = np.array(value, dtype=float).view(TrackedArray)
+    array._owner = weakref.ref(owner)
+    return array
+
+
+class Tracked:
+    """A scene-model object whose every field set after construction is recorded in EDITS
+    (`_ARRAYS`: its array fields, held as TrackedArray copies that record it when written into)."""
+
+    _ARRAYS = frozenset()
+
+    def __setattr__(self, name, value):
+        if name in self._ARRAYS and value is not None:
+            value = tracked_array(value, self)
+        object.__setattr__(self, name, value)
+        if self.__dict__.get("_tracked"):
+            if name in STRUCTURE_FIELDS:
+                _structure_edits[0] += 1
+            EDITS.record(self)
+
+    def __post_init__(self):
+        object.__setattr__(self, "_tracked", True)
+
+    def __setstate__(self, state):
+        """A copy (copy.copy, copy.deepcopy) owns arrays of its own."""
+        self.__dict__.update(state)
+        for name in self._ARRAYS:
+            if state.get(name) is not None:
+                object.__setattr__(self, name, tracked_array(state[name], self))
+
+
+class Children(list):
+    """A node's children: a list that records its node in EDITS whenever it changes."""
+
+    def __init__(self, items=(), owner=None):
+        super().__init__(items)
+        self.owner = owner
+
+    def _changed(self):
+        owner = getattr(self, "owner", None)
+        if owner is not None and owner.__dict__.get("_tracked"):
+            _structure_edits[0] += 1
+            EDITS.record(owner)
+
+
+def _recording(name):
+    method = getattr(list, name)
+
+    def edit(self, *args):
+        result = method(self, *args)
+        self._changed()
+        return self if name in ("__iadd__", "__imul__") else result
+    edit.__name__ = name
+    return edit
+
+
+for _name in ("append", "extend", "insert", "remove", "pop", "clear", "sort", "reverse", "__setitem__", "__delitem__",
+              "__iadd__", "__imul__"):
+    setattr(Children, _name, _recording(_name))
 
 
 @dataclass(frozen=True, eq=False)
@@ -45,7 +204,7 @@ class Texture:
 
 
 @dataclass
-class Material:
+class Material(Tracked):
     """The renderer's material: a base colour `albedo` (linear RGB, at most 1), `roughness`
     (perceptual, 0..1: Blinn-Phong exponent 2/r^4 - 2), `metalness` (0..1), `specular` (F0, the
     reflectance at normal incidence of the dielectric part; 0 = Lambertian) and `emission`
@@ -99,6 +258,8 @@ class Material:
     uv_sets: dict = field(default_factory=dict)
     uv_transforms: dict = field(default_factory=dict)
 
+    _ARRAYS = frozenset({"albedo", "emission"})
+
     @property
     def alpha_tested(self):
         """Cut out where alpha < alpha_cutoff: MASK, and BLEND drawn as MASK."""
@@ -114,7 +275,7 @@ class Material:
 
 
 @dataclass
-class Mesh:
+class Mesh(Tracked):
     """Triangles in the node's local frame: positions (V,3), normals (V,3), indices (T,3), and
     optionally texcoords (V,2) (glTF's convention: (0, 0) is the image's top-left and v grows
     downwards; see Texture) and tangents (V,4): xyz along +u, w = +-1 the handedness, so that
@@ -135,7 +296,7 @@ class Mesh:
     texcoords1: np.ndarray = None  # (V, 2) a second set of texture coordinates (glTF TEXCOORD_1)
 
     def __setattr__(self, name, value):
-        if isinstance(value, np.ndarray):
+        if isinstance(value, np.ndarray):  # read-only as it is: a mesh's arrays may be large
             value.flags.writeable = False
         super().__setattr__(name, value)
 
@@ -149,7 +310,7 @@ class Mesh:
 
 
 @dataclass
-class Light:
+class Light(Tracked):
     type: str  # point | spot | directional
     intensity: np.ndarray  # point/spot: radiant intensity W/sr; directional: irradiance W/m^2
     position: np.ndarray = field(default_factory=lambda: np.zeros(3))
@@ -158,6 +319,8 @@ class Light:
     inner_angle_deg: float = 30.0  # spot: full intensity inside
     outer_angle_deg: float = 45.0  # spot: zero outside
     cast_shadows: bool = True
+
+    _ARRAYS = frozenset({"intensity", "position", "direction"})
 
 
 @dataclass
@@ -188,7 +351,7 @@ class Camera:
 
 
 @dataclass
-class NodeCamera:
+class NodeCamera(Tracked):
     """A camera a node carries (a glTF camera): it looks along the node's -z with +y up.
     Perspective: `vertical_fov_deg`; orthographic: `half_height` (and `half_width`);
     `aspect_ratio` the image's width / height it was made for (None: not given)."""
@@ -210,7 +373,7 @@ class NodeCamera:
 
 
 @dataclass
-class Node:
+class Node(Tracked):
     """A named node of the scene graph with a local transform (T * R * S)."""
 
     name: str
@@ -223,6 +386,13 @@ class Node:
     camera: NodeCamera = None
     children: list = field(default_factory=list)
     animation: NodeTracks = None  # what animates it (engine.animation), None: it keeps its pose
+
+    _ARRAYS = frozenset({"translation", "rotation_deg", "scale"})
+
+    def __setattr__(self, name, value):
+        if name == "children" and not (isinstance(value, Children) and value.owner is self):
+            value = Children(value, owner=self)
+        super().__setattr__(name, value)
 
     def local_matrix(self):
         return transforms.compose(self.translation, self.rotation_deg, self.scale)

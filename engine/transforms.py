@@ -33,6 +33,29 @@ def compose(translation, rotation_deg, scale_xyz):
     return translate(translation) @ rotate_euler_deg(rotation_deg) @ scale(scale_xyz)
 
 
+def compose_many(translations, rotations_deg, scales):
+    """T * R * S of each row of (k, 3) translations, rotation angles (rotate_euler_deg) and
+    scales, as (k, 4, 4): the products of rotate_euler_deg and compose, made for all rows at
+    once (the same numbers for one node and for thousands)."""
+    t = np.asarray(translations, float).reshape(-1, 3)
+    count = len(t)
+    ax, ay, az = np.radians(np.asarray(rotations_deg, float).reshape(-1, 3)).T
+    cx, sx, cy, sy, cz, sz = np.cos(ax), np.sin(ax), np.cos(ay), np.sin(ay), np.cos(az), np.sin(az)
+    one, zero = np.ones(count), np.zeros(count)
+    rx = np.stack([one, zero, zero, zero, cx, -sx, zero, sx, cx], axis=1).reshape(-1, 3, 3)
+    ry = np.stack([cy, zero, sy, zero, one, zero, -sy, zero, cy], axis=1).reshape(-1, 3, 3)
+    rz = np.stack([cz, -sz, zero, sz, cz, zero, zero, zero, one], axis=1).reshape(-1, 3, 3)
+    rotation = np.zeros((count, 4, 4))
+    rotation[:, :3, :3] = rz @ ry @ rx
+    rotation[:, 3, 3] = 1.0
+    translation = np.tile(np.eye(4), (count, 1, 1))
+    translation[:, :3, 3] = t
+    scaling = np.zeros((count, 4, 4))
+    scaling[:, [0, 1, 2], [0, 1, 2]] = np.asarray(scales, float).reshape(-1, 3)
+    scaling[:, 3, 3] = 1.0
+    return translation @ rotation @ scaling
+
+
 def perspective(vertical_fov_deg, aspect, near, far):
     return pyrr.matrix44.create_perspective_projection(vertical_fov_deg, aspect, near, far, dtype=np.float64).T
 

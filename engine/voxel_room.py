@@ -52,23 +52,25 @@ class ListBound:
 
 
 class CoveredBound:
-    """What is known of a grid's covered count: the count last read back, the draws it was
-    read for, and the epoch of the covered list the voxelizer left after it (an epoch that is
-    not the grid's current one means the grid was rebuilt by someone else: nothing is known)."""
+    """What is known of a grid's covered count: the count last read back, the draws placed
+    anew since (changes.PlacedDraw, by index), and the epoch of the covered list the voxelizer
+    left after it (an epoch that is not the grid's current one means the grid was rebuilt by
+    someone else: nothing is known)."""
 
     def __init__(self):
         self.epoch = None
         self.covered = 0
-        self.draws = {}
+        self.placed = {}   # draw index -> PlacedDraw: the draws that moved since the count
         self._bounds = {}  # (positions, indices, world, grid's levels) -> (positions, indices, bound)
 
-    def bound(self, grid, update, draws):
-        """The ListBound of `update` (a changes.VoxelUpdate to `draws`) to the grid; None
-        where nothing is known."""
+    def bound(self, grid, update):
+        """The ListBound of `update` (a changes.VoxelUpdate) to the grid; None where nothing is
+        known."""
         if update.full or update.levels or update.scrolled or self.epoch is not grid.epoch:
             return None
-        changed = [d for d in draws if self.draws.get(d.key) != d]
-        return ListBound(covered=self.covered + sum(self._bound(d, grid) for d in changed),
+        placed = dict(self.placed)
+        placed.update((draw.index, draw) for draw in update.added)
+        return ListBound(covered=self.covered + sum(self._bound(d, grid) for d in placed.values()),
                          touched=sum(self._bound(d, grid) for d in update.removed + update.added))
 
     def _bound(self, draw, grid):
@@ -82,11 +84,13 @@ class CoveredBound:
             entry = self._bounds[key] = (positions, indices, bound)
         return entry[2]
 
-    def voxelized(self, grid, draws, covered=None):
-        """After a voxelization of `draws` into the grid: `covered` the count read back, or None
-        where it was not (the bound carries on from the last count)."""
+    def voxelized(self, grid, update, covered=None):
+        """After `update` voxelized the grid: `covered` the count read back, or None where it
+        was not (the bound carries on from the last count, with the update's draws)."""
         self.epoch = grid.epoch
         if covered is not None:
-            self.covered, self.draws = covered, {d.key: d for d in draws}
-        live = {(id(d.mesh_arrays[0]), id(d.mesh_arrays[2]), d.world.tobytes()) for d in draws}
+            self.covered, self.placed = covered, {}
+        else:
+            self.placed.update((draw.index, draw) for draw in update.added)
+        live = {(id(d.mesh_arrays[0]), id(d.mesh_arrays[2]), d.world.tobytes()) for d in self.placed.values()}
         self._bounds = {key: entry for key, entry in self._bounds.items() if key[:3] in live}

@@ -3,9 +3,9 @@ they are grouped into patches that share a visibility cone, and what radiance ea
 import numpy as np
 import pytest
 
-from engine.changes import BoundsCache, FrameInputs
 from engine.emitters import frame_emitters
 from engine.scene import Camera, Material, Node, Scene, Texture, box_mesh, quad_mesh
+from engine.scene_table import SceneTable
 
 PANEL = [[-0.25, 0.99, 0.25], [-0.25, 0.99, -0.25], [0.25, 0.99, -0.25], [0.25, 0.99, 0.25]]  # facing down
 
@@ -13,7 +13,9 @@ PANEL = [[-0.25, 0.99, 0.25], [-0.25, 0.99, -0.25], [0.25, 0.99, -0.25], [0.25, 
 def emitters_of(*nodes):
     camera = Camera(np.array([0.0, 0.0, 3.0]), np.zeros(3), np.array([0.0, 1.0, 0.0]), 60.0, 64, 64)
     scene = Scene("test", Node("root", children=list(nodes)), camera, {})
-    return frame_emitters(FrameInputs(scene, BoundsCache()).emissive_draws())
+    table = SceneTable()
+    table.sync(scene)
+    return frame_emitters([table.draw(index) for index in table.emissive_draws()])
 
 
 def lamp(emission=(16.0, 16.0, 16.0), **fields):

@@ -4,12 +4,13 @@ import numpy as np
 import pytest
 
 from engine.gl import create_headless_context
+from engine.passes.cull import CullPass
 from engine.passes.faces import FaceViewsPass
 from engine.passes.gather import GatherPass
 from engine.passes.inject import InjectPass
 from engine.passes.shadow import ShadowPass
 from engine.scene import Light, VoxelRegion
-from engine.scene_gpu import EmitterBuffers, EnvironmentMap, SceneGeometry
+from engine.scene_gpu import EmitterBuffers, EnvironmentMap, SceneBuffers
 from engine.settings import RenderSettings
 from engine.shaders import ProgramLibrary
 from engine.voxel_grid import VoxelGrid
@@ -23,10 +24,10 @@ def gl():
     ctx = create_headless_context()
     with ctx:
         programs = ProgramLibrary(ctx)
-        passes = dict(grid=VoxelGrid(ctx, programs), geometry=SceneGeometry(ctx), emitters=EmitterBuffers(ctx),
+        passes = dict(grid=VoxelGrid(ctx, programs), buffers=SceneBuffers(ctx), cull=CullPass(ctx, programs), emitters=EmitterBuffers(ctx),
                       environment=EnvironmentMap(ctx), inject=InjectPass(ctx, programs), faces=FaceViewsPass(ctx, programs),
                       gather=GatherPass(ctx, programs))
-        passes["shadow"] = ShadowPass(ctx, programs, passes["geometry"], 64)
+        passes["shadow"] = ShadowPass(ctx, programs, passes["cull"], 64)
         passes["grid"].ensure(N, (REGION,))
         yield passes
         for resource in passes.values():
@@ -44,7 +45,7 @@ def centre(x, y, z):
 
 
 def lights(gl, *scene_lights):
-    return gl["shadow"].render(list(scene_lights), [], (REGION.center - 1, REGION.center + 1))
+    return gl["shadow"].render(list(scene_lights), gl["buffers"], (REGION.center - 1, REGION.center + 1))
 
 
 def every_voxel(gl):

@@ -42,12 +42,14 @@ def test_shared_enums_and_struct_layouts_come_from_the_python_tables():
         for name, value in names.items():
             assert f"#define {group}_{name.upper()} {value}" in header
     for name, members in constants.GLSL_STRUCTS.items():
-        assert constants.struct_dtype(name).itemsize == 16 * sum(4 if kind == "mat4" else 1 for kind, _ in members)
+        assert constants.struct_dtype(name).itemsize == 16 * sum((4 if kind == "mat4" else 1) * (count[0] if count else 1)
+                                                                 for kind, _, *count in members)
     # No shader defines them again: each lives in engine/constants.py alone.
     for path in GLSL_ROOT.rglob("*.*"):
         text = path.read_text()
         assert not re.search(r"#define (TONEMAP|OUTPUT|VIEW|SHOW|VOXELIZE|MAP)_[A-Z_]+ \d", text), path
-        assert not re.search(r"^struct (Light|ShadowView|EmitterTriangle|EmitterPatch)\b", text, re.M), path
+        assert not re.search(r"^struct (Light|ShadowView|EmitterTriangle|EmitterPatch|DrawRecord|MaterialRecord|Cluster|DrawView)\b",
+                             text, re.M), path
     covered = [p for p in GLSL_ROOT.rglob("*.*") if "buffer CoveredVoxels" in p.read_text()]
     assert [p.name for p in covered] == ["covered_voxels.glsl"]
 

@@ -293,7 +293,7 @@ def test_objects_leaving_and_joining_the_scene_update_the_voxels(edit):
             root.children.remove(short_box)
         image = r.render(scene, grid=32, bounces=1)
         voxels = [r.voxels(name).tobytes() for name in ("radiance", "normal", "albedo")]
-        assert set(r.geometry.buffers) == {id(node.mesh) for node, _ in scene.drawables()}
+        assert set(r.scene_buffers.pool.entries) == {id(node.mesh) for node, _ in scene.drawables()}
     with engine.Renderer(64, 64) as fresh:
         assert np.array_equal(fresh.render(scene, grid=32, bounces=1), image)
         assert [fresh.voxels(name).tobytes() for name in ("radiance", "normal", "albedo")] == voxels

@@ -414,7 +414,7 @@ def test_the_overlay_says_what_a_frame_reused(on_display, scene, mode, camera_fr
         imgui.get_io().add_key_event(imgui.Key.w, True)
         viewer.frame()  # the camera moved: the G-buffer and the direct light again
         imgui.get_io().add_key_event(imgui.Key.w, False)
-        draws = viewer.renderer.geometry.draw_calls
+        draws = viewer.renderer.scene_buffers.draw_calls
         assert draws > 0 and f"{draws} draw calls; {camera_frame}" in work(viewer)
         if mode == "gi":  # the voxels' GPU memory, in all and per voxel of the grid
             grid = viewer.renderer.grid.n

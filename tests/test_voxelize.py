@@ -213,12 +213,14 @@ def test_a_draw_covers_no_more_voxels_than_its_fragment_bound():
     moved object be voxelized without reading a count back): every draw of the spheres' box,
     walls, boxes and tessellated spheres, voxelized alone over the same region, covers at most
     that many voxels, and the bound is within an order of magnitude of what it covers."""
-    from engine.changes import BoundsCache, FrameInputs
+    from engine.scene_table import SceneTable
     from engine.voxel_room import fragment_bound
 
     scene = engine.load_scene(SCENES / "cornell_spheres.json")
     scene.voxel_region = scene.region()
-    draws = FrameInputs(scene, BoundsCache()).draws
+    table = SceneTable()
+    table.sync(scene)
+    draws = [table.draw(index) for index in range(table.draw_count)]
     with engine.Renderer(16, 16) as r:
         for draw in draws:
             alone = engine.Scene("alone", engine.Node("root", children=[draw.node]), scene.camera,

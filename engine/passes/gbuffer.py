@@ -1,11 +1,14 @@
-"""G-buffer pass: rasterizes the draws from the camera into position, shading normal +
+"""G-buffer pass: rasterizes the scene from the camera into position, shading normal +
 roughness, albedo + metalness and emission + dielectric F0 targets (material factors times
 textures), with a depth buffer; back faces of single-sided materials are culled. Returns the
 GBuffer the screen passes read."""
+import numpy as np
+
 from .. import transforms
-from ..constants import HDR_FORMAT
+from ..constants import DRAW_TEST_FRUSTUM, HDR_FORMAT
 from ..gl_bindings import bind_texture
-from ..scene_gpu import vertex_extras
+from ..scene_gpu import DRAW_FLAGS
+from .cull import DrawList, view_records
 
 
 class GBuffer:
@@ -33,37 +36,68 @@ class GBuffer:
 
 
 class GBufferPass:
-    def __init__(self, ctx, programs, geometry, size):
+    """Draws the scene's draw list (engine/passes/cull.py) into the G-buffer: a multi-draw a
+    bucket, the buckets being the program variants (normal map or not, vertex extras or not)
+    and the face culling (none for double-sided materials; back faces, counter-clockwise or,
+    under a mirroring world matrix, clockwise in front)."""
+
+    CULLING = ("none", "ccw", "cw")
+
+    def __init__(self, ctx, programs, cull, size):
         self.ctx = ctx
-        self.geometry = geometry
+        self.cull = cull
         # Per whether the material has a normal map (else no tangent is interpolated) and the draw
         # vertex colours, a second texture coordinate set or texture transforms (else none).
         self.programs = {(mapped, extras): programs.program(
             {name: 1 for name, wanted in (("NORMAL_MAP", mapped), ("VERTEX_EXTRAS", extras)) if wanted},
             vertex_shader="gbuffer/draw_surfaces.vert", fragment_shader="gbuffer/draw_surfaces.frag",
-            reads=("TEX_BASE_COLOR_MAP", "TEX_METAL_ROUGH_MAP", "TEX_EMISSIVE_MAP", "TEX_NORMAL_MAP"))
+            reads=("SSBO_DRAWS", "SSBO_MATERIALS", "TEX_MATERIAL_TEXTURES"))
             for mapped in (False, True) for extras in (False, True)}
+        self.buckets = [(mapped, extras, culling) for (mapped, extras) in self.programs for culling in self.CULLING]
+        self.draw_list = DrawList(ctx, self.bucket_of, len(self.buckets))
         self.target = GBuffer(ctx, size)
+
+    def bucket_of(self, flags):
+        """The bucket of each draw's DRAW_FLAGS (an index of self.buckets)."""
+        mapped = (flags & DRAW_FLAGS["normal_mapped"]) != 0
+        extras = (flags & DRAW_FLAGS["extras"]) != 0
+        culling = np.where(flags & DRAW_FLAGS["double_sided"], 0, np.where(flags & DRAW_FLAGS["mirrored"], 2, 1))
+        return (mapped * 2 + extras) * len(self.CULLING) + culling
 
     def resize(self, size):
         self.target.release()
         self.target = GBuffer(self.ctx, size)
 
-    def render(self, draws, view_projection):
+    def render(self, buffers, view_projection):
+        """Cull the scene's draws (SceneBuffers) against the camera's frustum and draw them."""
+        views = view_records(1)
+        views["view_projection"][0] = np.asarray(view_projection, "f4").T.ravel()
+        views["items"][0] = (0, 0, DRAW_TEST_FRUSTUM, 0)
+        self.draw_list.build(buffers)
+        views["items"][0, 1] = self.draw_list.item_count
+        self.cull.run(self.draw_list, buffers, views)
         gbuffer = self.target
         gbuffer.framebuffer.use()
         self.ctx.viewport = (0, 0, *gbuffer.size)
         gbuffer.framebuffer.clear(0.0, 0.0, 0.0, 0.0, depth=1.0)
         self.ctx.enable_only(self.ctx.DEPTH_TEST)
-        for (mapped, extras), program in self.programs.items():
-            subset = [draw for draw in draws if (draw.material.normal_texture is not None) == mapped
-                      and vertex_extras(draw) == extras]
-            if subset:
-                program.set(view_projection=transforms.gl_bytes(view_projection))
-                self.geometry.draw(program, subset, materials=True, cull_single_sided=True, view_projection=view_projection)
+        buffers.bind()
+        for bucket, (mapped, extras, culling) in enumerate(self.buckets):
+            if not self.draw_list.bucket_ranges[bucket][1]:
+                continue
+            program = self.programs[mapped, extras]
+            program.set(view_projection=transforms.gl_bytes(view_projection))
+            if culling != "none":
+                self.ctx.front_face = culling
+                self.ctx.enable(self.ctx.CULL_FACE)
+            self.draw_list.draw(bucket, program, buffers)
+            if culling != "none":
+                self.ctx.disable(self.ctx.CULL_FACE)
+                self.ctx.front_face = "ccw"
         return gbuffer
 
     def release(self):
         self.target.release()
+        self.draw_list.release()
         for program in self.programs.values():
             program.release()

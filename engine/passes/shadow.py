@@ -2,14 +2,18 @@
 perspective view per spot light, one orthographic view per directional light. Returns the
 ShadowMaps that the lighting and light-injection passes read. Only the tiles of the lights
 whose inputs changed are redrawn, and of the views that see a caster that changed."""
+import ctypes
 import math
 
 import numpy as np
 
 from .. import transforms
-from ..constants import LIGHT_TYPE, MAX_LIGHTS, MAX_SHADOW_VIEWS, struct_dtype
+from ..constants import DRAW_TEST_FRUSTUM, LIGHT_TYPE, MAX_LIGHTS, MAX_SHADOW_VIEWS, struct_dtype
 from ..errors import VctError
-from ..gl_bindings import bind_texture, bind_uniform_block
+from ..gl_bindings import bind_storage, bind_texture, bind_uniform_block
+from ..gl_functions import gl_functions
+from ..scene_gpu import DRAW_FLAGS
+from .cull import DrawList, view_records
 
 CUBE_FACES = (  # (direction, up) in the order of cube_face() in glsl/lib/lights.glsl
     ((1, 0, 0), (0, -1, 0)), ((-1, 0, 0), (0, -1, 0)),
@@ -18,6 +22,7 @@ CUBE_FACES = (  # (direction, up) in the order of cube_face() in glsl/lib/lights
 )
 NEAR_PLANE = 0.01
 NORMAL_OFFSET_TEXELS = 1.5  # shadow lookups move off the surface by this many texels
+GL_CLIP_DISTANCES = [0x3000 + plane for plane in range(4)]  # GL_CLIP_DISTANCE0..3: a view's frustum sides (draw_depth.vert)
 
 
 class ShadowMaps:
@@ -73,16 +78,26 @@ class ShadowMaps:
 
 
 class ShadowPass:
-    def __init__(self, ctx, programs, geometry, tile_size):
+    """Draws the scene's draw list (engine/passes/cull.py) into the atlas's tiles that need it,
+    every tile in one multi-draw a bucket: opaque materials depth only (no fragment shader:
+    llvmpipe tests depth before shading), alpha-tested ones through shadow/cut_out.frag, which
+    cuts them out. Each instance lands in its view's tile (shadow/draw_depth.vert)."""
+
+    def __init__(self, ctx, programs, cull, tile_size):
         self.ctx = ctx
-        self.geometry = geometry
-        # Opaque materials are drawn depth only (no fragment shader: llvmpipe tests depth
-        # before shading); alpha-tested ones through shadow/cut_out.frag, which cuts them out.
-        self.depth_program = programs.program(vertex_shader="shadow/draw_depth.vert")
+        self.cull = cull
+        # Where a vertex shader may choose the viewport, a batch of tiles is a viewport array.
+        self.viewport_index = "GL_ARB_shader_viewport_layer_array" in ctx.extensions
+        self.batch = ctx.info["GL_MAX_VIEWPORTS"] if self.viewport_index else MAX_SHADOW_VIEWS
+        defines = {"VIEWPORT_INDEX": 1} if self.viewport_index else {}
+        self.depth_program = programs.program(defines or None, vertex_shader="shadow/draw_depth.vert",
+                                              reads=("SSBO_DRAWS", "SSBO_DRAW_VIEWS", "SSBO_MATERIALS"))
         # Cut-outs read their texture through its transform and set (VERTEX_EXTRAS): shadow/draw_depth.vert
         # passes both sets on for every draw.
-        self.cut_out_program = programs.program({"VERTEX_EXTRAS": 1}, vertex_shader="shadow/draw_depth.vert", fragment_shader="shadow/cut_out.frag",
-                                                reads=("TEX_BASE_COLOR_MAP",))
+        self.cut_out_program = programs.program({"VERTEX_EXTRAS": 1, **defines}, vertex_shader="shadow/draw_depth.vert",
+                                                fragment_shader="shadow/cut_out.frag",
+                                                reads=("SSBO_DRAWS", "SSBO_DRAW_VIEWS", "SSBO_MATERIALS", "TEX_MATERIAL_TEXTURES"))
+        self.draw_list = DrawList(ctx, lambda flags: ((flags & DRAW_FLAGS["alpha_tested"]) != 0).astype(np.int64), 2)
         self.maps = ShadowMaps(ctx, tile_size)
         self.drawn_tiles = []  # the tiles (views) the last render drew, in atlas order
 
@@ -111,10 +126,11 @@ class ShadowPass:
         return [(proj @ transforms.look_at(light.position, light.position + np.array(d), up), 2.0 * tan_half / self.maps.tile_size)
                 for d, up in CUBE_FACES]
 
-    def render(self, lights, draws, bounds, redraw=None, source=None, changed_casters=None):
-        """Pack the lights and their views; draw the tiles of the lights whose indices are in
-        `redraw` and of the views that see one of the world boxes `changed_casters` (every tile
-        when both are None, or when the atlas had to be remade). Returns the maps."""
+    def render(self, lights, buffers, bounds, redraw=None, source=None, changed_casters=None):
+        """Pack the lights and their views; draw the scene's draws (SceneBuffers) into the tiles
+        of the lights whose indices are in `redraw` and of the views that see one of the world
+        boxes `changed_casters` (every tile when both are None, or when the atlas had to be
+        remade). Returns the maps."""
         if len(lights) > MAX_LIGHTS:
             raise VctError(f"{len(lights)} lights, at most {MAX_LIGHTS} are supported", source=source, field="lights")
         maps = self.maps
@@ -137,11 +153,7 @@ class ShadowPass:
             redraw = changed_casters = None
         everything = redraw is None and changed_casters is None
         changed_corners = transforms.box_corners(*np.array(changed_casters).transpose(1, 0, 2)) if changed_casters else None
-        cut_out = [draw for draw in draws if draw.material.alpha_tested]
-        opaque = [draw for draw in draws if not draw.material.alpha_tested]
         rows = []
-        maps.framebuffer.use()
-        self.ctx.enable_only(self.ctx.DEPTH_TEST)
         atlas_w, atlas_h = maps.atlas.size
         tile = maps.tile_size
         self.drawn_tiles = []
@@ -150,19 +162,57 @@ class ShadowPass:
             sees_change = changed_corners is not None and not np.all(transforms.outside_frustum(changed_corners, view_projection))
             if everything or owner in (redraw or ()) or sees_change:
                 self.drawn_tiles.append(index)
-                self.ctx.viewport = (x, y, tile, tile)
-                maps.framebuffer.clear(depth=1.0, viewport=(x, y, tile, tile))
-                for program, subset in ((self.depth_program, opaque), (self.cut_out_program, cut_out)):
-                    program.set(view_projection=transforms.gl_bytes(view_projection))
-                    self.geometry.draw(program, subset, materials=program is self.cut_out_program,
-                                       view_projection=view_projection)
             rows.append((np.asarray(view_projection).T.ravel(), [x / atlas_w, y / atlas_h, tile / atlas_w, tile / atlas_h],
                          [texel_world, 1.0 / tile, 0.0, 0.0]))
         if rows:
             maps.view_buffer.write(np.array(rows, struct_dtype("ShadowView")).tobytes())
+        if self.drawn_tiles:
+            self._draw_tiles(buffers, [(views[index][0], maps.tile_origin(index)) for index in self.drawn_tiles],
+                             everything)
         return maps
+
+    def _draw_tiles(self, buffers, tiles, whole_atlas):
+        """Clear the tiles ((view_projection, origin) each), then cull the scene's draws for
+        them and draw them in: a batch of up to `batch` tiles at a time, each tile a viewport of
+        the batch (one batch, the whole atlas, without viewport indices)."""
+        maps, tile = self.maps, self.maps.tile_size
+        atlas_w, atlas_h = maps.atlas.size
+        maps.framebuffer.use()
+        if whole_atlas:
+            maps.framebuffer.clear(depth=1.0)
+        else:
+            for _, (x, y) in tiles:
+                maps.framebuffer.clear(depth=1.0, viewport=(x, y, tile, tile))
+        self.draw_list.build(buffers)
+        for start in range(0, len(tiles), self.batch):
+            batch = tiles[start:start + self.batch]
+            views = view_records(len(batch))
+            for view, (view_projection, (x, y)) in zip(views, batch):
+                view["view_projection"] = np.asarray(view_projection, "f4").T.ravel()
+                # NDC in the tile -> NDC in the atlas: x' = x scale + offset.
+                view["tile"] = ((2 * x + tile) / atlas_w - 1.0, (2 * y + tile) / atlas_h - 1.0, tile / atlas_w, tile / atlas_h)
+                view["items"] = (0, self.draw_list.item_count, DRAW_TEST_FRUSTUM, 0)
+            self.cull.run(self.draw_list, buffers, views)
+            maps.framebuffer.use()
+            self.ctx.enable_only(self.ctx.DEPTH_TEST)
+            if self.viewport_index:
+                rects = np.array([(x, y, tile, tile) for _, (x, y) in batch], np.float32)
+                gl_functions(self.ctx).glViewportArrayv(0, len(batch), rects.ctypes.data_as(ctypes.POINTER(ctypes.c_float)))
+            else:
+                self.ctx.viewport = (0, 0, atlas_w, atlas_h)
+                for plane in GL_CLIP_DISTANCES:
+                    self.ctx.enable_direct(plane)
+            buffers.bind()
+            bind_storage(self.draw_list.views, "DRAW_VIEWS")
+            for bucket, program in enumerate((self.depth_program, self.cut_out_program)):
+                self.draw_list.draw(bucket, program, buffers)
+            if not self.viewport_index:
+                for plane in GL_CLIP_DISTANCES:
+                    self.ctx.disable_direct(plane)
+        self.ctx.viewport = (0, 0, atlas_w, atlas_h)  # every viewport of the array
 
     def release(self):
         self.maps.release()
+        self.draw_list.release()
         self.depth_program.release()
         self.cut_out_program.release()

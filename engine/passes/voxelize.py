@@ -16,12 +16,16 @@ Afterwards the covered-voxel list and the covered cells of every mip level are b
 date. Where the grid's lists had no room for the voxels an update listed, the grid grows its
 lists (made anew, empty) and the whole scene is voxelized into it. Whether they had room is
 read back from the GPU only where the host cannot bound it (engine/voxel_room.py)."""
+from dataclasses import dataclass
+
 import numpy as np
 
-from ..constants import LIST_GROUP, SHADER_ENUMS, VOXEL_FACES, VOXEL_SUM_CHANNELS
 from ..changes import VoxelUpdate
+from ..constants import (DRAW_HELD, DRAW_TEST_BOX, DRAW_VIEW_SHIFT, LIST_GROUP, NO_MATERIAL, SHADER_ENUMS, VOXEL_FACES,
+                         VOXEL_SUM_CHANNELS)
 from ..gl_bindings import bind_storage
-from ..scene_gpu import vertex_extras
+from ..scene_gpu import DRAW_FLAGS, draw_records
+from .cull import DrawList, _replace, view_records
 from ..voxel_grid import GridStorage, VoxelGrid, bind_values, bind_volume, sum_room
 from ..voxel_room import CoveredBound
 
@@ -29,17 +33,26 @@ GL_CLIP_DISTANCES = [0x3000 + plane for plane in range(6)]  # GL_CLIP_DISTANCE0.
 
 
 class VoxelizePass:
-    def __init__(self, ctx, programs, geometry):
+    def __init__(self, ctx, programs, cull):
         self.ctx = ctx
-        self.geometry = geometry
+        self.cull = cull
         # Per whether the draw has vertex colours, a second texture coordinate set or texture
-        # transforms (scene_gpu.vertex_extras).
-        self.programs = {extras: programs.program({"VERTEX_EXTRAS": 1} if extras else None, vertex_shader="voxelize/rasterize.vert",
-                                                  geometry_shader="voxelize/rasterize.geom", fragment_shader="voxelize/rasterize.frag",
-                                                  reads=("TEX_BASE_COLOR_MAP", "TEX_METAL_ROUGH_MAP", "TEX_EMISSIVE_MAP"),
-                                                  writes=("SSBO_VOXEL_SUMS", "SSBO_FRONT_KEYS", "SSBO_VOXEL_RECORD", "SSBO_TOUCHED_RECORDS",
-                                                          "SSBO_TOUCHED"))
-                         for extras in (False, True)}
+        # transforms (scene_gpu.vertex_extras): the buckets of the draw lists.
+        self.programs = [programs.program({"VERTEX_EXTRAS": 1} if extras else None, vertex_shader="voxelize/rasterize.vert",
+                                          geometry_shader="voxelize/rasterize.geom", fragment_shader="voxelize/rasterize.frag",
+                                          reads=("SSBO_DRAWS", "SSBO_HELD_DRAWS", "SSBO_DRAW_VIEWS", "SSBO_MATERIALS",
+                                                 "TEX_MATERIAL_TEXTURES"),
+                                          writes=("SSBO_VOXEL_SUMS", "SSBO_FRONT_KEYS", "SSBO_VOXEL_RECORD", "SSBO_TOUCHED_RECORDS",
+                                                  "SSBO_TOUCHED"))
+                         for extras in (False, True)]
+        # What a voxelization draws: every draw into the jobs of rebuilt levels, to mark their
+        # voxels (marking), and into every job, to sum them (jobs), each culled by the jobs'
+        # boxes; and the moved draws as the voxels hold them and as they are, written by the
+        # host, to mark the voxels they covered and cover (moved).
+        bucket_of = lambda flags: ((flags & DRAW_FLAGS["extras"]) != 0).astype(np.int64)  # noqa: E731
+        self.marking, self.jobs = (DrawList(ctx, bucket_of, 2) for _ in range(2))
+        self.moved = DrawList(ctx, bucket_of, 2)
+        self.held_draws = None  # the moved draws' records as the voxels hold them
         self.mark_covered = programs.compute("voxelize/mark_covered.comp", reads=("SSBO_COVERED",),
                                              writes=("SSBO_TOUCHED", "SSBO_VOXEL_RECORD", "SSBO_TOUCHED_RECORDS"))
         self.resolve = programs.compute(
@@ -82,28 +95,29 @@ class VoxelizePass:
             bind_storage(buffer, name)
         grid.records.bind()
 
-    def update(self, grid, update, draws):
-        """Apply a changes.VoxelUpdate to the grid; `draws` are all of the frame's draws.
-        Writes the grid's records and their surface, its touched, covered and cell lists (a
-        new epoch), zeroes the light at the records it gave and the face views of the voxels it
-        emptied; where the lists or the records were short of room, grows them and voxelizes
-        every draw instead."""
+    def update(self, grid, update, buffers, bounds):
+        """Apply a changes.VoxelUpdate to the grid, drawing the scene's draws (SceneBuffers);
+        `bounds` are their world bounds ((D, 2, 3), the table's). Writes the grid's records and
+        their surface, its touched, covered and cell lists (a new epoch), zeroes the light at
+        the records it gave and the face views of the voxels it emptied; where the lists or the
+        records were short of room, grows them and voxelizes every draw instead."""
         for level, shift in update.scrolled.items():
             self._scroll(grid, level, shift)
-        bound = self.room.bound(grid, update, draws)
+        bound = self.room.bound(grid, update)
         # Room enough for certain, nothing read back: a bound within the lists, and one chunk,
         # whose resolve frees records before it takes any (voxelize/resolve_sums.comp).
         if bound is not None and bound.fits(grid.list_room) and bound.touched <= sum_room(grid.n, grid.levels):
-            self._apply(grid, update, draws, bound.touched)
-            self.room.voxelized(grid, draws)
+            self._apply(grid, update, buffers, bounds, bound.touched)
+            self.room.voxelized(grid, update)
             return
-        self._apply(grid, update, draws)
+        self._apply(grid, update, buffers, bounds)
         counts = grid.list_counts()
         while not counts.fits(grid.list_room):
             grid.grow_lists(counts.needed())
-            self._apply(grid, VoxelUpdate(True, [], list(draws)), draws)
+            update = VoxelUpdate(True, [], [])
+            self._apply(grid, update, buffers, bounds)
             counts = grid.list_counts()
-        self.room.voxelized(grid, draws, counts.covered)
+        self.room.voxelized(grid, update, counts.covered)
 
     def _scroll(self, grid, level, shift):
         """Scroll a level whose cube moved by `shift` of its voxels (grid.regions holds where it
@@ -128,7 +142,7 @@ class VoxelizePass:
             self.scroll_level.set(lifting=lifting)
             grid.dispatch(self.scroll_level, grid.covered.segment())
 
-    def _apply(self, grid, update, draws, touched=None):
+    def _apply(self, grid, update, buffers, bounds, touched=None):
         """The update: flag and list the voxels to rebuild, then chunk after chunk of them sum
         their front layers and resolve. `touched`: at most how many voxels it touches, where the
         host knows (else the count is read back)."""
@@ -142,20 +156,60 @@ class VoxelizePass:
             grid.covered.bind("COVERED")
             self.mark_covered.set(**grid.uniforms(), marked_levels=grid.level_mask(rebuilt))
             grid.dispatch(self.mark_covered, grid.covered.segment())
-        jobs = _level_jobs(grid, update, rebuilt, draws)
-        self._rasterize(grid, "mark", [(level, box, voxels, marked) for level, box, voxels, marked, _ in jobs if marked is not None], 0)
-        for level, _, voxels, marked, _ in jobs:
-            if marked is None:
-                self._mark_box(grid, level, voxels)
+        jobs = _level_jobs(grid, update, rebuilt, bounds)
+        marking = [job for job in jobs if job.marked == "every draw"]
+        if marking:
+            self._rasterize(grid, "mark", self.marking, buffers, 0, self._cull(self.marking, buffers, marking))
+        moving = [job for job in jobs if job.marked == "moved draws"]
+        if moving:
+            self._write_moved(buffers, update, moving)
+            self._rasterize(grid, "mark", self.moved, buffers, 0, self.held_draws)
+        for job in jobs:
+            if job.marked is None:
+                self._mark_box(grid, job.level, job.voxels)
         grid.size_list(grid.touched)
         listed = min(grid.touched.read_count() if touched is None else touched, grid.touched_room)
+        if jobs:
+            self._cull(self.jobs, buffers, jobs)
         for chunk_first in range(0, max(listed, 1), sum_room(grid.n, grid.levels)):
-            for stage in ("front", "add"):
-                self._rasterize(grid, stage, [(level, box, voxels, reaching) for level, box, voxels, _, reaching in jobs], chunk_first)
+            if jobs:
+                for stage in ("front", "add"):
+                    self._rasterize(grid, stage, self.jobs, buffers, chunk_first)
             self._resolve(grid, chunk_first)
         self._relist_covered(grid, update.full, frozenset(update.scrolled) if update.scrolls_only else None)
         if grid.cone_emission is not None:  # a scrolled level's cells all moved
             self.fill_cone_emission(grid, touched=not update.scrolled)
+
+    def _cull(self, draw_list, buffers, jobs):
+        """Cull every draw's clusters against the jobs' world boxes into `draw_list`."""
+        draw_list.build(buffers)
+        views = view_records(len(jobs))
+        for view, job in zip(views, jobs):
+            _job_view(view, job)
+            view["items"] = (0, draw_list.item_count, DRAW_TEST_BOX, 0)
+        self.cull.run(draw_list, buffers, views)
+
+    def _write_moved(self, buffers, update, jobs):
+        """The moved list: each draw the voxels held (its held record, not cut out) and each
+        draw as it is now, whole, once into every job."""
+        views = view_records(len(jobs))
+        for view, job in zip(views, jobs):
+            _job_view(view, job)
+        self.moved.write_views(views)
+        held = draw_records(np.array([draw.world for draw in update.removed]).reshape(-1, 4, 4), NO_MATERIAL)
+        self.held_draws = _replace(self.ctx, self.held_draws, held, keep=True)
+        job_count = len(jobs)
+        placed = [(index | DRAW_HELD, draw, 0) for index, draw in enumerate(update.removed)]
+        placed += [(draw.index, draw, int((buffers.draw_flags[draw.index] & DRAW_FLAGS["extras"]) != 0)) for draw in update.added]
+        placed.sort(key=lambda entry: entry[2])
+        commands = np.zeros((len(placed), 5), np.uint32)
+        instances = np.zeros(len(placed) * job_count, np.uint32)
+        for k, (value, draw, _) in enumerate(placed):
+            entry = draw.entry
+            commands[k] = (entry.index_count, job_count, entry.first_index, entry.base_vertex, k * job_count)
+            instances[k * job_count:(k + 1) * job_count] = value | (np.arange(job_count, dtype=np.uint32) << DRAW_VIEW_SHIFT)
+        buckets = [bucket for _, _, bucket in placed]
+        self.moved.write(commands, instances, [(buckets.index(b) if b in buckets else 0, buckets.count(b)) for b in (0, 1)])
 
     def _mark_box(self, grid, level, voxels):
         """Flag and list as touched every voxel of a box of a level ((lo, hi) in its coordinates)."""
@@ -165,23 +219,21 @@ class VoxelizePass:
         self.mark_box.program.run(-(-int(np.prod(size)) // LIST_GROUP))
         grid.barrier()
 
-    def _rasterize(self, grid, stage, jobs, chunk_first):
-        """Rasterize in one of the fragment stages, into the sums of the chunk of the touched
-        list from `chunk_first`: for each (level, world box, voxel box, draws) of `jobs`, the
-        parts of the draws inside the world box into the voxels of the voxel box ((lo, hi) in
-        the level's coordinates) of that level."""
+    def _rasterize(self, grid, stage, draw_list, buffers, chunk_first, held_draws=None):
+        """Rasterize a draw list in one of the fragment stages, into the sums of the chunk of the
+        touched list from `chunk_first`: each instance into its job's level and voxels (the
+        parts of the draws inside the job's world box, which the list was culled by)."""
         self.framebuffer.use()
         self.ctx.viewport = (0, 0, grid.n, grid.n)
         self.ctx.disable(self.ctx.DEPTH_TEST | self.ctx.CULL_FACE | self.ctx.BLEND)
         for plane in GL_CLIP_DISTANCES:
             self.ctx.enable_direct(plane)
-        for extras, program in self.programs.items():
+        buffers.bind()
+        bind_storage(held_draws if held_draws is not None else buffers.draws, "HELD_DRAWS")
+        bind_storage(draw_list.views, "DRAW_VIEWS")
+        for bucket, program in enumerate(self.programs):
             program.set(**grid.uniforms(), stage=SHADER_ENUMS["VOXELIZE"][stage], chunk_first=chunk_first)
-            for level, box, (voxels_lo, voxels_hi), draws in jobs:
-                subset = [draw for draw in draws if vertex_extras(draw) == extras]
-                if subset:
-                    program.set(voxelize_level=level, voxelized_min=tuple(voxels_lo), voxelized_max=tuple(voxels_hi))
-                    self.geometry.draw(program, subset, materials=True, box=box)
+            draw_list.draw(bucket, program, buffers)
         for plane in GL_CLIP_DISTANCES:
             self.ctx.disable_direct(plane)
         self.ctx.memory_barrier(self.ctx.SHADER_STORAGE_BARRIER_BIT | self.ctx.SHADER_IMAGE_ACCESS_BARRIER_BIT)
@@ -257,20 +309,34 @@ class VoxelizePass:
         return self._scratch.memory_bytes()
 
     def release(self):
-        for handle in (*self.programs.values(), self.mark_covered, self.resolve, self.clear_new_records,
+        for handle in (*self.programs, self.mark_covered, self.resolve, self.clear_new_records,
                        self.list_cells, self.fill_emission, self.clear_cells, self.scroll_level, self.mark_box):
             handle.release()
+        for draw_list in (self.marking, self.jobs, self.moved):
+            draw_list.release()
+        if self.held_draws is not None:
+            self.held_draws.release()
         self._scratch.release()
 
 
-def _level_jobs(grid, update, rebuilt, draws):
-    """What the update voxelizes: (level, world box, voxel box, the draws whose voxels there are
-    flagged (None: every voxel of the box is), the draws that reach them), the voxel box
-    (lo, hi) in the level's coordinates. A rebuilt level: its whole cube, every draw. A level
-    that scrolled (and is not rebuilt): each slab it took in, all its voxels flagged. Elsewhere,
-    the changed draws' voxels: the box within a voxel of the level of them, which the draws
-    inside it reach. The world boxes hold a voxel more on each side: what a triangle's dilation
-    reaches."""
+@dataclass(frozen=True)
+class Job:
+    """A part of a voxelization: the voxels (lo, hi) of a level, in its coordinates, which the
+    draws reaching the world `box` are drawn into; the ones marked there beforehand: those of
+    "every draw", of the "moved draws", or (None) every voxel of the box."""
+    level: int
+    box: tuple
+    voxels: tuple
+    marked: str
+
+
+def _level_jobs(grid, update, rebuilt, bounds):
+    """What the update voxelizes, as Jobs: a rebuilt level, its whole cube, every draw marked. A
+    level that scrolled (and is not rebuilt): each slab it took in, all its voxels marked.
+    Elsewhere, the moved draws' voxels: the box within a voxel of the level of them, the moved
+    draws marked. The world boxes hold a voxel more on each side: what a triangle's dilation
+    reaches. A job that marks its box's voxels is left out where no draw (`bounds`: every
+    draw's world box, (D, 2, 3)) reaches the box."""
     n, changed = grid.n, update.removed + update.added
     jobs = []
     for level in range(grid.levels):
@@ -278,23 +344,29 @@ def _level_jobs(grid, update, rebuilt, draws):
         voxel = grid.level_voxel_size(level)
         whole = (np.zeros(3, int), np.full(3, n))
         if level in rebuilt:
-            boxes = [((lo, hi), whole, draws)]
+            boxes = [((lo, hi), whole, "every draw")]
         elif level in update.scrolled:
             boxes = [((lo + first * voxel - voxel, lo + last * voxel + voxel), (first, last), None)
                      for first, last in entered_slabs(update.scrolled[level], n)]
         elif changed:
             changed_box = update.touched_bounds(margin=voxel)
-            boxes = [((np.maximum(changed_box[0], lo), np.minimum(changed_box[1], hi)), whole, changed)]
+            boxes = [((np.maximum(changed_box[0], lo), np.minimum(changed_box[1], hi)), whole, "moved draws")]
         else:
             continue
         for box, voxels, marked in boxes:
             if np.any(box[0] > box[1]):
                 continue  # the change lies outside this level
-            reaching = [d for d in draws if np.all(d.bounds[0] <= box[1]) and np.all(d.bounds[1] >= box[0])]
-            if marked is None and not reaching:
+            if marked is None and not np.any(np.all(bounds[:, 0] <= box[1], axis=1) & np.all(bounds[:, 1] >= box[0], axis=1)):
                 continue  # a slab no surface reaches stays empty
-            jobs.append((level, box, voxels, marked, reaching))
+            jobs.append(Job(level, box, voxels, marked))
     return jobs
+
+
+def _job_view(view, job):
+    """A DrawView record of a Job: its level, voxels and world box."""
+    view["voxels_min"] = (*job.voxels[0], job.level)
+    view["voxels_max"] = (*job.voxels[1], 0)
+    view["box_min"][:3], view["box_max"][:3] = job.box
 
 
 def entered_slabs(shift, n):

@@ -36,13 +36,13 @@ def overlay_lines(frames, process, renderer, vsync):
     cpu = "--" if process.cpu_percent is None else f"{process.cpu_percent:.0f}"
     lines = [(f"FPS {frames.fps:6.1f}  SPF {frames.ms_per_frame:7.1f} ms", False),
              (f"CPU {cpu:>5} %  RAM {process.ram_mb:7.0f} MB", False),
-             (f"{voxel_memory_line(renderer)}  textures {renderer.geometry.textures.memory_bytes() / 2 ** 20:.0f} MB", False),
+             (f"{voxel_memory_line(renderer)}  textures {renderer.scene_buffers.textures.memory_bytes() / 2 ** 20:.0f} MB", False),
              (f"{renderer.size[0]}x{renderer.size[1]} {s.mode} {grid_line(renderer)}{' vsync' if vsync else ''}", True)]
     if renderer.timings:
         lines.append(None)
         lines += [(f"{name:<16}{ms:8.1f} ms", False) for name, ms in renderer.timings.items()]
         lines.append((f"{'all passes':<16}{sum(renderer.timings.values()):8.1f} ms", True))
-    lines.append((work_line(renderer.passes_ran, renderer.geometry.draw_calls), True))
+    lines.append((work_line(renderer.passes_ran, renderer.scene_buffers.draw_calls), True))
     if s.shown.uses_radiance and s.bounces == 0:
         state = "settled" if renderer.schedule.idle else "converging"
         lines.append((f"bounces {state} ({renderer.bounce_iterations} so far)", True))

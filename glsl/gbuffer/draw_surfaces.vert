@@ -2,17 +2,20 @@
 // G-buffer geometry: world position, normal, texture coordinates and, for a material with a
 // normal map (NORMAL_MAP defined), tangent of every visible surface; for a mesh with vertex
 // colours or a second texture coordinate set, or a material that transforms its texture
-// coordinates (VERTEX_EXTRAS), those. Without them they are
-// not passed on: on llvmpipe every output of this stage costs each triangle's setup time.
+// coordinates (VERTEX_EXTRAS), those. Without them they are not passed on: on llvmpipe every
+// output of this stage costs each triangle's setup time. Each instance is a draw of the list
+// (lib/draws.glsl).
+#include "lib/draws.glsl"
+#include "lib/material.glsl"
+
+in uint in_instance;  // the draw and view of this instance (lib/draws.glsl)
 in vec3 in_position;
 in vec3 in_normal;
 in vec2 in_texcoord;
-uniform mat4 model;
-uniform mat3 normal_matrix;
 uniform mat4 view_projection;
 out vec3 world_position;
 out vec3 world_normal;
-out vec2 texcoord;
+flat out uint material;
 #ifdef NORMAL_MAP
 in vec4 in_tangent;
 out vec4 world_tangent;
@@ -21,20 +24,28 @@ out vec4 world_tangent;
 in vec3 in_color;
 in vec2 in_texcoord1;
 out vec3 vertex_color;
-out vec2 texcoord1;
+out vec4 map_coordinates01;  // MapCoordinates (lib/material.glsl)
+out vec4 map_coordinates23;
+#else
+out vec2 texcoord;
 #endif
 
 void main() {
-    vec4 p = model * vec4(in_position, 1.0);
+    DrawRecord draw = value_draw(in_instance);
+    vec4 p = draw.world * vec4(in_position, 1.0);
     world_position = p.xyz;
-    world_normal = normal_matrix * in_normal;
+    world_normal = mat3(draw.normal_matrix) * in_normal;
 #ifdef NORMAL_MAP
-    world_tangent = vec4(mat3(model) * in_tangent.xyz, in_tangent.w);
+    world_tangent = vec4(mat3(draw.world) * in_tangent.xyz, in_tangent.w);
 #endif
-    texcoord = in_texcoord;
 #ifdef VERTEX_EXTRAS
     vertex_color = in_color;
-    texcoord1 = in_texcoord1;
+    MapCoordinates coordinates = material_coordinates(draw.info.x, in_texcoord, in_texcoord1);
+    map_coordinates01 = coordinates.maps01;
+    map_coordinates23 = coordinates.maps23;
+#else
+    texcoord = in_texcoord;
 #endif
+    material = draw.info.x;
     gl_Position = view_projection * p;
 }

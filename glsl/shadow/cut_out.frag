@@ -4,9 +4,19 @@
 // fragment shader (engine/passes/shadow.py).
 #include "lib/material.glsl"
 
+flat in uint material;
+#ifdef VERTEX_EXTRAS
+in vec4 map_coordinates01;
+in vec4 map_coordinates23;
+#else
 in vec2 texcoord;
-in vec2 texcoord1;
+#endif
 
 void main() {
-    if (cut_out(sample_material(texcoord, texcoord1, vec3(1.0)).alpha)) discard;
+#ifdef VERTEX_EXTRAS
+    MapCoordinates coordinates = MapCoordinates(map_coordinates01, map_coordinates23);
+#else
+    MapCoordinates coordinates = same_coordinates(texcoord);
+#endif
+    if (cut_out(sample_material(material, coordinates, vec3(1.0)))) discard;
 }

@@ -26,21 +26,21 @@
 
 in vec3 gs_position;
 in vec3 gs_normal;
-in vec2 gs_texcoord;
 #ifdef VERTEX_EXTRAS
 in vec3 gs_color;
-in vec2 gs_texcoord1;
+in vec4 gs_map_coordinates01;
+in vec4 gs_map_coordinates23;
 #else
+in vec2 gs_texcoord;
 const vec3 gs_color = vec3(1.0);
-const vec2 gs_texcoord1 = vec2(0.0);
 #endif
 flat in vec4 gs_pixel_bounds;
+flat in uint gs_material;     // NO_MATERIAL: a held draw, marked as it is not cut out
+// The job's voxels [min, max) in its level's own coordinates (the whole cube, or the slab a
+// scrolled level took in); w: the level.
+flat in ivec4 gs_voxels_min;
+flat in ivec3 gs_voxels_max;
 uniform int stage;
-uniform int voxelize_level;  // the level drawn into
-// The voxels of that level the draw writes, [min, max) in the level's own coordinates: the
-// whole cube, or the slab a scrolled level took in.
-uniform ivec3 voxelized_min;
-uniform ivec3 voxelized_max;
 
 // The offset of a surface along its normal from the voxel centre, in voxels, as an ordered key.
 uint layer_key(float offset) {
@@ -63,10 +63,16 @@ void main() {
     // Marking needs the material only where it cuts out (uniform control flow: the derivatives
     // of the lookups before any discard still have their neighbours).
     MaterialSample m;
-    if (stage != VOXELIZE_MARK || alpha_cutoff >= 0.0) {
-        m = sample_material(gs_texcoord, gs_texcoord1, gs_color);
-        if (cut_out(m.alpha)) discard;
+    if (stage != VOXELIZE_MARK || (gs_material != NO_MATERIAL && alpha_tested(gs_material))) {
+#ifdef VERTEX_EXTRAS
+        MapCoordinates coordinates = MapCoordinates(gs_map_coordinates01, gs_map_coordinates23);
+#else
+        MapCoordinates coordinates = same_coordinates(gs_texcoord);
+#endif
+        m = sample_material(gs_material, coordinates, gs_color);
+        if (cut_out(m)) discard;
     }
+    int voxelize_level = gs_voxels_min.w;
     // Dilation grows the triangle at acute corners; clip it to its own bounding box.
     vec2 pixel = gl_FragCoord.xy;
     if (any(lessThan(pixel, gs_pixel_bounds.xy)) || any(greaterThan(pixel, gs_pixel_bounds.zw))) discard;
@@ -74,7 +80,7 @@ void main() {
     // rounding of the level's placement picks: a level keeps the same voxels wherever it lies.
     vec3 behind = gs_position - normalize(gs_normal) * (BOUNDARY_BIAS * level_voxel_size[voxelize_level]);
     ivec3 local = ivec3(floor(level_uvw(behind, voxelize_level) * float(voxel_grid)));
-    if (any(lessThan(local, voxelized_min)) || any(greaterThanEqual(local, voxelized_max))) discard;
+    if (any(lessThan(local, gs_voxels_min.xyz)) || any(greaterThanEqual(local, gs_voxels_max))) discard;
     ivec3 voxel = level_voxel(local, voxelize_level);
     if (stage == VOXELIZE_MARK) {
         touch_voxel(voxel);
@@ -96,7 +102,7 @@ void main() {
     // A voxel keeps no direction, so what the specular layer reflects bounces on as a Lambertian
     // lobe: the reflectance is the layered model's hemispherical albedo (a gold sphere passes its
     // light on instead of absorbing it).
-    vec3 reflectance = layered_albedo(m.albedo, m.roughness, m.metalness, dielectric_f0);
+    vec3 reflectance = layered_albedo(m.albedo, m.roughness, m.metalness, m.dielectric_f0);
     atomicAdd(voxel_sums[sum_entry(slot, SUM_ALBEDO_R)], unit_fixed(reflectance.r));
     atomicAdd(voxel_sums[sum_entry(slot, SUM_ALBEDO_G)], unit_fixed(reflectance.g));
     atomicAdd(voxel_sums[sum_entry(slot, SUM_ALBEDO_B)], unit_fixed(reflectance.b));

@@ -1,32 +1,36 @@
 #version 450 core
 // Voxelization, geometry stage: project each triangle along its dominant normal axis onto an
-// N x N viewport over the cube of level `voxelize_level` (one draw per level) and dilate it by half a pixel (conservative rasterization, OpenGL Insights
-// ch. 22) so thin and grazing triangles leave no holes; attributes are extrapolated with the
-// barycentric coordinates of the dilated corners. The triangle is clipped (gl_ClipDistance) to
-// the voxels the draw writes grown by a voxel, so fragments outside a slab are never shaded
-// (the fragment stage keeps the exact test).
+// N x N viewport over the cube of its job's level and dilate it by half a pixel (conservative
+// rasterization, OpenGL Insights ch. 22) so thin and grazing triangles leave no holes;
+// attributes are extrapolated with the barycentric coordinates of the dilated corners. The
+// triangle is clipped (gl_ClipDistance) to the voxels the job writes grown by a voxel, so
+// fragments outside a slab are never shaded (the fragment stage keeps the exact test).
 #include "lib/voxel.glsl"
 
 layout(triangles) in;
 layout(triangle_strip, max_vertices = 3) out;
 in vec3 vs_position[];
 in vec3 vs_normal[];
-in vec2 vs_texcoord[];
+flat in uint vs_material[];
+flat in ivec4 vs_voxels_min[];
+flat in ivec3 vs_voxels_max[];
 out vec3 gs_position;
 out vec3 gs_normal;
-out vec2 gs_texcoord;
 #ifdef VERTEX_EXTRAS
 in vec3 vs_color[];
-in vec2 vs_texcoord1[];
+in vec4 vs_map_coordinates01[];
+in vec4 vs_map_coordinates23[];
 out vec3 gs_color;
-out vec2 gs_texcoord1;
+out vec4 gs_map_coordinates01;
+out vec4 gs_map_coordinates23;
+#else
+in vec2 vs_texcoord[];
+out vec2 gs_texcoord;
 #endif
 flat out vec4 gs_pixel_bounds;  // the undilated triangle's bounding box in pixels, grown by half a pixel
-uniform int voxelize_level;     // the level drawn into
-// The voxels of that level the draw writes, [min, max) in the level's own coordinates
-// (rasterize.frag).
-uniform ivec3 voxelized_min;
-uniform ivec3 voxelized_max;
+flat out uint gs_material;
+flat out ivec4 gs_voxels_min;   // the job's voxels [min, max) in its level's coordinates; w: the level
+flat out ivec3 gs_voxels_max;
 out gl_PerVertex {
     vec4 gl_Position;
     float gl_ClipDistance[6];  // the voxels written, grown by a voxel: >= 0 inside each of its 6 planes
@@ -43,6 +47,8 @@ void main() {
     vec3 face_normal = cross(vs_position[1] - vs_position[0], vs_position[2] - vs_position[0]);
     if (dot(face_normal, face_normal) == 0.0) return;  // degenerate triangle
     int axis = dominant_axis(face_normal);
+    int voxelize_level = vs_voxels_min[0].w;
+    ivec3 voxelized_min = vs_voxels_min[0].xyz, voxelized_max = vs_voxels_max[0];
 
     vec2 corner[3];
     float depth[3];
@@ -78,12 +84,17 @@ void main() {
         vec3 w = to_barycentric * vec3(dilated, 1.0);
         gs_position = w.x * vs_position[0] + w.y * vs_position[1] + w.z * vs_position[2];
         gs_normal = w.x * vs_normal[0] + w.y * vs_normal[1] + w.z * vs_normal[2];
-        gs_texcoord = w.x * vs_texcoord[0] + w.y * vs_texcoord[1] + w.z * vs_texcoord[2];
 #ifdef VERTEX_EXTRAS
         gs_color = w.x * vs_color[0] + w.y * vs_color[1] + w.z * vs_color[2];
-        gs_texcoord1 = w.x * vs_texcoord1[0] + w.y * vs_texcoord1[1] + w.z * vs_texcoord1[2];
+        gs_map_coordinates01 = w.x * vs_map_coordinates01[0] + w.y * vs_map_coordinates01[1] + w.z * vs_map_coordinates01[2];
+        gs_map_coordinates23 = w.x * vs_map_coordinates23[0] + w.y * vs_map_coordinates23[1] + w.z * vs_map_coordinates23[2];
+#else
+        gs_texcoord = w.x * vs_texcoord[0] + w.y * vs_texcoord[1] + w.z * vs_texcoord[2];
 #endif
         gs_pixel_bounds = bounds;
+        gs_material = vs_material[0];
+        gs_voxels_min = vs_voxels_min[0];
+        gs_voxels_max = voxelized_max;
         vec3 local = level_uvw(gs_position, voxelize_level) * float(voxel_grid);
         vec3 above_min = local - vec3(voxelized_min - 1), below_max = vec3(voxelized_max + 1) - local;
         for (int a = 0; a < 3; ++a) {
