@@ -1,8 +1,7 @@
 """`vct bench`: per-pass milliseconds of the frames a viewer renders, for each grid size.
 
 Kinds of frame, each timed over a path after the radiance has settled (progressive bounces,
-as in the viewer; each pass timed with ctx.finish() and the wall clock, median over the
-frames):
+as in the viewer):
 - static: the camera turns where it stands (its view sweeps a small circle), nothing else
           changes;
 - camera: the camera flies along its view at walking speed (WALKING_SPEED, ANIMATION_FPS
@@ -13,14 +12,23 @@ frames):
           as for a light);
 - animated: for scenes with animations, they play at ANIMATION_FPS frames a second of their
           time (whatever they move: objects, lights, the camera).
-Optionally the error of each grid's converged image against a reference radiance image, so
-cost and accuracy can be read side by side.
+Each kind is rendered twice over its path. First the frames one after another with one finish
+at the end, as a viewer renders them: the frame time is their throughput (the wall time over
+the frames), and the host time of each frame is the wall time of its Python and of the GL
+calls that only record work, the calls that do the work on a software rasterizer (draws,
+dispatches, barriers, finishes, reads: GL_WORK) timed apart and left out. Then again with each pass timed
+(engine/gpu_timing.py: GL timer queries read a few frames later on a GPU, the wall clock around
+a finish on llvmpipe): the median per pass and the slowest frame. Optionally the error of each
+grid's converged image against a reference radiance image, so cost and accuracy can be read
+side by side.
 """
 import math
 import resource
 import statistics
 import time
+from contextlib import contextmanager
 
+import moderngl
 import numpy as np
 
 from .emitters import scene_emits
@@ -32,6 +40,11 @@ WALKING_SPEED = 1.4   # m/s, the camera kind's
 PASS_ORDER = ("shadow", "gbuffer", "lighting", "emitters", "environment", "voxelize", "emission_mipmap", "emitter_light",
               "sky_light", "inject", "classes", "gather", "faces", "mipmap", "totals", "cone_trace", "voxel_view", "gbuffer_view")
 SETTLE_FRAMES = 400  # progressive frames allowed for the radiance to settle before timing
+# The GL calls that do a frame's work where the GPU is the CPU (llvmpipe runs draws and
+# dispatches as they are issued, and a memory barrier waits for them): left out of the host time.
+GL_WORK = ((moderngl.VertexArray, ("render", "render_indirect")), (moderngl.ComputeShader, ("run", "run_indirect")),
+           (moderngl.Context, ("finish", "memory_barrier")), (moderngl.Buffer, ("read",)), (moderngl.Texture, ("read",)),
+           (moderngl.Texture3D, ("read",)), (moderngl.Framebuffer, ("read",)))
 
 
 def relative_errors(radiance, reference):
@@ -121,30 +134,69 @@ def settle(scene, renderer, settings):
             return
 
 
-def time_frames(scene, renderer, settings, kind, frames, warmup):
-    """One record: median total and per-pass ms of `frames` frames of one kind, and the
-    slowest frame's total (the frames that scroll a clipmap's level stand out there)."""
-    path = FramePath(scene, kind)
-    totals, per_pass = [], {}
+@contextmanager
+def gl_work_clock():
+    """Seconds spent in the GL_WORK calls while it is open, summed in the yielded list's item."""
+    spent = [0.0]
+    originals = []
+    for cls, names in GL_WORK:
+        for name in names:
+            method = getattr(cls, name)
+            originals.append((cls, name, method))
+
+            def timed(self, *args, _method=method, **kwargs):
+                start = time.perf_counter()
+                try:
+                    return _method(self, *args, **kwargs)
+                finally:
+                    spent[0] += time.perf_counter() - start
+            setattr(cls, name, timed)
     try:
-        for frame in range(warmup + frames):
-            path.apply(frame)
-            renderer.measure = frame >= warmup
+        yield spent
+    finally:
+        for cls, name, method in originals:
+            setattr(cls, name, method)
+
+
+def time_frames(scene, renderer, settings, kind, frames, warmup):
+    """One record: the frame time (throughput of `frames` frames after `warmup`), the median
+    host time of a frame, and, over the same frames rendered again with each pass timed, the
+    median GPU time per pass and of a frame's passes, and the slowest frame's wall time (the
+    frames that scroll a clipmap's level stand out there)."""
+    path = FramePath(scene, kind)
+    host, walls, measured = [], [], []
+    try:
+        with gl_work_clock() as work:
+            for frame in range(warmup):
+                path.apply(frame)
+                renderer.render_frame(scene, settings)
             renderer.ctx.finish()
             start = time.perf_counter()
+            for frame in range(warmup, warmup + frames):
+                path.apply(frame)
+                begin, busy = time.perf_counter(), work[0]
+                renderer.render_frame(scene, settings)
+                host.append((time.perf_counter() - begin - (work[0] - busy)) * 1000.0)
+            renderer.ctx.finish()
+            frame_ms = (time.perf_counter() - start) * 1000.0 / frames
+        renderer.measure = True
+        renderer.pass_timer.history.clear()
+        for frame in range(warmup, warmup + frames):
+            path.apply(frame)
+            begin = time.perf_counter()
             renderer.render_frame(scene, settings)
             renderer.ctx.finish()
-            if frame >= warmup:
-                totals.append((time.perf_counter() - start) * 1000.0)
-                for name, ms in renderer.timings.items():
-                    per_pass.setdefault(name, []).append(ms)
+            walls.append((time.perf_counter() - begin) * 1000.0)
+        renderer.pass_timer.flush()
+        measured = list(renderer.pass_timer.history)[-frames:]
     finally:
         path.restore()
         renderer.measure = False
-    passes = {name: statistics.median(per_pass[name] + [0.0] * (frames - len(per_pass[name])))
-              for name in PASS_ORDER if name in per_pass}
-    return {"frame": kind, "moves": path.subject, "total_ms": statistics.median(totals), "max_ms": max(totals), "passes": passes,
-            "draw_calls": renderer.scene_buffers.draw_calls}
+    passes = {name: statistics.median([timings.get(name, 0.0) for timings in measured])
+              for name in PASS_ORDER if any(name in timings for timings in measured)}
+    return {"frame": kind, "moves": path.subject, "total_ms": frame_ms, "host_ms": statistics.median(host),
+            "gpu_ms": statistics.median([sum(timings.values()) for timings in measured]), "max_ms": max(walls),
+            "passes": passes, "draw_calls": renderer.scene_buffers.draw_calls}
 
 
 def benchmark(scene, renderer, settings, grids, frames, warmup, kinds=FRAME_KINDS, reference=None):
@@ -177,12 +229,14 @@ def benchmark(scene, renderer, settings, grids, frames, warmup, kinds=FRAME_KIND
 def format_table(rows):
     names = [n for n in PASS_ORDER if any(n in r["passes"] for r in rows)]
     has_error = any("rel_mae" in r for r in rows)
-    header = ["grid", "frame"] + names + ["total", "slowest", "voxel B/voxel"] + (["relMAE", "lum ratio"] if has_error else [])
+    header = (["grid", "frame"] + names + ["GPU", "host", "frame", "slowest", "voxel B/voxel"]
+              + (["relMAE", "lum ratio"] if has_error else []))
     lines = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
     for r in rows:
         levels = f" x {r['levels']}" if r["grid"] and r["levels"] > 1 else ""
         cells = [f"{r['grid']}^3{levels}" if r["grid"] else "-", r["frame"]]
-        cells += [f"{r['passes'][n]:.1f}" if n in r["passes"] else "-" for n in names] + [f"**{r['total_ms']:.1f}**", f"{r['max_ms']:.1f}"]
+        cells += [f"{r['passes'][n]:.1f}" if n in r["passes"] else "-" for n in names]
+        cells += [f"{r['gpu_ms']:.1f}", f"{r['host_ms']:.2f}", f"**{r['total_ms']:.1f}**", f"{r['max_ms']:.1f}"]
         cells += [f"{r['voxel_bytes_per_voxel']:.0f} ({r['voxel_bytes'] / 2 ** 20:.0f} MiB)" if r["grid"] else "-"]
         if has_error:
             cells += [f"{r['rel_mae']:.3f}", f"{r['luminance_ratio']:.3f}"] if "rel_mae" in r else ["", ""]

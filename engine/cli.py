@@ -168,13 +168,15 @@ def build_parser():
     _add_animation_argument(view)
     _add_settings_arguments(view)
 
-    bench = commands.add_parser("bench", help="time each pass of static, camera, light, object and animated frames",
-                                description="Time each render pass (median over frames after warm-up, ctx.finish() + "
-                                            "wall clock) for each grid size, for the kinds of frame the viewer "
-                                            "renders once the bounces settled: static (the camera moves), camera "
-                                            "(it flies at walking speed), light (the scene's first light moves), "
-                                            "object (its smallest object moves) and, for a scene with animations, "
-                                            "animated (they play, 1/30 s a frame).")
+    bench = commands.add_parser("bench", help="time static, camera, light, object and animated frames and their passes",
+                                description="Time the kinds of frame the viewer renders once the bounces settled, for "
+                                            "each grid size: static (the camera turns), camera (it flies at walking "
+                                            "speed), light (the scene's first light moves), object (its smallest "
+                                            "object moves) and, for a scene with animations, animated (they play, "
+                                            "1/30 s a frame). Per kind: the frame time (throughput over the frames, "
+                                            "one finish at the end), the host time of a frame (its Python and the GL "
+                                            "calls that only record work), and the median GPU time of each pass "
+                                            "(GL timer queries; on llvmpipe, the wall clock around a finish).")
     bench.add_argument("scene", help="scene file: JSON, or glTF/GLB as a whole scene")
     bench.add_argument("--frames", type=_whole_number(1, MAX_BENCH_FRAMES), default=10,
                        help=f"timed frames per kind and grid, at most {MAX_BENCH_FRAMES} (default 10)")
@@ -541,7 +543,8 @@ def bench_command(args):
             check_not_an_input(args.json, "--json", renderer.inputs(scene) + ([args.reference] if args.reference else []))
         device = renderer_name(renderer.ctx)
         report(f"{scene.name}: loaded in {load_s:.2f} s, peak RSS {load_rss_mb:.0f} MB; {width}x{height}, mode "
-               f"{settings.mode}, median of {args.frames} frames after {args.warmup} warm-up per kind, on {device}")
+               f"{settings.mode}, {args.frames} frames after {args.warmup} warm-up per kind, on {device}; ms: GPU per "
+               f"pass (median), host and frame (throughput) of a frame, slowest frame")
         rows = benchmark(scene, renderer, settings, grids, args.frames, args.warmup, reference=reference)
     for row in rows:
         row.update(load_s=load_s, load_peak_rss_mb=load_rss_mb)

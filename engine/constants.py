@@ -125,6 +125,11 @@ GLSL_STRUCTS = {
     # A segment of a list: the group count of an indirect dispatch over it (x; y = z = 1) and
     # its first entry and count (xy of `range`), as the GPU counted them (engine/voxel_lists.py).
     "ListSegment": (("uvec4", "dispatch"), ("uvec4", "range")),
+    # The camera a frame is seen from (renderer.FrameCamera, glsl/lib/camera.glsl): its
+    # view-projection and inverse, its position (xyz; w: 1 where orthographic) and unit forward
+    # direction (xyz).
+    "FrameCamera": (("mat4", "view_projection"), ("mat4", "inverse_view_projection"), ("vec4", "position"),
+                    ("vec4", "forward")),
     # A draw: its world matrix, the inverse transpose of its upper 3x3 (in the upper 3x3 of a
     # mat4) and its material's index (info.x).
     "DrawRecord": (("mat4", "world"), ("mat4", "normal_matrix"), ("uvec4", "info")),
@@ -161,6 +166,7 @@ DRAW_TEST_BOX = 2
 UNIFORM_BLOCK = {
     "LIGHTS": 0,
     "SHADOW_VIEWS": 1,
+    "CAMERA": 2,  # the frame's camera (GLSL_STRUCTS["FrameCamera"]), written once a frame
 }
 
 MAX_LIGHTS = 16

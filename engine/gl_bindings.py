@@ -3,8 +3,10 @@ resource where it is bound already issues no GL call. The passes of a frame shar
 they read (the voxels' records, the G-buffer, the lights), so without the record each would bind
 it again; a frame's GL calls then grow with its passes instead of with what changes.
 
-Every texture unit, image unit and buffer binding point the engine uses is bound here; moderngl
-itself binds only its scratch unit (ctx.default_texture_unit) and non-indexed buffer targets.
+Every texture unit, image unit and buffer binding point the engine uses is bound here, and so
+are the program and indirect buffer of a compute dispatch; moderngl itself binds only its
+scratch unit (ctx.default_texture_unit) and non-indexed buffer targets, and the program of a
+draw (`program_used` notes it).
 GL code outside the engine (the viewer's GUI, a caller's own drawing) may bind what it likes in
 between: the renderer forgets the record (`forget_bindings`) when a frame starts.
 
@@ -13,6 +15,7 @@ its place; a buffer deleted while bound unbinds, and a new one at its name is a 
 import weakref
 
 from .constants import IMAGE_UNIT, STORAGE_BINDING, TEXTURE_UNIT, UNIFORM_BLOCK
+from .gl_functions import GL_DISPATCH_INDIRECT_BUFFER, gl_functions
 
 _RECORDS = weakref.WeakKeyDictionary()  # context -> {binding point: what is bound there}
 
@@ -66,3 +69,20 @@ def bind_image(texture, name, read=False, write=True, level=0, format=0):
     unit = IMAGE_UNIT[name]
     if not _bound(texture.ctx, ("image", unit), (texture, read, write, level, format)):
         texture.bind_to_image(unit, read=read, write=write, level=level, format=format)
+
+
+def use_program(program):
+    """Make a moderngl program (or compute shader) the current one."""
+    if not _bound(program.ctx, ("program",), (program,)):
+        gl_functions(program.ctx).glUseProgram(program.glo)
+
+
+def program_used(program):
+    """Note that moderngl made `program` the current one (it binds a draw's own)."""
+    _record(program.ctx)[("program",)] = (program,)
+
+
+def bind_dispatch_indirect(buffer):
+    """`buffer` as the buffer indirect dispatches read their sizes from."""
+    if not _bound(buffer.ctx, ("dispatch indirect",), (buffer,)):
+        gl_functions(buffer.ctx).glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, buffer.glo)

@@ -1,6 +1,8 @@
 """The few OpenGL 4.5 entry points moderngl does not wrap, called through ctypes: texture arrays
 of a given internal format (sRGB arrays: moderngl's texture_array has no internal format) and
-their parameters, bound with one call a unit; the viewports of a viewport array.
+their parameters, bound with one call a unit; the viewports of a viewport array; uniforms
+written to a program without binding it (glProgramUniform*), and compute dispatches that bind
+the program and the indirect buffer only where they are not bound already (engine/shaders.py).
 
 The functions come from the context's own loader: OSMesa's for an OSMesa context
 (engine/osmesa.py), else libGL, whose entry points dispatch to the current EGL or GLX context
@@ -38,7 +40,14 @@ PROTOTYPES = {
     "glBindTextureUnit": (None, _u, _u),
     "glPixelStorei": (None, _u, _i),
     "glViewportArrayv": (None, _u, _i, ctypes.POINTER(ctypes.c_float)),
+    "glUseProgram": (None, _u),
+    "glBindBuffer": (None, _u, _u),
+    "glDispatchCompute": (None, _u, _u, _u),
+    "glDispatchComputeIndirect": (None, ctypes.c_ssize_t),
+    **{f"glProgramUniform{n}{kind}v": (None, _u, _i, _i, _p) for n in (1, 2, 3, 4) for kind in ("f", "i", "ui")},
+    **{f"glProgramUniformMatrix{n}fv": (None, _u, _i, _i, ctypes.c_ubyte, _p) for n in (3, 4)},
 }
+GL_DISPATCH_INDIRECT_BUFFER = 0x90EE
 
 
 @functools.lru_cache(maxsize=None)

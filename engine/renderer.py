@@ -9,7 +9,6 @@ changed since it last ran (found from the scene's edits: engine/scene_table.py, 
 import functools
 import math
 import numbers
-import time
 from contextlib import contextmanager
 from dataclasses import dataclass
 
@@ -20,11 +19,12 @@ from . import transforms
 from . import bounces
 from .changes import FrameInputs, HeldDraws, Stage, VoxelUpdate
 from .clipmap import frame_levels, level_shift, moved_levels, scrolled_regions, with_coarser_levels
-from .constants import SKY_NEAR_REACH
+from .constants import SKY_NEAR_REACH, struct_dtype
 from .emitters import frame_emitters
 from .errors import VctError
 from .gl import create_headless_context
-from .gl_bindings import forget_bindings
+from .gl_bindings import bind_uniform_block, forget_bindings
+from .gpu_timing import PassTimer
 from .output import save_png
 from .passes.cone_trace import ConeTracePass
 from .passes.cull import CullPass
@@ -48,6 +48,7 @@ from .shaders import GLSL_ROOT, ProgramLibrary
 from .voxel_grid import VoxelGrid
 
 NEAR_PLANE = 0.01
+CAMERA_DTYPE = struct_dtype("FrameCamera")
 VOXEL_VOLUMES = {"radiance": "voxels", "normal": "voxel-normals", "albedo": "voxel-albedo", "gathered": None}
 
 
@@ -68,12 +69,40 @@ class FrameCamera:
     far: float
     pixel_angle: float  # radians between neighbouring pixels' rays, at the image centre (0: orthographic)
     orthographic: bool = False
+    buffer: object = None  # the uniform buffer the frame's camera is written into (CameraBlock)
 
-    def uniforms(self):
-        """The uniforms of glsl/lib/camera.glsl."""
-        return dict(camera_position=tuple(self.position), camera_forward=tuple(self.forward),
-                    camera_orthographic=self.orthographic,
-                    inverse_view_projection=transforms.gl_bytes(np.linalg.inv(self.view_projection)))
+    def record(self):
+        """The camera as glsl/lib/camera.glsl reads it (GLSL_STRUCTS["FrameCamera"])."""
+        record = np.zeros(1, CAMERA_DTYPE)
+        record["view_projection"] = np.asarray(self.view_projection, "f4").T.ravel()
+        record["inverse_view_projection"] = np.asarray(np.linalg.inv(self.view_projection), "f4").T.ravel()
+        record["position"] = (*self.position, float(self.orthographic))
+        record["forward"][0, :3] = self.forward
+        return record
+
+    def bind(self):
+        """The camera's uniform block, for a program that reads glsl/lib/camera.glsl."""
+        bind_uniform_block(self.buffer.buffer, "CAMERA")
+
+
+class CameraBlock:
+    """The uniform buffer holding the frame's camera: written when the camera changed."""
+
+    def __init__(self, ctx):
+        self.buffer = ctx.buffer(reserve=CAMERA_DTYPE.itemsize)
+        self.held = None
+
+    def write(self, camera):
+        """Hold `camera` (a FrameCamera, which then binds this buffer)."""
+        data = camera.record().tobytes()
+        if data != self.held:
+            self.buffer.write(data)
+            self.held = data
+        camera.buffer = self
+        return camera
+
+    def release(self):
+        self.buffer.release()
 
 
 def frame_camera(camera, size, bounds):
@@ -124,14 +153,15 @@ class Renderer:
         self._context_entered = False
         self.ctx = ctx or create_headless_context()
         self._check_size(self.size)
-        self.measure = False        # when True, each pass is timed with ctx.finish() + wall clock
+        self.measure = False        # when True, each pass is timed (GPU timer queries, read a few frames later)
         self.progressive = False    # bounces 0: one bounce per frame on top of the last (the viewer)
         self.track_changes = True   # False: every frame recomputes every stage (for comparison)
-        self.timings = {}           # ms per pass of the last frame (when measuring)
         self.passes_ran = []        # the passes the last frame ran, in order
         self.output = None          # the ScreenTarget holding the last frame's HDR result
         self.frame_settings = self.settings
         self.programs = ProgramLibrary(self.ctx, glsl_root)
+        self.pass_timer = PassTimer(self.ctx)
+        self.camera_block = CameraBlock(self.ctx)
         self.table = SceneTable()
         self.scene_buffers = SceneBuffers(self.ctx)
         self.grid = None
@@ -247,11 +277,14 @@ class Renderer:
         if not self.measure:
             yield
             return
-        self.ctx.finish()
-        start = time.perf_counter()
-        yield
-        self.ctx.finish()
-        self.timings[name] = self.timings.get(name, 0.0) + (time.perf_counter() - start) * 1000.0
+        with self.pass_timer.timed(name):
+            yield
+
+    @property
+    def timings(self):
+        """Milliseconds per pass of the latest frame measured whose figures are in (on a GPU, a
+        few frames back: engine/gpu_timing.py)."""
+        return self.pass_timer.timings
 
     @_current
     def render_frame(self, scene, settings=None):
@@ -260,18 +293,23 @@ class Renderer:
             raise VctError(f"must be an engine Scene (engine.load_scene), got {type(scene).__name__}", field="scene")
         s = _settings(settings or self.settings)
         self.frame_settings = s
-        forget_bindings(self.ctx)  # GL code between frames (a window's GUI) may have bound anything
-        self.timings, self.passes_ran = {}, []
+        if not self._owns_context:  # GL code between frames (a window's GUI) may have bound anything
+            forget_bindings(self.ctx)
+        self.passes_ran = []
         self.scene_buffers.draw_calls = 0
         self.table.sync(scene, rebuild=not self.track_changes)
         self.scene_buffers.sync(self.table)
         frame = FrameInputs(scene, self.table)
-        self.output = self._frame(frame, scene, s)
+        if self.measure:
+            with self.pass_timer.frame():
+                self.output = self._frame(frame, scene, s)
+        else:
+            self.output = self._frame(frame, scene, s)
         return self.output
 
     def _frame(self, frame, scene, s):
         """The passes of one frame; returns the target holding its image."""
-        camera = frame_camera(scene.camera, self.size, frame.bounds)
+        camera = self.camera_block.write(frame_camera(scene.camera, self.size, frame.bounds))
         resting = self.eye is not None and np.array_equal(camera.position, self.eye)
         self.eye = camera.position
         shadow_maps = self._shadows(frame, scene.source)
@@ -321,13 +359,18 @@ class Renderer:
             if changed == {"lights"} and len(stage.last("lights")) == len(inputs["lights"]):
                 redraw = {i for i, (a, b) in enumerate(zip(stage.last("lights"), inputs["lights"])) if a != b}
             held = self._caster_bounds
-            if changed == {"casters"} and held is not None and held[0] == table.structure:
+            moved = None
+            if held is not None and held[0] == table.structure and stage.last("casters") is not None:
                 moved = table.changed_casters(stage.last("casters")[1])
+            if changed == {"casters"} and moved is not None:
                 redraw = set()
                 changed_casters = [(lo, hi) for lo, hi in held[1][moved]] + [(lo, hi) for lo, hi in table.draw_bounds[moved]]
             with self.timed("shadow"):
                 self.shadow.render(frame.lights, self.scene_buffers, frame.bounds, redraw, source, changed_casters)
-            self._caster_bounds = (table.structure, table.draw_bounds.copy())
+            if moved is None:
+                self._caster_bounds = (table.structure, table.draw_bounds.copy())
+            else:
+                held[1][moved] = table.draw_bounds[moved]
             stage.ran(inputs)
         return self.shadow.maps
 
@@ -338,7 +381,7 @@ class Renderer:
                       draws=(table.structure, table.draws_changed_at))
         if stage.changed(inputs, self.track_changes):
             with self.timed("gbuffer"):
-                self.gbuffer.render(self.scene_buffers, camera.view_projection)
+                self.gbuffer.render(self.scene_buffers, camera)
             stage.ran(inputs)
         return self.gbuffer.target
 
@@ -619,7 +662,8 @@ class Renderer:
     def display_target(self):
         """Tone-map the last frame on the GPU; returns the 8-bit ScreenTarget (for a window)."""
         s = self.frame_settings
-        forget_bindings(self.ctx)
+        if not self._owns_context:
+            forget_bindings(self.ctx)
         with self.timed("tonemap"):
             if s.shown.data:  # encoded data: shown as stored, no curve, no sRGB
                 return self.tonemap.render(self.output.texture, 1.0, "none", encode_srgb=False)
@@ -653,6 +697,8 @@ class Renderer:
             self.emitters.release()
             self.environment.release()
             self.scene_buffers.release()
+            self.pass_timer.release()
+            self.camera_block.release()
         if self._owns_context:
             self.ctx.release()
         self.ctx = None

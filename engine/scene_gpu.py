@@ -120,7 +120,6 @@ class MaterialTextures:
         self.ctx = ctx
         self.arrays = []
         self.slots = {}      # id(Texture) -> (Texture, slot)
-        self._blank = None   # a 1x1 array at the units no array uses
 
     def sync(self, textures):
         """Hold exactly `textures` (scene.Texture objects); True where the arrays were made anew
@@ -146,15 +145,11 @@ class MaterialTextures:
         return NO_TEXTURE if texture is None else self.slots[id(texture)][1]
 
     def bind(self):
-        """Every array at its unit of TEXTURE_UNIT["MATERIAL_TEXTURES"] on, a blank one at the others."""
+        """Every array at its unit of TEXTURE_UNIT["MATERIAL_TEXTURES"] on (the units past them
+        are never sampled: no material names them)."""
         first = TEXTURE_UNIT["MATERIAL_TEXTURES"]
-        for index in range(MATERIAL_TEXTURE_ARRAYS):
-            if index < len(self.arrays):
-                bind_texture(self.arrays[index], first + index)
-            else:
-                if self._blank is None:
-                    self._blank = TextureArray(self.ctx, [np.full((1, 1, 4), 255, np.uint8)], False, "REPEAT", "REPEAT")
-                bind_texture(self._blank, first + index)
+        for index, array in enumerate(self.arrays):
+            bind_texture(array, first + index)
 
     def memory_bytes(self):
         return sum(array.memory_bytes() for array in self.arrays)
@@ -166,9 +161,6 @@ class MaterialTextures:
 
     def release(self):
         self._release_arrays()
-        if self._blank is not None:
-            self._blank.release()
-            self._blank = None
 
 
 def texture_groups(textures, max_layers):

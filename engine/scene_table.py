@@ -18,6 +18,7 @@ what shadow maps see of it (geometry or alpha cut-out). A stage of the frame kee
 last ran at and asks for the draws changed since: a frame where nothing moved costs the same
 whatever the scene holds.
 """
+import collections
 from dataclasses import dataclass
 
 import numpy as np
@@ -27,6 +28,7 @@ from .emitters import is_emissive
 from .scene import EDITS, Light, Material, Mesh, Node
 
 EXTREMES_HULL_VERTICES = 64  # meshes with more vertices are bounded through their convex hull's
+RECENT_CHANGES = 1 << 16     # draws of the recent changes kept, to find what changed since a stamp
 
 
 def material_values(material):
@@ -91,6 +93,8 @@ class SceneTable:
         self.casters_changed_at = 0     # ... its geometry or alpha cut-out
         self.emitters_changed_at = 0    # ... an emissive draw's geometry or surface, or which draws emit
         self.lights_changed_at = 0
+        self._changes = collections.deque()  # (stamp, kind, draws) of the recent changes, oldest first
+        self._noted = 0
         self._empty()
 
     def _empty(self):
@@ -125,11 +129,20 @@ class SceneTable:
 
     def changed_draws(self, since):
         """The draws whose geometry or surface changed after stamp `since`."""
-        return np.flatnonzero((self.geometry_stamp > since) | (self.surface_stamp > since))
+        return self._changed_since(since, ("geometry", "surface"))
 
     def changed_casters(self, since):
         """The draws whose geometry or alpha cut-out changed after stamp `since`."""
-        return np.flatnonzero((self.geometry_stamp > since) | (self.caster_stamp > since))
+        return self._changed_since(since, ("geometry", "caster"))
+
+    def _changed_since(self, since, kinds):
+        """From the recent changes where they reach back to `since` (a cost that grows with the
+        draws changed), else from every draw's stamps."""
+        if self._changes and self._changes[0][0] <= since + 1:
+            found = [draws for stamp, kind, draws in self._changes if stamp > since and kind in kinds]
+            return np.unique(np.concatenate(found)) if found else np.zeros(0, np.int64)
+        stamps = {"geometry": self.geometry_stamp, "surface": self.surface_stamp, "caster": self.caster_stamp}
+        return np.flatnonzero(np.logical_or.reduce([stamps[kind] > since for kind in kinds]))
 
     def emissive_draws(self):
         """The draws whose material emits light."""
@@ -150,6 +163,8 @@ class SceneTable:
         self._empty()
         self.root = root
         self.structure += 1
+        self._changes.clear()  # a rebuilt table is changed everywhere: its stamps say so
+        self._noted = 0
         stamp = self.stamp
         self.draws_changed_at = self.casters_changed_at = self.emitters_changed_at = self.lights_changed_at = stamp
         nodes, parents, depths, ends = [], [], [], []
@@ -188,7 +203,6 @@ class SceneTable:
         self.light_row = np.array([node.light is not None for node in nodes], bool)
         self.light_rows = np.flatnonzero(self.light_row)
         self._update_lights()
-        self._update_scene_bounds()
 
     def _apply(self, edited):
         """Apply edits in place; False where one changes the graph's shape (rebuild instead)."""
@@ -228,8 +242,6 @@ class SceneTable:
             self._mesh_edited(slot)
         if lights:
             self._update_lights()
-        if moved_rows or meshes:
-            self._update_scene_bounds()
         return True
 
     def _move(self, rows):
@@ -263,7 +275,10 @@ class SceneTable:
     def _update_bounds(self, draws):
         """World bounds of `draws`, a mesh at a time: a mesh that several draws use through its
         extreme vertices (found once), one that a single draw uses through all of them (one
-        transform costs less than finding its hull)."""
+        transform costs less than finding its hull). The scene's bounds follow: found anew from
+        every draw only where one of `draws` held or holds a side of them."""
+        lo, hi = self.bounds
+        before = self.draw_bounds[draws]
         meshes = self.draw_mesh[draws]
         for slot in np.unique(meshes):
             chosen = draws[meshes == slot]
@@ -277,6 +292,9 @@ class SceneTable:
             p = np.matmul(points[None], np.swapaxes(world[:, :3, :3], 1, 2)) + world[:, None, :3, 3]
             self.draw_bounds[chosen, 0] = p.min(axis=1)
             self.draw_bounds[chosen, 1] = p.max(axis=1)
+        boxes = np.concatenate([before, self.draw_bounds[draws]])
+        if len(self.draw_bounds) == len(draws) or np.any(boxes[:, 0] <= lo) or np.any(boxes[:, 1] >= hi):
+            self._update_scene_bounds()
 
     def _update_scene_bounds(self):
         if self.draw_count:
@@ -284,16 +302,27 @@ class SceneTable:
         else:
             self.bounds = (np.zeros(3), np.zeros(3))
 
+    def _note(self, kind, draws):
+        """Record that `draws` changed in `kind` at this stamp, among the recent changes (the
+        oldest forgotten past RECENT_CHANGES draws)."""
+        self._changes.append((self.stamp, kind, np.asarray(draws, np.int64)))
+        self._noted += len(draws)
+        while self._noted > RECENT_CHANGES:
+            self._noted -= len(self._changes.popleft()[2])
+
     def _geometry_changed(self, draws):
+        self._note("geometry", draws)
         self.geometry_stamp[draws] = self.stamp
         self.draws_changed_at = self.casters_changed_at = self.stamp
         if self.material_emits[self.draw_material[draws]].any():
             self.emitters_changed_at = self.stamp
 
     def _surface_changed(self, draws, cutout, emission):
+        self._note("surface", draws)
         self.surface_stamp[draws] = self.stamp
         self.draws_changed_at = self.stamp
         if cutout:
+            self._note("caster", draws)
             self.caster_stamp[draws] = self.stamp
             self.casters_changed_at = self.stamp
         if emission:

@@ -4,12 +4,17 @@ Every file gets a source-string number; `#line L N` directives are emitted aroun
 each include, so a driver message such as "3:12(5): error: ..." can be translated
 back to "glsl/lib/lights.glsl:12: error: ...".
 """
+import ctypes
 import re
 from dataclasses import dataclass, field
 from pathlib import Path
 
+import numpy as np
+
 from . import constants
 from .errors import ShaderError
+from .gl_bindings import bind_dispatch_indirect, use_program
+from .gl_functions import gl_functions
 from .input_files import os_problem, read_regular_file
 from .limits import MAX_INCLUDE_DEPTH, MAX_SHADER_BYTES
 
@@ -237,6 +242,26 @@ def _shader_error(exc, sources):
     return error
 
 
+UNIFORM_KINDS = {"f": ("<f4", "f"), "i": ("<i4", "i"), "I": ("<u4", "ui")}  # moderngl's fmt -> numpy, GL suffix
+
+
+def _write_uniform(program, member, value):
+    """Write a uniform of `program` (moderngl's Uniform `member`) with glProgramUniform*: `value`
+    bytes (its leading elements, as many as the uniform has), or numbers."""
+    kind = member.fmt[-1]
+    dtype, suffix = UNIFORM_KINDS[kind]
+    data = bytes(value) if isinstance(value, (bytes, bytearray)) else np.asarray(value, dtype).tobytes()
+    data = data[:member.array_length * member.element_size]
+    count = max(1, len(data) // member.element_size)
+    buffer = ctypes.create_string_buffer(data, len(data))
+    gl = gl_functions(program.ctx)
+    if member.matrix:
+        side = 3 if member.dimension == 9 else 4
+        getattr(gl, f"glProgramUniformMatrix{side}fv")(program.glo, member.location, count, 0, buffer)
+    else:
+        getattr(gl, f"glProgramUniform{member.dimension}{suffix}v")(program.glo, member.location, count, buffer)
+
+
 def _same_value(a, b):
     """Whether two uniform values (numbers, bools, bytes, tuples of them) are the same value."""
     try:
@@ -308,19 +333,27 @@ class ProgramHandle:
     def set(self, **uniforms):
         """Set the uniforms the program uses; ones the compiler removed are skipped, and so are
         the trailing elements of an array it shortened to the ones it reads. A uniform that
-        holds the value given already is not written again: every write costs GL calls, and
-        most of a frame's uniforms hold what they held the frame before."""
+        holds the value given already is not written again: most of a frame's uniforms hold what
+        they held the frame before. A write is one GL call (glProgramUniform*: the program is
+        not bound for it)."""
         held = self._uniforms
         for name, value in uniforms.items():
             if name in held and _same_value(held[name], value):
                 continue
             if name in self.program:
-                member = self.program[name]
-                if isinstance(value, (bytes, bytearray)):
-                    member.write(value[:member.array_length * member.element_size])
-                else:
-                    member.value = value
+                _write_uniform(self.program, self.program[name], value)
             held[name] = value
+
+    def run(self, x=1, y=1, z=1):
+        """Dispatch the compute program over x * y * z workgroups."""
+        use_program(self.program)
+        gl_functions(self.program.ctx).glDispatchCompute(x, y, z)
+
+    def run_indirect(self, buffer, offset=0):
+        """Dispatch the compute program over the workgroup counts at byte `offset` of `buffer`."""
+        use_program(self.program)
+        bind_dispatch_indirect(buffer)
+        gl_functions(self.program.ctx).glDispatchComputeIndirect(offset)
 
 
 class ProgramLibrary:

@@ -126,6 +126,7 @@ class VoxelGrid:
         self.ctx = ctx
         self.n = 0
         self.regions = ()  # a VoxelRegion per level, finest first
+        self._uniforms = None
         self.list_room = 0
         self._resources = []
         self.epoch = Epoch()  # of the covered list: a new one whenever it changes (covered_changed)
@@ -363,12 +364,16 @@ class VoxelGrid:
     # -- binding ---------------------------------------------------------------------------
 
     def uniforms(self):
-        corners = np.zeros((MAX_VOXEL_LEVELS, 3), "f4")
-        sizes = np.zeros(MAX_VOXEL_LEVELS, "f4")
-        for level in range(self.levels):
-            corners[level], sizes[level] = self.level_bounds(level)[0], self.level_voxel_size(level)
-        return dict(voxel_grid=self.n, voxel_levels=self.levels, level_region_min=corners.tobytes(), level_voxel_size=sizes.tobytes(),
-                    voxel_size=self.voxel_size, voxel_max_mip=float(self.mip_count - 1))
+        """The uniforms of glsl/lib/voxel.glsl (made again when the grid or its levels move)."""
+        if self._uniforms is None or self._uniforms[0] is not self.regions or self._uniforms[1]["voxel_grid"] != self.n:
+            corners = np.zeros((MAX_VOXEL_LEVELS, 3), "f4")
+            sizes = np.zeros(MAX_VOXEL_LEVELS, "f4")
+            for level in range(self.levels):
+                corners[level], sizes[level] = self.level_bounds(level)[0], self.level_voxel_size(level)
+            self._uniforms = (self.regions, dict(voxel_grid=self.n, voxel_levels=self.levels, level_region_min=corners.tobytes(),
+                                        level_voxel_size=sizes.tobytes(), voxel_size=self.voxel_size,
+                                        voxel_max_mip=float(self.mip_count - 1)))
+        return self._uniforms[1]
 
     def use_surface(self):
         """The voxels' records, their resolved surface and the emitters' and the sky's light at
@@ -414,7 +419,7 @@ class VoxelGrid:
         indirect dispatches that follow."""
         segment.table.bind()
         handle.set(segment=segment.row)
-        handle.program.run_indirect(segment.table.buffer, SEGMENT.itemsize * segment.row)
+        handle.run_indirect(segment.table.buffer, SEGMENT.itemsize * segment.row)
         self.barrier()
 
     def size_list(self, voxel_list):
@@ -429,7 +434,7 @@ class VoxelGrid:
         bind_storage(buffer, "COUNTED")
         table.bind()
         self.size_program.set(count_index=count_index, entries_first=entries_first, row=row)
-        self.size_program.program.run(1)
+        self.size_program.run(1)
         self.barrier()
 
     def barrier(self):
@@ -455,7 +460,7 @@ class VoxelGrid:
             bind_texture(volume, "VOXEL_INSPECT")
             self.read_program.set(level=level)
             bind_storage(buffer, "READBACK")
-            self.read_program.program.run(*(math.ceil(side / VOLUME_GROUP) for side in (width, height, depth)))
+            self.read_program.run(*(math.ceil(side / VOLUME_GROUP) for side in (width, height, depth)))
             self.ctx.memory_barrier(self.ctx.SHADER_STORAGE_BARRIER_BIT)
             return np.frombuffer(buffer.read(), dtype="f4").reshape(shape).copy()
         finally:

@@ -25,7 +25,7 @@ class ConeTracePass:
         self.programs = {(lit, sky): programs.program(
             {name: 1 for name, on in (("EMITTERS", lit), ("SKY", sky)) if on} or None,
             vertex_shader="lib/fullscreen.vert", fragment_shader="cone_trace/shade_pixels.frag",
-            reads=(*GBuffer.READS, "TEX_DIRECT_LIGHT", *VoxelGrid.CONE_READS, "SSBO_VOXEL_GATHERED",
+            reads=(*GBuffer.READS, "UBO_CAMERA", "TEX_DIRECT_LIGHT", *VoxelGrid.CONE_READS, "SSBO_VOXEL_GATHERED",
                    "SSBO_VOXEL_EMITTER_IRRADIANCE", "SSBO_VOXEL_SKY_IRRADIANCE", "TEX_ENVIRONMENT", "SSBO_EMITTER_TRIANGLES",
                    "SSBO_EMITTER_PATCHES", "SSBO_UNSHARED_PIXELS"),
             writes=("SSBO_CONE_PIXELS", "SSBO_SHARED_PIXELS", "IMG_DIFFUSE_IN"))
@@ -33,11 +33,11 @@ class ConeTracePass:
         # The traced pixels' programs: the cone pixels', then the unshared pixels'.
         self.traced_programs = [programs.compute(
             "cone_trace/trace_listed_pixels.comp", defines,
-            reads=(*GBuffer.READS, *VoxelGrid.CONE_READS, "TEX_VOXEL_CONE_EMISSION", "TEX_ENVIRONMENT", "SSBO_CONE_PIXELS",
+            reads=(*GBuffer.READS, "UBO_CAMERA", *VoxelGrid.CONE_READS, "TEX_VOXEL_CONE_EMISSION", "TEX_ENVIRONMENT", "SSBO_CONE_PIXELS",
                    "SSBO_SHARED_PIXELS", "SSBO_UNSHARED_PIXELS"),
             writes=("IMG_IMAGE_OUT", "IMG_DIFFUSE_IN", "IMG_SPECULAR_IN")) for defines in (None, {"TRACE_UNSHARED": 1})]
         self.shared_program = programs.compute(
-            "cone_trace/share_anchor_cones.comp", reads=(*GBuffer.READS, *VoxelGrid.CONE_READS, "SSBO_CONE_PIXELS", "SSBO_SHARED_PIXELS",
+            "cone_trace/share_anchor_cones.comp", reads=(*GBuffer.READS, "UBO_CAMERA", *VoxelGrid.CONE_READS, "SSBO_CONE_PIXELS", "SSBO_SHARED_PIXELS",
                                                           "IMG_DIFFUSE_IN", "IMG_SPECULAR_IN"),
             writes=("SSBO_UNSHARED_PIXELS", "IMG_IMAGE_OUT"))
         self.target = ScreenTarget(ctx, size)
@@ -72,7 +72,8 @@ class ConeTracePass:
         grid_uniforms = dict(grid.uniforms(), voxel_emitters=emitters.count > 0)
         program.set(**grid_uniforms, **cone_uniforms, output_kind=SHADER_ENUMS["OUTPUT"]["ao" if terms.ao else "radiance"], include_direct=terms.direct,
                          include_diffuse=terms.diffuse, include_specular=terms.specular, ao_distance=float(ao_distance),
-                         pixel_angle=float(camera.pixel_angle), **camera.uniforms())
+                         pixel_angle=float(camera.pixel_angle))
+        camera.bind()
         for pixel_list in (self.cone_pixels, self.shared_pixels, self.unshared_pixels):
             pixel_list.write(np.array([0, 1, 1, 0], dtype="u4").tobytes())  # no group, no pixel yet
         for name, pixel_list in (("CONE_PIXELS", self.cone_pixels), ("SHARED_PIXELS", self.shared_pixels),
@@ -91,8 +92,8 @@ class ConeTracePass:
             # The anchors first, then the pixels between them, then those no anchor stood for.
             for handle, pixel_list in ((cone_program, self.cone_pixels), (self.shared_program, self.shared_pixels),
                                        (unshared_program, self.unshared_pixels)):
-                handle.set(**grid_uniforms, **cone_uniforms, **camera.uniforms())
-                handle.program.run_indirect(pixel_list)
+                handle.set(**grid_uniforms, **cone_uniforms)
+                handle.run_indirect(pixel_list)
                 self.ctx.memory_barrier(barrier)
         return self.target
 

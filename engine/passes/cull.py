@@ -16,7 +16,7 @@ import numpy as np
 
 from ..constants import LIST_GROUP, MAX_DRAW_VIEWS, struct_dtype
 from ..errors import VctError
-from ..gl_bindings import bind_storage
+from ..gl_bindings import bind_storage, program_used
 from ..scene_gpu import VERTEX_ATTRIBUTES
 
 VIEW_DTYPE = struct_dtype("DrawView")
@@ -140,6 +140,7 @@ class DrawList:
         first, count = self.bucket_ranges[bucket]
         if count:
             self.vertex_array(handle, buffers).render_indirect(self.commands, GL_TRIANGLES, count=count, first=first)
+            program_used(handle.program)
             buffers.draw_calls += 1
 
     def release(self):
@@ -168,7 +169,7 @@ class CullPass:
         bind_storage(draw_list.table, "COMMAND_TABLE")
         bind_storage(draw_list.commands, "DRAW_COMMANDS")
         self.reset.set(view_count=len(views))
-        self.reset.program.run(max(1, math.ceil(draw_list.command_count / LIST_GROUP)))
+        self.reset.run(max(1, math.ceil(draw_list.command_count / LIST_GROUP)))
         self.ctx.memory_barrier(self.ctx.SHADER_STORAGE_BARRIER_BIT)
         if draw_list.item_count and len(views):
             bind_storage(buffers.draws, "DRAWS")
@@ -177,7 +178,7 @@ class CullPass:
             bind_storage(draw_list.items, "DRAW_ITEMS")
             bind_storage(buffers.pool.cluster_buffer, "CLUSTERS")
             bind_storage(draw_list.instances, "DRAW_INSTANCES")
-            self.cull.program.run(math.ceil(max(int(v["items"][1]) for v in views) / LIST_GROUP), len(views))
+            self.cull.run(math.ceil(max(int(v["items"][1]) for v in views) / LIST_GROUP), len(views))
         self.ctx.memory_barrier(self.ctx.COMMAND_BARRIER_BIT | self.ctx.VERTEX_ATTRIB_ARRAY_BARRIER_BIT
                                 | self.ctx.SHADER_STORAGE_BARRIER_BIT)
 

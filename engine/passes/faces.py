@@ -59,7 +59,7 @@ class FaceViewsPass:
         grid.use_faces()
         bind_storage(self.totals_buffer, "READBACK")
         self.totals_program.set(top_level=grid.mip_count - 2)  # the face views hold levels 1 and up
-        self.totals_program.program.run(1)
+        self.totals_program.run(1)
         self.ctx.memory_barrier(self.ctx.SHADER_STORAGE_BARRIER_BIT)
 
     def read_totals(self):

@@ -124,7 +124,7 @@ class GatherPass:
         rows = np.zeros((MAX_SEGMENT_ROWS, 2), "u4")
         rows[:len(row_buckets)] = row_buckets
         self.scan_program.set(bucket_count=bucket_count, row_count=len(row_buckets), row_buckets=rows.tobytes())
-        self.scan_program.program.run(1)
+        self.scan_program.run(1)
         grid.barrier()
 
     def find_anchors(self, grid):

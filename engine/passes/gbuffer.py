@@ -4,7 +4,6 @@ textures), with a depth buffer; back faces of single-sided materials are culled.
 GBuffer the screen passes read."""
 import numpy as np
 
-from .. import transforms
 from ..constants import DRAW_TEST_FRUSTUM, HDR_FORMAT
 from ..gl_bindings import bind_texture
 from ..scene_gpu import DRAW_FLAGS
@@ -51,7 +50,7 @@ class GBufferPass:
         self.programs = {(mapped, extras): programs.program(
             {name: 1 for name, wanted in (("NORMAL_MAP", mapped), ("VERTEX_EXTRAS", extras)) if wanted},
             vertex_shader="gbuffer/draw_surfaces.vert", fragment_shader="gbuffer/draw_surfaces.frag",
-            reads=("SSBO_DRAWS", "SSBO_MATERIALS", "TEX_MATERIAL_TEXTURES"))
+            reads=("UBO_CAMERA", "SSBO_DRAWS", "SSBO_MATERIALS", "TEX_MATERIAL_TEXTURES"))
             for mapped in (False, True) for extras in (False, True)}
         self.buckets = [(mapped, extras, culling) for (mapped, extras) in self.programs for culling in self.CULLING]
         self.draw_list = DrawList(ctx, self.bucket_of, len(self.buckets))
@@ -68,10 +67,11 @@ class GBufferPass:
         self.target.release()
         self.target = GBuffer(self.ctx, size)
 
-    def render(self, buffers, view_projection):
-        """Cull the scene's draws (SceneBuffers) against the camera's frustum and draw them."""
+    def render(self, buffers, camera):
+        """Cull the scene's draws (SceneBuffers) against the frustum of `camera` (a
+        renderer.FrameCamera) and draw them."""
         views = view_records(1)
-        views["view_projection"][0] = np.asarray(view_projection, "f4").T.ravel()
+        views["view_projection"][0] = np.asarray(camera.view_projection, "f4").T.ravel()
         views["items"][0] = (0, 0, DRAW_TEST_FRUSTUM, 0)
         self.draw_list.build(buffers)
         views["items"][0, 1] = self.draw_list.item_count
@@ -82,11 +82,11 @@ class GBufferPass:
         gbuffer.framebuffer.clear(0.0, 0.0, 0.0, 0.0, depth=1.0)
         self.ctx.enable_only(self.ctx.DEPTH_TEST)
         buffers.bind()
+        camera.bind()
         for bucket, (mapped, extras, culling) in enumerate(self.buckets):
             if not self.draw_list.bucket_ranges[bucket][1]:
                 continue
             program = self.programs[mapped, extras]
-            program.set(view_projection=transforms.gl_bytes(view_projection))
             if culling != "none":
                 self.ctx.front_face = culling
                 self.ctx.enable(self.ctx.CULL_FACE)

@@ -6,7 +6,7 @@ from .target import ScreenTarget
 class GBufferViewPass:
     def __init__(self, ctx, programs, size):
         self.program = programs.program(vertex_shader="lib/fullscreen.vert", fragment_shader="gbuffer_view/show_gbuffer.frag",
-                                        reads=("TEX_GBUF_POSITION", "TEX_GBUF_NORMAL", "TEX_GBUF_ALBEDO"))
+                                        reads=("TEX_GBUF_POSITION", "TEX_GBUF_NORMAL", "TEX_GBUF_ALBEDO", "UBO_CAMERA"))
         self.target = ScreenTarget(ctx, size)
 
     def resize(self, size):
@@ -14,7 +14,8 @@ class GBufferViewPass:
 
     def render(self, gbuffer, view, camera):
         gbuffer.use()
-        self.program.set(**camera.uniforms(), view=SHADER_ENUMS["VIEW"][view], far_plane=float(camera.far))
+        camera.bind()
+        self.program.set(view=SHADER_ENUMS["VIEW"][view], far_plane=float(camera.far))
         self.target.draw(self.program)
         return self.target
 

@@ -7,7 +7,7 @@ from .target import ScreenTarget
 class LightingPass:
     def __init__(self, ctx, programs, size):
         self.program = programs.program(vertex_shader="lib/fullscreen.vert", fragment_shader="lighting/shade_lights.frag",
-                                        reads=(*GBuffer.READS, "TEX_SHADOW_ATLAS", "UBO_LIGHTS", "UBO_SHADOW_VIEWS"))
+                                        reads=(*GBuffer.READS, "TEX_SHADOW_ATLAS", "UBO_LIGHTS", "UBO_SHADOW_VIEWS", "UBO_CAMERA"))
         self.target = ScreenTarget(ctx, size)
 
     def resize(self, size):
@@ -17,7 +17,7 @@ class LightingPass:
         """`camera`: renderer.FrameCamera."""
         gbuffer.use()
         shadow_maps.bind(self.program)
-        self.program.set(**camera.uniforms())
+        camera.bind()
         self.target.draw(self.program)
         return self.target
 

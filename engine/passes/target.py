@@ -1,6 +1,8 @@
 """A colour render target and the fullscreen-triangle draw that the screen-space passes share."""
 import numpy as np
 
+from ..gl_bindings import program_used
+
 
 class ScreenTarget:
     def __init__(self, ctx, size, components=4, dtype="f4"):
@@ -30,6 +32,7 @@ class ScreenTarget:
         self.ctx.viewport = (0, 0, *self.size)
         self.ctx.disable(self.ctx.DEPTH_TEST | self.ctx.BLEND)
         vao[1].render(self.ctx.TRIANGLES, vertices=3)
+        program_used(program)
 
     def read(self):
         """Pixels as float32 (H, W, components), row 0 at the top (uint8 for 8-bit targets)."""

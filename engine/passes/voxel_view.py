@@ -17,7 +17,7 @@ def shown_values(grid, view):
 class VoxelViewPass:
     def __init__(self, ctx, programs, size):
         self.program = programs.program(vertex_shader="lib/fullscreen.vert", fragment_shader="voxel_view/march_voxels.frag",
-                                        reads=("TEX_VOXEL_INSPECT",))
+                                        reads=("TEX_VOXEL_INSPECT", "UBO_CAMERA"))
         self.target = ScreenTarget(ctx, size)
 
     def resize(self, size):
@@ -26,7 +26,8 @@ class VoxelViewPass:
     def render(self, grid, view, mip, level, camera):
         volume = grid.dense(shown_values(grid, view))  # an inspection volume, with its hardware mip chain
         bind_texture(volume, "VOXEL_INSPECT")
-        self.program.set(**grid.uniforms(), **camera.uniforms(), show=SHOW[view], mip=float(mip), shown_level=level,
+        camera.bind()
+        self.program.set(**grid.uniforms(), show=SHOW[view], mip=float(mip), shown_level=level,
                          viewport_size=tuple(float(x) for x in self.target.size))
         self.target.draw(self.program)
         return self.target

@@ -216,7 +216,7 @@ class VoxelizePass:
         lo, hi = (np.asarray(corner, int) for corner in voxels)
         size = hi - lo
         self.mark_box.set(**grid.uniforms(), marked_level=level, box_min=tuple(int(c) for c in lo), box_size=tuple(int(c) for c in size))
-        self.mark_box.program.run(-(-int(np.prod(size)) // LIST_GROUP))
+        self.mark_box.run(-(-int(np.prod(size)) // LIST_GROUP))
         grid.barrier()
 
     def _rasterize(self, grid, stage, draw_list, buffers, chunk_first, held_draws=None):

@@ -5,6 +5,7 @@
 // coordinates (VERTEX_EXTRAS), those. Without them they are not passed on: on llvmpipe every
 // output of this stage costs each triangle's setup time. Each instance is a draw of the list
 // (lib/draws.glsl).
+#include "lib/camera.glsl"
 #include "lib/draws.glsl"
 #include "lib/material.glsl"
 
@@ -12,7 +13,6 @@ in uint in_instance;  // the draw and view of this instance (lib/draws.glsl)
 in vec3 in_position;
 in vec3 in_normal;
 in vec2 in_texcoord;
-uniform mat4 view_projection;
 out vec3 world_position;
 out vec3 world_normal;
 flat out uint material;
@@ -47,5 +47,5 @@ void main() {
     texcoord = in_texcoord;
 #endif
     material = draw.info.x;
-    gl_Position = view_projection * p;
+    gl_Position = camera.view_projection * p;
 }

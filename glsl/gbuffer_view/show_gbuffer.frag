@@ -12,5 +12,5 @@ void main() {
     if (!s.covered) { out_value = vec4(0.0); return; }
     if (view == VIEW_ALBEDO) out_value = vec4(s.albedo, 1.0);
     else if (view == VIEW_NORMAL) out_value = vec4(0.5 * s.normal + 0.5, 1.0);
-    else out_value = vec4(vec3(dot(s.position - camera_position, camera_forward) / far_plane), 1.0);
+    else out_value = vec4(vec3(dot(s.position - camera.position.xyz, camera.forward.xyz) / far_plane), 1.0);
 }
