@@ -404,6 +404,14 @@ class Node(Tracked):
         for child in self.children:
             yield from child.walk(world)
 
+    def nodes(self):
+        """Yield this node and every node below it, depth first."""
+        stack = [self]
+        while stack:
+            node = stack.pop()
+            yield node
+            stack.extend(reversed(node.children))
+
     def find(self, name):
         return next((node for node, _ in self.walk() if node.name == name), None)
 
@@ -464,11 +472,23 @@ class Scene:
     files: tuple = ()  # every file the scene was read from (resolved paths): outputs must not overwrite one
     camera_node: Node = None  # the camera node `camera` was placed from (None: the scene file's camera)
 
+    _shape: tuple = field(default=None, init=False, repr=False, compare=False)  # see _animated_nodes
+
+    def _animated_nodes(self):
+        """(the animated nodes in the order they come, the path of nodes from the root to the
+        camera node), found again only after an edit of the graph's shape."""
+        key = (structure_edits(), id(self.root), id(self.camera_node))
+        if self._shape is None or self._shape[0] != key:
+            animated = [node for node in self.root.nodes() if node.animation is not None]
+            path = _path_to(self.root, self.camera_node) if self.camera_node is not None else None
+            self._shape = (key, animated, path)
+        return self._shape[1], self._shape[2]
+
     def animations(self):
         """{name: duration in seconds} of the animations the scene's nodes play (their last
         keyframe), in the order the nodes come."""
         durations = {}
-        for node, _ in self.root.walk():
+        for node in self._animated_nodes()[0]:
             if node.animation is not None:
                 for name, duration in node.animation.durations().items():
                     durations[name] = max(durations.get(name, 0.0), duration)
@@ -494,11 +514,13 @@ class Scene:
         names = list(durations)
         longest = max(durations.values(), default=0.0)
         local_t = float(t) % longest if longest > 0.0 else 0.0
-        for node, _ in self.root.walk():
-            if node.animation is not None:
-                node.translation, node.rotation_deg, node.scale = node.animation.pose(local_t, names)
+        animated, camera_path = self._animated_nodes()
+        for node in animated:
+            node.translation, node.rotation_deg, node.scale = node.animation.pose(local_t, names)
         if self.camera_node is not None:
-            world = next(m for n, m in self.root.walk() if n is self.camera_node)
+            world = np.eye(4)
+            for node in camera_path:
+                world = world @ node.local_matrix()
             placed = self.camera_node.camera.placed(world, self.camera.width, self.camera.height)
             placed.name = self.camera.name
             self.camera = placed
@@ -552,6 +574,17 @@ class Scene:
         lo, hi = bounds if bounds is not None else self.bounds()
         size = float(np.max(hi - lo)) * 1.05 or 1.0
         return VoxelRegion((lo + hi) / 2.0, size)
+
+
+def _path_to(root, target):
+    """The nodes from `root` down to `target`, both included (None where it is not below)."""
+    stack = [(root, (root,))]
+    while stack:
+        node, path = stack.pop()
+        if node is target:
+            return list(path)
+        stack.extend((child, path + (child,)) for child in node.children)
+    return None
 
 
 # ---- primitive meshes (local frames) -----------------------------------------------------

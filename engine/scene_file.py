@@ -320,9 +320,15 @@ class _SceneFile:
         if kind == "box":
             node.rotation_deg = node.rotation_deg + np.array([0.0, float(_value(spec, "rotation_y_deg", kind)), 0.0])
             node.scale = node.scale * np.array(spec["size"], float)
-            return self.meshes.setdefault("box", box_mesh())
+            return self._primitive("box", box_mesh)
         node.scale = node.scale * float(spec["radius"])
-        return self.meshes.setdefault("sphere", sphere_mesh())
+        return self._primitive("sphere", sphere_mesh)
+
+    def _primitive(self, kind, make):
+        """The one mesh every box (or sphere) of the scene shares, made at the first."""
+        if kind not in self.meshes:
+            self.meshes[kind] = make()
+        return self.meshes[kind]
 
     def mesh_file(self, spec, field, node):
         """The file's nodes under `node`, all with `node.material` where it has one; a file
@@ -337,13 +343,14 @@ class _SceneFile:
         except (OSError, ValueError) as exc:  # ValueError: a NUL character in the name
             self.fail(where, f'cannot read mesh "{relative}" ({os_problem(exc)})')
         key = (path, id(node.material))
-        if key not in self.meshes:
+        if key in self.meshes:  # the file's nodes for a later use: copies of the first use's
+            parts = [_copy_tree(part) for part in self.meshes[key]]
+        else:
             try:
-                self.meshes[key] = load_mesh_file(path, relative, node.material, self.inputs)
+                parts = self.meshes[key] = load_mesh_file(path, relative, node.material, self.inputs)
             except SceneError as exc:
                 self.fail(where, str(exc))
-        parts = [_copy_tree(part) for part in self.meshes[key]]
-        if not any(n.mesh is not None for part in parts for n, _ in part.walk()):
+        if not any(n.mesh is not None for part in parts for n in part.nodes()):
             self.fail(where, f'{relative}: holds no triangles')
         if len(parts) == 1 and not parts[0].children and np.array_equal(parts[0].local_matrix(), np.eye(4)):
             node.mesh, node.material = parts[0].mesh, parts[0].material

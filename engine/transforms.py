@@ -113,9 +113,16 @@ def euler_deg_from_rotation(r):
 
 
 def quaternion_rotation(q):
-    """3x3 rotation matrix of a quaternion [x, y, z, w] (glTF's order), normalized first."""
+    """3x3 rotation matrix of a quaternion [x, y, z, w] (glTF's order), normalized first (the
+    conversion of euclideanspace.com's quaternionToMatrix, as pyrr's create_from_quaternion)."""
     q = np.asarray(q, float)
-    return pyrr.matrix33.create_from_quaternion(q / np.linalg.norm(q))
+    x, y, z, w = (float(c) for c in q / np.linalg.norm(q))
+    xx, yy, zz, ww = x * x, y * y, z * z, w * w
+    inverse = 1.0 / (xx + yy + zz + ww)
+    return np.array([
+        [(xx - yy - zz + ww) * inverse, 2.0 * (x * y - z * w) * inverse, 2.0 * (x * z + y * w) * inverse],
+        [2.0 * (x * y + z * w) * inverse, (-xx + yy - zz + ww) * inverse, 2.0 * (y * z - x * w) * inverse],
+        [2.0 * (x * z - y * w) * inverse, 2.0 * (y * z + x * w) * inverse, (-xx - yy + zz + ww) * inverse]])
 
 
 def decompose(m, tolerance=1e-6):
