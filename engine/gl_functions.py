@@ -1,6 +1,7 @@
 """The few OpenGL 4.5 entry points moderngl does not wrap, called through ctypes: texture arrays
 of a given internal format (sRGB arrays: moderngl's texture_array has no internal format) and
-their parameters, bound with one call a unit; the viewports of a viewport array; uniforms
+their parameters, bound with one call a unit; the viewports of a viewport array; buffer writes
+without a bind (glNamedBufferSubData); uniforms
 written to a program without binding it (glProgramUniform*), and compute dispatches that bind
 the program and the indirect buffer only where they are not bound already (engine/shaders.py).
 
@@ -41,6 +42,9 @@ PROTOTYPES = {
     "glPixelStorei": (None, _u, _i),
     "glViewportArrayv": (None, _u, _i, ctypes.POINTER(ctypes.c_float)),
     "glUseProgram": (None, _u),
+    "glNamedBufferSubData": (None, _u, ctypes.c_ssize_t, ctypes.c_ssize_t, _p),
+    "glPushDebugGroup": (None, _u, _u, _i, ctypes.c_char_p),
+    "glPopDebugGroup": (None,),
     "glBindBuffer": (None, _u, _u),
     "glDispatchCompute": (None, _u, _u, _u),
     "glDispatchComputeIndirect": (None, ctypes.c_ssize_t),
@@ -48,6 +52,7 @@ PROTOTYPES = {
     **{f"glProgramUniformMatrix{n}fv": (None, _u, _i, _i, ctypes.c_ubyte, _p) for n in (3, 4)},
 }
 GL_DISPATCH_INDIRECT_BUFFER = 0x90EE
+GL_DEBUG_SOURCE_APPLICATION = 0x824A
 
 
 @functools.lru_cache(maxsize=None)
@@ -67,6 +72,13 @@ class GLFunctions:
                 function = getattr(_libgl(), name)
                 function.restype, function.argtypes = restype, argtypes
             setattr(self, name, function)
+
+
+def write_buffer(buffer, data, offset=0):
+    """Write bytes into a moderngl Buffer at `offset` with one call (glNamedBufferSubData: it is
+    not bound for it)."""
+    data = bytes(data)
+    gl_functions(buffer.ctx).glNamedBufferSubData(buffer.glo, offset, len(data), data)
 
 
 _FUNCTIONS = weakref.WeakKeyDictionary()

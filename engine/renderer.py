@@ -24,6 +24,7 @@ from .emitters import frame_emitters
 from .errors import VctError
 from .gl import create_headless_context
 from .gl_bindings import bind_uniform_block, forget_bindings
+from .gl_functions import GL_DEBUG_SOURCE_APPLICATION, gl_functions, write_buffer
 from .gpu_timing import PassTimer
 from .output import save_png
 from .passes.cone_trace import ConeTracePass
@@ -96,7 +97,7 @@ class CameraBlock:
         """Hold `camera` (a FrameCamera, which then binds this buffer)."""
         data = camera.record().tobytes()
         if data != self.held:
-            self.buffer.write(data)
+            write_buffer(self.buffer, data)
             self.held = data
         camera.buffer = self
         return camera
@@ -156,6 +157,7 @@ class Renderer:
         self.measure = False        # when True, each pass is timed (GPU timer queries, read a few frames later)
         self.progressive = False    # bounces 0: one bounce per frame on top of the last (the viewer)
         self.track_changes = True   # False: every frame recomputes every stage (for comparison)
+        self.debug_groups = False   # True: each pass is a GL debug group of its name
         self.passes_ran = []        # the passes the last frame ran, in order
         self.output = None          # the ScreenTarget holding the last frame's HDR result
         self.frame_settings = self.settings
@@ -273,12 +275,20 @@ class Renderer:
 
     @contextmanager
     def timed(self, name):
+        """Around a pass: named in passes_ran, timed when measuring, and a debug group of its
+        name where `debug_groups` (what GPU debuggers and apitrace show the frame by)."""
         self.passes_ran.append(name)
-        if not self.measure:
-            yield
-            return
-        with self.pass_timer.timed(name):
-            yield
+        if self.debug_groups:
+            gl_functions(self.ctx).glPushDebugGroup(GL_DEBUG_SOURCE_APPLICATION, 0, -1, name.encode())
+        try:
+            if not self.measure:
+                yield
+            else:
+                with self.pass_timer.timed(name):
+                    yield
+        finally:
+            if self.debug_groups:
+                gl_functions(self.ctx).glPopDebugGroup()
 
     @property
     def timings(self):

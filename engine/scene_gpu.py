@@ -25,7 +25,7 @@ from .errors import VctError
 from .gl_bindings import bind_storage, bind_texture
 from .gl_functions import (GL_LINEAR, GL_LINEAR_MIPMAP_LINEAR, GL_RGBA, GL_RGBA8, GL_SRGB8_ALPHA8, GL_TEXTURE_2D_ARRAY,
                            GL_TEXTURE_MAG_FILTER, GL_TEXTURE_MIN_FILTER, GL_TEXTURE_WRAP_S, GL_TEXTURE_WRAP_T,
-                           GL_UNPACK_ALIGNMENT, GL_UNSIGNED_BYTE, WRAP_MODES, gl_functions)
+                           GL_UNPACK_ALIGNMENT, GL_UNSIGNED_BYTE, WRAP_MODES, gl_functions, write_buffer)
 from .scene import IDENTITY_UV, TEXTURE_FIELDS
 
 # Vertex attributes in buffer order, with their float counts. Meshes without texture
@@ -456,7 +456,7 @@ def _write_rows(buffer, records, rows):
     rows = np.asarray(rows)
     breaks = np.flatnonzero(np.diff(rows) != 1) + 1
     for start, end in zip(np.r_[0, breaks], np.r_[breaks, len(rows)]):
-        buffer.write(records[start:end].tobytes(), offset=int(rows[start]) * size)
+        write_buffer(buffer, records[start:end].tobytes(), int(rows[start]) * size)
 
 
 class EnvironmentMap:

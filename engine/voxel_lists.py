@@ -15,6 +15,7 @@ import numpy as np
 
 from .constants import CELL_LIST_LEVELS, CLASS_PARTS, LIST_GROUP, struct_dtype
 from .gl_bindings import bind_storage
+from .gl_functions import write_buffer
 
 SEGMENT = struct_dtype("ListSegment")
 
@@ -36,7 +37,7 @@ class SegmentTable:
         entry = np.zeros((), SEGMENT)
         entry["dispatch"] = (math.ceil(count / LIST_GROUP), 1, 1, 0)
         entry["range"] = (first, count, 0, 0)
-        self.buffer.write(entry.tobytes(), offset=row * SEGMENT.itemsize)
+        write_buffer(self.buffer, entry.tobytes(), row * SEGMENT.itemsize)
 
     def memory_bytes(self):
         return self.buffer.size
@@ -153,7 +154,7 @@ class VoxelList:
         self.table = SegmentTable(ctx, 1)
 
     def clear(self):
-        self.buffer.write(bytes(4))
+        write_buffer(self.buffer, bytes(4))
         self.table.write(0, 1, 0)
 
     def memory_bytes(self):
@@ -201,7 +202,7 @@ class CellLists:
 
     def restart(self):
         """Empty every level for a rebuild; returns the rebuild's stamp."""
-        self.buffer.write(bytes(4 * CELL_LIST_LEVELS))
+        write_buffer(self.buffer, bytes(4 * CELL_LIST_LEVELS))
         self.generation += 1
         return self.generation
 

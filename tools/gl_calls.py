@@ -58,6 +58,7 @@ def inner(args):
     scene = engine.load_scene(args.scene)
     width, height = (int(v) for v in args.size.split("x"))
     renderer = engine.Renderer(width, height)
+    renderer.debug_groups = args.passes
     settings = renderer.settings.replace(grid=args.grid)
     renderer.progressive = True
     with renderer.ctx:
@@ -78,9 +79,11 @@ def group_of(name):
 
 
 def count_frames(dump_lines):
-    """{kind: [Counter of GL function -> calls, one per frame]} from `apitrace dump` lines."""
+    """{kind: [(Counter of GL function -> calls, Counter of pass -> calls), one per frame]}
+    from `apitrace dump` lines (the debug groups' own calls not counted)."""
     frames = collections.defaultdict(list)
     current = None
+    group = "-"
     for line in dump_lines:
         match = re.match(r"\d+ (\w+)\(", line)
         if not match:
@@ -88,11 +91,16 @@ def count_frames(dump_lines):
         name = match.group(1)
         if name == "glDebugMessageInsert" and MARKER in line:
             label = line.split(MARKER, 1)[1].split('"', 1)[0]
-            current = None if label == "end" else collections.Counter()
+            current = None if label == "end" else (collections.Counter(), collections.Counter())
             if current is not None:
                 frames[label.split(":")[0]].append(current)
+        elif name == "glPushDebugGroup":
+            group = line.split('message = "', 1)[1].split('"', 1)[0] if 'message = "' in line else "?"
+        elif name == "glPopDebugGroup":
+            group = "-"
         elif current is not None:
-            current[name] += 1
+            current[0][name] += 1
+            current[1][group] += 1
     return frames
 
 
@@ -105,6 +113,8 @@ def main():
     parser.add_argument("--size", default="256x256")
     parser.add_argument("--json", help="also write {kind: {group or function: calls}} of each kind's last frame")
     parser.add_argument("--calls", action="store_true", help="list every GL function's count too")
+    parser.add_argument("--passes", action="store_true",
+                        help="list the calls of each pass of the last frame (the renderer's debug groups)")
     parser.add_argument("--inner", action="store_true", help=argparse.SUPPRESS)
     args = parser.parse_args()
     if args.inner:
@@ -125,14 +135,18 @@ def main():
     print("| frame | total | " + " | ".join(groups) + " |")
     print("|---|---|" + "---|" * len(groups))
     for kind, counts in frames.items():
-        last = counts[-1]
+        last, by_pass = counts[-1]
         by_group = collections.Counter()
         for name, calls in last.items():
             by_group[group_of(name)] += calls
         total = sum(last.values())
-        report[kind] = {"total": total, "groups": dict(by_group), "calls": dict(last),
-                        "totals_per_frame": [sum(c.values()) for c in counts]}
+        report[kind] = {"total": total, "groups": dict(by_group), "calls": dict(last), "passes": dict(by_pass),
+                        "totals_per_frame": [sum(c.values()) for c, _ in counts]}
         print(f"| {kind} | **{total}** | " + " | ".join(str(by_group.get(g, 0)) for g in groups) + " |")
+    if args.passes:
+        for kind, entry in report.items():
+            print(f"\n{kind} by pass ('-': outside every pass): "
+                  + ", ".join(f"{name} {calls}" for name, calls in sorted(entry["passes"].items(), key=lambda c: -c[1])))
     if args.calls:
         for kind, entry in report.items():
             print(f"\n{kind}: " + ", ".join(f"{name} {calls}" for name, calls in sorted(entry["calls"].items(), key=lambda c: -c[1])))

@@ -10,6 +10,7 @@ import numpy as np
 
 from ..constants import GL_IMAGE_FORMAT, SHADER_ENUMS
 from ..gl_bindings import bind_image, bind_storage, bind_texture
+from ..gl_functions import write_buffer
 from ..voxel_grid import VoxelGrid, bind_values
 from .gbuffer import GBuffer
 from .target import ScreenTarget
@@ -75,7 +76,7 @@ class ConeTracePass:
                          pixel_angle=float(camera.pixel_angle))
         camera.bind()
         for pixel_list in (self.cone_pixels, self.shared_pixels, self.unshared_pixels):
-            pixel_list.write(np.array([0, 1, 1, 0], dtype="u4").tobytes())  # no group, no pixel yet
+            write_buffer(pixel_list, np.array([0, 1, 1, 0], dtype="u4").tobytes())  # no group, no pixel yet
         for name, pixel_list in (("CONE_PIXELS", self.cone_pixels), ("SHARED_PIXELS", self.shared_pixels),
                                  ("UNSHARED_PIXELS", self.unshared_pixels)):
             bind_storage(pixel_list, name)

@@ -17,6 +17,7 @@ import numpy as np
 from ..constants import LIST_GROUP, MAX_DRAW_VIEWS, struct_dtype
 from ..errors import VctError
 from ..gl_bindings import bind_storage, program_used
+from ..gl_functions import write_buffer
 from ..scene_gpu import VERTEX_ATTRIBUTES
 
 VIEW_DTYPE = struct_dtype("DrawView")
@@ -111,9 +112,9 @@ class DrawList:
         self._ensure_commands(len(commands))
         self.ensure_instances(len(instances))
         if len(commands):
-            self.commands.write(np.ascontiguousarray(commands, np.uint32).tobytes())
+            write_buffer(self.commands, np.ascontiguousarray(commands, np.uint32).tobytes())
         if len(instances):
-            self.instances.write(np.ascontiguousarray(instances, np.uint32).tobytes())
+            write_buffer(self.instances, np.ascontiguousarray(instances, np.uint32).tobytes())
         self.bucket_ranges = list(bucket_ranges)
 
     # -- drawing -------------------------------------------------------------------------------
@@ -202,7 +203,7 @@ def _replace(ctx, buffer, array, keep=False):
     """A buffer holding `array`: `buffer` where it has room (and `keep`), else a new one."""
     data = np.ascontiguousarray(array).tobytes() or bytes(16)
     if keep and buffer is not None and buffer.size >= len(data):
-        buffer.write(data)
+        write_buffer(buffer, data)
         return buffer
     if buffer is not None:
         buffer.release()

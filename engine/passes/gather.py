@@ -13,6 +13,7 @@ import numpy as np
 from ..clipmap import with_coarser_levels
 from ..constants import CLASS_BLOCK, CLASS_FACINGS, CLASS_PARTS, MAX_INTERLEAVE, MAX_SEGMENT_ROWS
 from ..gl_bindings import bind_storage
+from ..gl_functions import write_buffer
 from ..voxel_grid import GridStorage, VoxelGrid, bind_values
 from ..voxel_lists import ClassIndex, SegmentTable, VoxelList
 
@@ -88,10 +89,10 @@ class GatherPass:
         grid.use_surface()
         self.find_anchors(grid)
         grid.covered.bind("COVERED")
-        self.class_buckets.write(bytes(4 * total))
+        write_buffer(self.class_buckets, bytes(4 * total))
         bind_storage(self.class_buckets, "CLASS_BUCKETS")
         bind_storage(self.class_list, "CLASS_LIST")
-        self.cell_class_bits.write(bytes(self.cell_class_bits.size))
+        write_buffer(self.cell_class_bits, bytes(self.cell_class_bits.size))
         bind_storage(self.cell_class_bits, "CELL_CLASS_BITS")
         self.sort_classes_program.set(**grid.uniforms(), interleave=interleave, scatter=False)
         grid.dispatch(self.sort_classes_program, grid.covered.segment())
@@ -107,7 +108,7 @@ class GatherPass:
         sort), the cells of several classes last, into self.cells_by_class: a row of
         self.cell_rows per class, then the mixed cells'."""
         buckets = interleave + 1
-        self.class_buckets.write(bytes(4 * buckets))
+        write_buffer(self.class_buckets, bytes(4 * buckets))
         grid.cells.bind()
         bind_storage(self.cells_by_class, "CELLS_BY_CLASS")
         self.sort_cells_program.set(**grid.uniforms(), first=grid.cells.first[1], interleave=interleave, scatter=False)

@@ -11,7 +11,7 @@ from .. import transforms
 from ..constants import DRAW_TEST_FRUSTUM, LIGHT_TYPE, MAX_LIGHTS, MAX_SHADOW_VIEWS, struct_dtype
 from ..errors import VctError
 from ..gl_bindings import bind_storage, bind_texture, bind_uniform_block
-from ..gl_functions import gl_functions
+from ..gl_functions import gl_functions, write_buffer
 from ..scene_gpu import DRAW_FLAGS
 from .cull import DrawList, view_records
 
@@ -148,7 +148,7 @@ class ShadowPass:
                                [math.cos(math.radians(light.inner_angle_deg)), math.cos(math.radians(light.outer_angle_deg)), 0.0, 0.0]))
         maps.light_count = len(lights)
         if light_rows:
-            maps.light_buffer.write(np.array(light_rows, struct_dtype("Light")).tobytes())
+            write_buffer(maps.light_buffer, np.array(light_rows, struct_dtype("Light")).tobytes())
         if maps.ensure_atlas(len(views)):
             redraw = changed_casters = None
         everything = redraw is None and changed_casters is None
@@ -165,7 +165,7 @@ class ShadowPass:
             rows.append((np.asarray(view_projection).T.ravel(), [x / atlas_w, y / atlas_h, tile / atlas_w, tile / atlas_h],
                          [texel_world, 1.0 / tile, 0.0, 0.0]))
         if rows:
-            maps.view_buffer.write(np.array(rows, struct_dtype("ShadowView")).tobytes())
+            write_buffer(maps.view_buffer, np.array(rows, struct_dtype("ShadowView")).tobytes())
         if self.drawn_tiles:
             self._draw_tiles(buffers, [(views[index][0], maps.tile_origin(index)) for index in self.drawn_tiles],
                              everything)

@@ -16,6 +16,7 @@ Afterwards the covered-voxel list and the covered cells of every mip level are b
 date. Where the grid's lists had no room for the voxels an update listed, the grid grows its
 lists (made anew, empty) and the whole scene is voxelized into it. Whether they had room is
 read back from the GPU only where the host cannot bound it (engine/voxel_room.py)."""
+from contextlib import contextmanager
 from dataclasses import dataclass
 
 import numpy as np
@@ -158,24 +159,28 @@ class VoxelizePass:
             grid.dispatch(self.mark_covered, grid.covered.segment())
         jobs = _level_jobs(grid, update, rebuilt, bounds)
         marking = [job for job in jobs if job.marked == "every draw"]
-        if marking:
-            self._rasterize(grid, "mark", self.marking, buffers, 0, self._cull(self.marking, buffers, marking))
         moving = [job for job in jobs if job.marked == "moved draws"]
+        if marking:
+            self._cull(self.marking, buffers, marking)
         if moving:
             self._write_moved(buffers, update, moving)
-            self._rasterize(grid, "mark", self.moved, buffers, 0, self.held_draws)
-        for job in jobs:
-            if job.marked is None:
-                self._mark_box(grid, job.level, job.voxels)
-        grid.size_list(grid.touched)
-        listed = min(grid.touched.read_count() if touched is None else touched, grid.touched_room)
-        if jobs:
-            self._cull(self.jobs, buffers, jobs)
-        for chunk_first in range(0, max(listed, 1), sum_room(grid.n, grid.levels)):
+        with self._rasterizing(grid):
+            if marking:
+                self._rasterize(grid, "mark", self.marking, buffers, 0)
+            if moving:
+                self._rasterize(grid, "mark", self.moved, buffers, 0, self.held_draws)
+            for job in jobs:
+                if job.marked is None:
+                    self._mark_box(grid, job.level, job.voxels)
+            grid.size_list(grid.touched)
+            listed = min(grid.touched.read_count() if touched is None else touched, grid.touched_room)
             if jobs:
-                for stage in ("front", "add"):
-                    self._rasterize(grid, stage, self.jobs, buffers, chunk_first)
-            self._resolve(grid, chunk_first)
+                self._cull(self.jobs, buffers, jobs)
+            for chunk_first in range(0, max(listed, 1), sum_room(grid.n, grid.levels)):
+                if jobs:
+                    for stage in ("front", "add"):
+                        self._rasterize(grid, stage, self.jobs, buffers, chunk_first)
+                self._resolve(grid, chunk_first)
         self._relist_covered(grid, update.full, frozenset(update.scrolled) if update.scrolls_only else None)
         if grid.cone_emission is not None:  # a scrolled level's cells all moved
             self.fill_cone_emission(grid, touched=not update.scrolled)
@@ -219,23 +224,33 @@ class VoxelizePass:
         self.mark_box.run(-(-int(np.prod(size)) // LIST_GROUP))
         grid.barrier()
 
-    def _rasterize(self, grid, stage, draw_list, buffers, chunk_first, held_draws=None):
-        """Rasterize a draw list in one of the fragment stages, into the sums of the chunk of the
-        touched list from `chunk_first`: each instance into its job's level and voxels (the
-        parts of the draws inside the job's world box, which the list was culled by)."""
+    @contextmanager
+    def _rasterizing(self, grid):
+        """The raster state of the voxelization's draws, set once around all of them: its
+        framebuffer of n x n without attachments, no depth test, culling or blending, the
+        clip planes of the jobs' voxels (the compute passes between the draws ignore it)."""
         self.framebuffer.use()
         self.ctx.viewport = (0, 0, grid.n, grid.n)
         self.ctx.disable(self.ctx.DEPTH_TEST | self.ctx.CULL_FACE | self.ctx.BLEND)
         for plane in GL_CLIP_DISTANCES:
             self.ctx.enable_direct(plane)
+        try:
+            yield
+        finally:
+            for plane in GL_CLIP_DISTANCES:
+                self.ctx.disable_direct(plane)
+
+    def _rasterize(self, grid, stage, draw_list, buffers, chunk_first, held_draws=None):
+        """Rasterize a draw list in one of the fragment stages, into the sums of the chunk of the
+        touched list from `chunk_first`: each instance into its job's level and voxels (the
+        parts of the draws inside the job's world box, which the list was culled by)."""
         buffers.bind()
         bind_storage(held_draws if held_draws is not None else buffers.draws, "HELD_DRAWS")
         bind_storage(draw_list.views, "DRAW_VIEWS")
         for bucket, program in enumerate(self.programs):
-            program.set(**grid.uniforms(), stage=SHADER_ENUMS["VOXELIZE"][stage], chunk_first=chunk_first)
-            draw_list.draw(bucket, program, buffers)
-        for plane in GL_CLIP_DISTANCES:
-            self.ctx.disable_direct(plane)
+            if draw_list.bucket_ranges[bucket][1]:
+                program.set(**grid.uniforms(), stage=SHADER_ENUMS["VOXELIZE"][stage], chunk_first=chunk_first)
+                draw_list.draw(bucket, program, buffers)
         self.ctx.memory_barrier(self.ctx.SHADER_STORAGE_BARRIER_BIT | self.ctx.SHADER_IMAGE_ACCESS_BARRIER_BIT)
 
     def _resolve(self, grid, chunk_first):
