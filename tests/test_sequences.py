@@ -184,6 +184,9 @@ def test_bench_times_animated_frames_for_a_scene_with_animations(tmp_path):
     animated, = [row for row in rows if row["frame"] == "animated"]
     assert animated["moves"] == 'animations "Play", "Dolly"' and animated["total_ms"] > 0
     assert "voxelize" in animated["passes"]  # the animation moves objects: their voxels follow
+    # The host's time of a frame (issuing its work) apart from the GPU's (its passes'), per kind.
+    assert all(0 < row["host_ms"] and 0 < row["gpu_ms"] and sum(row["passes"].values()) == pytest.approx(row["gpu_ms"], rel=0.5)
+               for row in rows)
     plain = vct("bench", SCENES / "cornell_box.json", "--width", "32", "--height", "32", "--grids", "16", "--frames", "1",
                 "--warmup", "0", "--json", tmp_path / "c.json")
     assert "animated" not in {row["frame"] for row in json.loads((tmp_path / "c.json").read_text())}

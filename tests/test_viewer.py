@@ -416,6 +416,8 @@ def test_the_overlay_says_what_a_frame_reused(on_display, scene, mode, camera_fr
         imgui.get_io().add_key_event(imgui.Key.w, False)
         draws = viewer.renderer.scene_buffers.draw_calls
         assert draws > 0 and f"{draws} draw calls; {camera_frame}" in work(viewer)
+        host = next(line for line in work(viewer) if line.startswith("host "))  # the host's ms and the GPU's, apart
+        assert float(host.split()[1]) > 0.0 and host.split()[3] == "GPU" and float(host.split()[4]) > 0.0, host
         if mode == "gi":  # the voxels' GPU memory, in all and per voxel of the grid
             grid = viewer.renderer.grid.n
             per_voxel = viewer.renderer.voxel_memory_bytes() / grid ** 3
@@ -577,11 +579,13 @@ def test_inspector_edits_the_scene_model(scene):
 def test_frame_stats_average_over_the_last_second():
     now = [0.0]
     stats = FrameStats(window=1.0, clock=lambda: now[0])
-    for _ in range(21):
+    for frame in range(21):
+        stats.host(0.1 if frame == 0 else 0.002)  # the host's share of each frame: the first one falls out
         stats.tick()
         now[0] += 0.05
     assert stats.ms_per_frame == pytest.approx(50.0)
     assert stats.fps == pytest.approx(20.0)
+    assert stats.host_ms == pytest.approx(2.0)
 
 
 class _FakeRenderer:

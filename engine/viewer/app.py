@@ -145,12 +145,14 @@ class Viewer:
         if self.playback.pose(self.scene) and self.scene.camera_node is not None:
             self.camera.follow(self.scene.camera)  # pose_at placed the camera on its (animated) node
         self.camera.apply(self.scene.camera)
+        start = time.perf_counter()
         try:
             self.renderer.render_frame(self.scene, self.settings)
         except VctError as exc:  # a setting the renderer refuses (e.g. memory): back to the last good
             self.settings_message = str(exc)
             self.settings = self.renderer.settings
             self.renderer.render_frame(self.scene, self.settings)
+        self.frames.host(time.perf_counter() - start)
 
     def _draw_panels(self, size):
         panels.draw_shader_errors(self.shaders.errors, size)

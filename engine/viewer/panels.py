@@ -29,12 +29,16 @@ def _dock(rect):
 
 def overlay_lines(frames, process, renderer, vsync):
     """The overlay's text as (line, dimmed) pairs, None for the rule above the passes: FPS,
-    ms per frame, CPU %, RAM, voxel and texture memory, the image, the ms of each pass the
-    last frame ran (a frame runs only the passes whose inputs changed), its draw calls and
-    what it reused, and the bounces' state."""
+    ms per frame, the host's ms a frame (issuing the frame's work; on llvmpipe, which runs it as
+    it is issued, the work too) and the GPU's (its passes', from timer queries a few frames
+    back), CPU %, RAM, voxel and texture memory, the image, the ms of each pass the last frame
+    measured ran (a frame runs only the passes whose inputs changed), its draw calls and what
+    it reused, and the bounces' state."""
     s = renderer.frame_settings
     cpu = "--" if process.cpu_percent is None else f"{process.cpu_percent:.0f}"
+    gpu = sum(renderer.timings.values())
     lines = [(f"FPS {frames.fps:6.1f}  SPF {frames.ms_per_frame:7.1f} ms", False),
+             (f"host {frames.host_ms:6.2f} ms  GPU {gpu:6.2f} ms", False),
              (f"CPU {cpu:>5} %  RAM {process.ram_mb:7.0f} MB", False),
              (f"{voxel_memory_line(renderer)}  textures {renderer.scene_buffers.textures.memory_bytes() / 2 ** 20:.0f} MB", False),
              (f"{renderer.size[0]}x{renderer.size[1]} {s.mode} {grid_line(renderer)}{' vsync' if vsync else ''}", True)]

@@ -41,7 +41,12 @@ class FrameStats:
         self.clock = clock
         self._last = None
         self._durations = deque()  # seconds per frame, newest last
+        self._host = deque()       # seconds the host spent issuing each of those frames' work
         self.frames = 0
+
+    def host(self, seconds):
+        """The host's seconds of the frame about to end: the renderer's call that issues its work."""
+        self._host.append(seconds)
 
     def tick(self):
         now = self.clock()
@@ -49,6 +54,8 @@ class FrameStats:
             self._durations.append(now - self._last)
             while len(self._durations) > 1 and sum(self._durations) - self._durations[0] >= self.window:
                 self._durations.popleft()
+        while len(self._host) > max(len(self._durations), 1):
+            self._host.popleft()
         self._last = now
         self.frames += 1
         return now
@@ -58,6 +65,11 @@ class FrameStats:
         if not self._durations:
             return 0.0
         return 1000.0 * sum(self._durations) / len(self._durations)
+
+    @property
+    def host_ms(self):
+        """The host's milliseconds a frame over the same frames."""
+        return 1000.0 * sum(self._host) / len(self._host) if self._host else 0.0
 
     @property
     def fps(self):
