@@ -33,6 +33,7 @@ import numpy as np
 
 from .emitters import scene_emits
 from .settings import MODE_TABLE
+from .shaders import ProgramHandle
 
 FRAME_KINDS = ("static", "camera", "light", "object", "animated")
 ANIMATION_FPS = 30.0  # animation time per frame of the animated and camera kinds: 1/30 s
@@ -42,7 +43,7 @@ PASS_ORDER = ("shadow", "gbuffer", "lighting", "emitters", "environment", "voxel
 SETTLE_FRAMES = 400  # progressive frames allowed for the radiance to settle before timing
 # The GL calls that do a frame's work where the GPU is the CPU (llvmpipe runs draws and
 # dispatches as they are issued, and a memory barrier waits for them): left out of the host time.
-GL_WORK = ((moderngl.VertexArray, ("render", "render_indirect")), (moderngl.ComputeShader, ("run", "run_indirect")),
+GL_WORK = ((moderngl.VertexArray, ("render", "render_indirect")), (ProgramHandle, ("run", "run_indirect")),
            (moderngl.Context, ("finish", "memory_barrier")), (moderngl.Buffer, ("read",)), (moderngl.Texture, ("read",)),
            (moderngl.Texture3D, ("read",)), (moderngl.Framebuffer, ("read",)))
 
