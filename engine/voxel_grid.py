@@ -135,6 +135,8 @@ class VoxelGrid:
         self.scatter_program = programs.compute("voxel_grid/scatter_values.comp", reads=("SSBO_COVERED", "SSBO_VOXEL_RECORD",
                                                 "SSBO_INSPECT_VALUES"), writes=("IMG_INSPECT_OUT",))
         self.size_program = programs.compute("voxel_grid/size_segment.comp", reads=("SSBO_COUNTED",), writes=("SSBO_SEGMENTS",))
+        self.size_cells_program = programs.compute("voxel_grid/size_cell_segments.comp", reads=("SSBO_COUNTED",),
+                                                   writes=("SSBO_SEGMENTS",))
 
     # -- allocation ----------------------------------------------------------------------
 
@@ -426,9 +428,14 @@ class VoxelGrid:
         """The segment row of a voxel list (every entry) from its count, after a pass appended."""
         self._size(voxel_list.buffer, 0, 1, voxel_list.table, 0)
 
-    def size_cells(self, level):
-        """The segment row of a level's covered cells from its count, after they are listed."""
-        self._size(self.cells.buffer, level, self.cells.entries_first(level), self.cells.table, level)
+    def size_cells(self):
+        """The segment rows of every level's covered cells from their counts, after they are
+        listed."""
+        bind_storage(self.cells.buffer, "COUNTED")
+        self.cells.table.bind()
+        self.size_cells_program.set(top_level=self.mip_count - 1, level_first=self.cells.first_words())
+        self.size_cells_program.run(1)
+        self.barrier()
 
     def _size(self, buffer, count_index, entries_first, table, row):
         bind_storage(buffer, "COUNTED")
@@ -478,6 +485,7 @@ class VoxelGrid:
         self.read_program.release()
         self.scatter_program.release()
         self.size_program.release()
+        self.size_cells_program.release()
 
 
 def gpu_bytes(resource, mipmapped=False):

@@ -179,8 +179,8 @@ class VoxelList:
 class CellLists:
     """The covered cells of mip levels 1..log2 n (of every level of the grid) in one buffer: a count per level
     (CELL_LIST_LEVELS of them), then the cells of each level in a run of its own; a stamp per
-    cell and rebuild lists each cell once (voxelize/list_cells.comp). Row `level` of `table` is
-    the level's segment, sized on the GPU after it is listed."""
+    cell and rebuild lists each cell once (voxelize/list_cells.comp, every level in one pass). Row
+    `level` of `table` is the level's segment, sized on the GPU after they are listed."""
 
     def __init__(self, ctx, n, levels):
         sizes = [levels * (n >> level) ** 3 for level in range(n.bit_length())]
@@ -199,6 +199,10 @@ class CellLists:
 
     def entries_first(self, level):
         return CELL_LIST_LEVELS + self.first[level]
+
+    def first_words(self):
+        """Each level's first entry after the counts, as the bytes of a uint[CELL_LIST_LEVELS]."""
+        return np.array(self.first + [0] * (CELL_LIST_LEVELS - len(self.first)), "u4").tobytes()
 
     def restart(self):
         """Empty every level for a rebuild; returns the rebuild's stamp."""

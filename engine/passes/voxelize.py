@@ -298,7 +298,7 @@ class VoxelizePass:
         """Zero the face views of every level over the cells the voxelization changed (those
         holding the voxels it touched; after a full one, the old covered cells) unless they are
         zero (`zeroed`: a scroll alone, which zeroed its levels' face views), then list the
-        cells the covered voxels now reach, level after level."""
+        cells the covered voxels now reach, every level in one pass."""
         uniforms, cells = grid.uniforms(), grid.cells
         for level in range(1, grid.mip_count) if not zeroed else ():
             grid.bind_faces(level)
@@ -311,13 +311,9 @@ class VoxelizePass:
         generation = cells.restart()
         grid.covered.bind("COVERED")
         cells.bind_stamps()
-        source = grid.covered.segment()
-        for level in range(1, grid.mip_count):
-            self.list_cells.set(**uniforms, level=level, source_first=cells.first[level - 1],
-                                target_first=cells.first[level], stamp_first=cells.first[level], generation=generation)
-            grid.dispatch(self.list_cells, source)
-            grid.size_cells(level)
-            source = cells.segment(level)
+        self.list_cells.set(**uniforms, top_level=grid.mip_count - 1, level_first=cells.first_words(), generation=generation)
+        grid.dispatch(self.list_cells, grid.covered.segment())
+        grid.size_cells()
 
     def memory_bytes(self):
         """GPU bytes of the scratch storage for the grid's size."""
