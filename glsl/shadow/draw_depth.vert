@@ -32,7 +32,7 @@ out gl_PerVertex {
 void main() {
     DrawRecord draw = value_draw(in_instance);
     DrawView view = views[value_view(in_instance)];
-    vec4 clip = view.view_projection * draw.world * vec4(in_position, 1.0);
+    vec4 clip = view.view_projection * (draw.world * vec4(in_position, 1.0));
 #ifdef VIEWPORT_INDEX
     gl_ViewportIndex = int(value_view(in_instance));
     gl_Position = clip;
