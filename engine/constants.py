@@ -130,9 +130,9 @@ GLSL_STRUCTS = {
     # direction (xyz).
     "FrameCamera": (("mat4", "view_projection"), ("mat4", "inverse_view_projection"), ("vec4", "position"),
                     ("vec4", "forward")),
-    # A draw: its world matrix, the inverse transpose of its upper 3x3 (in the upper 3x3 of a
-    # mat4) and its material's index (info.x).
-    "DrawRecord": (("mat4", "world"), ("mat4", "normal_matrix"), ("uvec4", "info")),
+    # A draw: its world matrix (normals go by its cofactors, glsl/lib/draws.glsl) and its
+    # material's index (info.x).
+    "DrawRecord": (("mat4", "world"), ("uvec4", "info")),
     # A material (engine.scene.Material, glsl/lib/material.glsl): albedo (rgb) and alpha factor
     # (a); emission (rgb) and alpha cut-off (a, negative: opaque); roughness, metalness,
     # dielectric F0 and normal scale; per map (MAP_*) its texture (array << 16 | layer; -1:

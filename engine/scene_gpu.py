@@ -410,10 +410,6 @@ def draw_records(world, materials):
     """DRAW_DTYPE records of world matrices (k, 4, 4) and material indices (k,)."""
     records = np.zeros(len(world), DRAW_DTYPE)
     records["world"] = np.swapaxes(world, 1, 2).reshape(-1, 16)
-    normal = np.zeros((len(world), 4, 4))
-    normal[:, :3, :3] = np.swapaxes(np.linalg.inv(world[:, :3, :3]), 1, 2)  # the inverse transpose
-    normal[:, 3, 3] = 1.0
-    records["normal_matrix"] = np.swapaxes(normal, 1, 2).reshape(-1, 16)
     records["info"][:, 0] = materials
     return records
 

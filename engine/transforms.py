@@ -73,10 +73,6 @@ def transform_points(m, points):
     return p @ m[:3, :3].T + m[:3, 3]
 
 
-def normal_matrix(m):
-    return np.linalg.inv(m[:3, :3]).T
-
-
 def gl_bytes(m):
     """Bytes of a matrix in the column-major order GLSL expects."""
     return np.asarray(m, dtype="f4").T.tobytes()

@@ -116,3 +116,36 @@ def test_textures_of_more_kinds_than_arrays_share_the_nearest_size_of_their_kind
     assert sorted(id(t) for _, members in groups for t in members) == sorted(id(t) for t in textures)
     for (size, srgb, *_), members in groups:  # an array keeps one of its textures' sizes
         assert all(t.srgb == srgb for t in members) and any(t.image.shape[1::-1] == size for t in members)
+
+
+def test_a_mirroring_node_shows_its_surfaces_as_their_mirror_image_does():
+    """A box is its own mirror image: boxes scaled by -1 along x (a negative determinant, the
+    winding reversed) light as the unmirrored boxes, their normals still facing out, and
+    voxelize alike up to the order the rasterizer meets their triangles (under 2%)."""
+    images = {}
+    for sign in (1, -1):
+        scene = field_of_boxes(16)
+        for node in scene.root.children[1:17]:
+            node.scale[0] *= sign
+        with engine.Renderer(64, 64) as r:
+            images[sign] = {mode: r.render(scene, mode=mode, grid=32) for mode in ("direct", "gi")}
+    for mode in ("direct", "gi"):
+        a, b = images[1][mode], images[-1][mode]
+        assert a.mean() > 0.05
+        assert np.abs(a - b).sum() / a.sum() < {"direct": 1e-3, "gi": 0.02}[mode], mode
+
+
+def test_a_node_flattened_to_zero_thickness_shows_its_flat_faces():
+    """A scale of 0 along y (as animations hide or squash things) leaves a box's top face: it
+    renders lit from above with its normal up, as a quad at its height does, and nothing fails
+    for the matrix having no inverse. With the voxels the box's bottom face, facing down in the
+    same cells, adds its few percent."""
+    flattened, quads = field_of_boxes(16), field_of_boxes(16)
+    top = quad_mesh([[-0.5, 0.5, -0.5], [-0.5, 0.5, 0.5], [0.5, 0.5, 0.5], [0.5, 0.5, -0.5]])
+    for flat, quad in zip(flattened.root.children[1:17], quads.root.children[1:17]):
+        flat.scale[1] = 0.0
+        quad.mesh, quad.scale[1] = top, 0.0
+    with engine.Renderer(64, 64) as r:
+        for mode in ("direct", "gi"):
+            a, b = r.render(flattened, mode=mode, grid=32), r.render(quads, mode=mode, grid=32)
+            assert np.abs(a - b).sum() / b.sum() < {"direct": 1e-3, "gi": 0.05}[mode], mode

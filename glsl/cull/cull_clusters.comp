@@ -20,16 +20,16 @@ void main() {
     DrawView view = views[view_index];
     if (gl_GlobalInvocationID.x >= view.items.y) return;
     uvec4 item = items[view.items.x + gl_GlobalInvocationID.x];
-    mat4 world = value_draw(item.x).world;
+    mat4x3 world = value_world(item.x);
     Cluster cluster = clusters[item.y];
     uvec3 below = uvec3(0u), above = uvec3(0u);  // the corners beyond each plane -w, w
     vec3 lo = vec3(3.4e38), hi = vec3(-3.4e38);
     for (int corner = 0; corner < 8; ++corner) {
         vec3 local = mix(cluster.lo.xyz, cluster.hi.xyz, vec3(corner & 1, (corner >> 1) & 1, (corner >> 2) & 1));
-        vec4 p = world * vec4(local, 1.0);
-        lo = min(lo, p.xyz);
-        hi = max(hi, p.xyz);
-        vec4 clip = view.view_projection * vec4(p.xyz, 1.0);
+        vec3 p = world * vec4(local, 1.0);
+        lo = min(lo, p);
+        hi = max(hi, p);
+        vec4 clip = view.view_projection * vec4(p, 1.0);
         below += uvec3(lessThan(clip.xyz, vec3(-clip.w)));
         above += uvec3(greaterThan(clip.xyz, vec3(clip.w)));
     }

@@ -31,21 +31,21 @@ out vec2 texcoord;
 #endif
 
 void main() {
-    DrawRecord draw = value_draw(in_instance);
-    vec4 p = draw.world * vec4(in_position, 1.0);
-    world_position = p.xyz;
-    world_normal = mat3(draw.normal_matrix) * in_normal;
+    mat4x3 world = value_world(in_instance);
+    uint draw_material = value_material(in_instance);
+    world_position = world * vec4(in_position, 1.0);
+    world_normal = normal_transform(world) * in_normal;
 #ifdef NORMAL_MAP
-    world_tangent = vec4(mat3(draw.world) * in_tangent.xyz, in_tangent.w);
+    world_tangent = vec4(mat3(world) * in_tangent.xyz, in_tangent.w);
 #endif
 #ifdef VERTEX_EXTRAS
     vertex_color = in_color;
-    MapCoordinates coordinates = material_coordinates(draw.info.x, in_texcoord, in_texcoord1);
+    MapCoordinates coordinates = material_coordinates(draw_material, in_texcoord, in_texcoord1);
     map_coordinates01 = coordinates.maps01;
     map_coordinates23 = coordinates.maps23;
 #else
     texcoord = in_texcoord;
 #endif
-    material = draw.info.x;
-    gl_Position = camera.view_projection * p;
+    material = draw_material;
+    gl_Position = camera.view_projection * vec4(world_position, 1.0);
 }

@@ -16,11 +16,35 @@ bool value_held(uint value) {
     return (value & DRAW_HELD) != 0u;
 }
 
-DrawRecord value_draw(uint value) {
+// The world matrix of a value's draw without its last row (0, 0, 0, 1): its columns' xyz
+// only, since on llvmpipe every component a vertex shader loads from a buffer costs.
+mat4x3 value_world(uint value) {
+    uint index = value & DRAW_INDEX_MASK;
 #ifdef HELD_DRAWS
-    if (value_held(value)) return held_draws[value & DRAW_INDEX_MASK];
+    if (value_held(value)) {
+        return mat4x3(held_draws[index].world[0].xyz, held_draws[index].world[1].xyz,
+                      held_draws[index].world[2].xyz, held_draws[index].world[3].xyz);
+    }
 #endif
-    return draws[value & DRAW_INDEX_MASK];
+    return mat4x3(draws[index].world[0].xyz, draws[index].world[1].xyz, draws[index].world[2].xyz,
+                  draws[index].world[3].xyz);
+}
+
+// The material of a value's draw.
+uint value_material(uint value) {
+#ifdef HELD_DRAWS
+    if (value_held(value)) return held_draws[value & DRAW_INDEX_MASK].info.x;
+#endif
+    return draws[value & DRAW_INDEX_MASK].info.x;
+}
+
+// What carries normals by a world matrix: its cofactor matrix, the inverse transpose times the
+// determinant, signed so that a mirroring matrix keeps normals on their side. Unlike the
+// inverse it exists for a matrix that flattens an axis (the normal of the flattened shape).
+mat3 normal_transform(mat4x3 world) {
+    vec3 c0 = world[0], c1 = world[1], c2 = world[2];
+    mat3 cofactors = mat3(cross(c1, c2), cross(c2, c0), cross(c0, c1));
+    return dot(c0, cofactors[0]) < 0.0 ? -cofactors : cofactors;
 }
 
 uint value_view(uint value) {

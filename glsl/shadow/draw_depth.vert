@@ -30,20 +30,19 @@ out gl_PerVertex {
 #endif
 
 void main() {
-    DrawRecord draw = value_draw(in_instance);
-    DrawView view = views[value_view(in_instance)];
-    vec4 clip = view.view_projection * (draw.world * vec4(in_position, 1.0));
+    uint view = value_view(in_instance);
+    vec4 clip = views[view].view_projection * vec4(value_world(in_instance) * vec4(in_position, 1.0), 1.0);
 #ifdef VIEWPORT_INDEX
-    gl_ViewportIndex = int(value_view(in_instance));
+    gl_ViewportIndex = int(view);
     gl_Position = clip;
 #else
     gl_ClipDistance[0] = clip.w - clip.x;
     gl_ClipDistance[1] = clip.w + clip.x;
     gl_ClipDistance[2] = clip.w - clip.y;
     gl_ClipDistance[3] = clip.w + clip.y;
-    gl_Position = vec4(clip.xy * view.tile.zw + view.tile.xy * clip.w, clip.zw);  // NDC x' = x scale + offset
+    gl_Position = vec4(clip.xy * views[view].tile.zw + views[view].tile.xy * clip.w, clip.zw);  // NDC x' = x scale + offset
 #endif
-    material = draw.info.x;
+    material = value_material(in_instance);
 #ifdef VERTEX_EXTRAS
     MapCoordinates coordinates = material_coordinates(material, in_texcoord, in_texcoord1);
     map_coordinates01 = coordinates.maps01;

@@ -29,11 +29,11 @@ out vec2 vs_texcoord;
 #endif
 
 void main() {
-    DrawRecord draw = value_draw(in_instance);
+    mat4x3 world = value_world(in_instance);
     DrawView job = views[value_view(in_instance)];
-    vs_position = (draw.world * vec4(in_position, 1.0)).xyz;
-    vs_normal = mat3(draw.normal_matrix) * in_normal;
-    vs_material = value_held(in_instance) ? NO_MATERIAL : draw.info.x;
+    vs_position = world * vec4(in_position, 1.0);
+    vs_normal = normal_transform(world) * in_normal;
+    vs_material = value_held(in_instance) ? NO_MATERIAL : value_material(in_instance);
     vs_voxels_min = job.voxels_min;
     vs_voxels_max = job.voxels_max.xyz;
 #ifdef VERTEX_EXTRAS
