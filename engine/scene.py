@@ -35,11 +35,14 @@ class EditLog:
 
     def __init__(self):
         self.serial = 0
+        self.shape_edits = 0  # edits of a scene graph's shape (STRUCTURE_FIELDS, a node's children)
         self._latest = collections.OrderedDict()  # id(object) -> (serial of its latest edit, weak reference)
         self._dropped = []                        # (id, reference) of objects gone, to take out of _latest
 
-    def record(self, obj):
+    def record(self, obj, shape=False):
+        """Log an edit of `obj`; `shape`: one of the scene graph's shape."""
         self.serial += 1
+        self.shape_edits += shape
         self._purge()
         key = id(obj)
         entry = self._latest.pop(key, None)
@@ -69,15 +72,10 @@ class EditLog:
 
 
 EDITS = EditLog()
-# Counts the edits of the scene graph's shape (a node's children, mesh, light, camera or
-# animation given or taken): what a scene caches about its shape is kept while it is unchanged.
+# The fields whose edits change the scene graph's shape (a node's children, mesh, light, camera
+# or animation given or taken): what a scene caches about its shape is kept while
+# EDITS.shape_edits is unchanged.
 STRUCTURE_FIELDS = frozenset({"children", "mesh", "light", "camera", "animation"})
-_structure_edits = [0]
-
-
-def structure_edits():
-    """How many edits of a scene graph's shape there have been (STRUCTURE_FIELDS)."""
-    return _structure_edits[0]
 
 
 class TrackedArray(np.ndarray):
@@ -131,9 +129,7 @@ class Tracked:
             value = tracked_array(value, self)
         object.__setattr__(self, name, value)
         if self.__dict__.get("_tracked"):
-            if name in STRUCTURE_FIELDS:
-                _structure_edits[0] += 1
-            EDITS.record(self)
+            EDITS.record(self, shape=name in STRUCTURE_FIELDS)
 
     def __post_init__(self):
         object.__setattr__(self, "_tracked", True)
@@ -156,8 +152,7 @@ class Children(list):
     def _changed(self):
         owner = getattr(self, "owner", None)
         if owner is not None and owner.__dict__.get("_tracked"):
-            _structure_edits[0] += 1
-            EDITS.record(owner)
+            EDITS.record(owner, shape=True)
 
 
 def _recording(name):
@@ -322,6 +317,15 @@ class Light(Tracked):
 
     _ARRAYS = frozenset({"intensity", "position", "direction"})
 
+    def placed(self, world):
+        """The light in world space, carried by a node of world matrix `world`: its position
+        moved, its direction turned and made unit length again (kept where it turns to zero)."""
+        position = transforms.transform_points(world, [self.position])[0]
+        direction = world[:3, :3] @ self.direction
+        norm = np.linalg.norm(direction)
+        return Light(self.type, np.asarray(self.intensity, float), position, direction / norm if norm > 0 else self.direction,
+                     self.range, self.inner_angle_deg, self.outer_angle_deg, self.cast_shadows)
+
 
 @dataclass
 class Camera:
@@ -477,7 +481,7 @@ class Scene:
     def _animated_nodes(self):
         """(the animated nodes in the order they come, the path of nodes from the root to the
         camera node), found again only after an edit of the graph's shape."""
-        key = (structure_edits(), id(self.root), id(self.camera_node))
+        key = (EDITS.shape_edits, id(self.root), id(self.camera_node))
         if self._shape is None or self._shape[0] != key:
             animated = [node for node in self.root.nodes() if node.animation is not None]
             path = _path_to(self.root, self.camera_node) if self.camera_node is not None else None
@@ -489,9 +493,8 @@ class Scene:
         keyframe), in the order the nodes come."""
         durations = {}
         for node in self._animated_nodes()[0]:
-            if node.animation is not None:
-                for name, duration in node.animation.durations().items():
-                    durations[name] = max(durations.get(name, 0.0), duration)
+            for name, duration in node.animation.durations().items():
+                durations[name] = max(durations.get(name, 0.0), duration)
         return durations
 
     def played(self, animation=None, field="animation", source=None):
@@ -532,18 +535,7 @@ class Scene:
 
     def lights(self):
         """Lights in world space: (node, Light with world position/direction)."""
-        out = []
-        for node, world in self.root.walk():
-            if node.light is None:
-                continue
-            light = node.light
-            position = transforms.transform_points(world, [light.position])[0]
-            direction = world[:3, :3] @ light.direction
-            norm = np.linalg.norm(direction)
-            out.append((node, Light(light.type, np.asarray(light.intensity, float), position,
-                                    direction / norm if norm > 0 else light.direction, light.range,
-                                    light.inner_angle_deg, light.outer_angle_deg, light.cast_shadows)))
-        return out
+        return [(node, node.light.placed(world)) for node, world in self.root.walk() if node.light is not None]
 
     def cameras(self):
         """(node, world matrix) of every node that carries a camera, depth first."""

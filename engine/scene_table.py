@@ -370,15 +370,7 @@ class SceneTable:
         return slot
 
     def _update_lights(self):
-        lights = []
-        for row in self.light_rows:
-            light, world = self.nodes[row].light, self.world[row]
-            position = transforms.transform_points(world, [light.position])[0]
-            direction = world[:3, :3] @ light.direction
-            norm = np.linalg.norm(direction)
-            lights.append(Light(light.type, np.asarray(light.intensity, float), position,
-                                direction / norm if norm > 0 else light.direction, light.range,
-                                light.inner_angle_deg, light.outer_angle_deg, light.cast_shadows))
+        lights = [self.nodes[row].light.placed(self.world[row]) for row in self.light_rows]
         values = tuple(light_values(light) for light in lights)
         if values != self.light_values or len(lights) != len(self.lights):
             self.lights, self.light_values = lights, values
