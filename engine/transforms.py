@@ -5,55 +5,40 @@ import numpy as np
 import pyrr
 
 
-def translate(t):
-    m = np.eye(4)
-    m[:3, 3] = t
-    return m
-
-
-def scale(s):
-    return np.diag([s[0], s[1], s[2], 1.0])
+def euler_rotations_deg(angles):
+    """3x3 rotations of (k, 3) angles [x, y, z] in degrees about the fixed axes, applied x, then
+    y, then z (R = Rz Ry Rx); each a right-handed rotation (counter-clockwise looking down the
+    axis). (k, 3, 3)."""
+    ax, ay, az = np.radians(np.asarray(angles, float).reshape(-1, 3)).T
+    cx, sx, cy, sy, cz, sz = np.cos(ax), np.sin(ax), np.cos(ay), np.sin(ay), np.cos(az), np.sin(az)
+    one, zero = np.ones(len(ax)), np.zeros(len(ax))
+    rx = np.stack([one, zero, zero, zero, cx, -sx, zero, sx, cx], axis=1).reshape(-1, 3, 3)
+    ry = np.stack([cy, zero, sy, zero, one, zero, -sy, zero, cy], axis=1).reshape(-1, 3, 3)
+    rz = np.stack([cz, -sz, zero, sz, cz, zero, zero, zero, one], axis=1).reshape(-1, 3, 3)
+    return rz @ ry @ rx
 
 
 def rotate_euler_deg(angles):
-    """Rotation by angles [x, y, z] in degrees about the fixed axes, applied x, then y, then z
-    (R = Rz Ry Rx); each a right-handed rotation (counter-clockwise looking down the axis)."""
-    ax, ay, az = (math.radians(a) for a in angles)
-    cx, sx, cy, sy, cz, sz = math.cos(ax), math.sin(ax), math.cos(ay), math.sin(ay), math.cos(az), math.sin(az)
-    rx = np.array([[1, 0, 0], [0, cx, -sx], [0, sx, cx]])
-    ry = np.array([[cy, 0, sy], [0, 1, 0], [-sy, 0, cy]])
-    rz = np.array([[cz, -sz, 0], [sz, cz, 0], [0, 0, 1]])
+    """The 4x4 rotation by angles [x, y, z] in degrees (euler_rotations_deg)."""
     m = np.eye(4)
-    m[:3, :3] = rz @ ry @ rx
+    m[:3, :3] = euler_rotations_deg(angles)[0]
     return m
 
 
 def compose(translation, rotation_deg, scale_xyz):
     """T * R * S."""
-    return translate(translation) @ rotate_euler_deg(rotation_deg) @ scale(scale_xyz)
+    return compose_many(translation, rotation_deg, scale_xyz)[0]
 
 
 def compose_many(translations, rotations_deg, scales):
-    """T * R * S of each row of (k, 3) translations, rotation angles (rotate_euler_deg) and
-    scales, as (k, 4, 4): the products of rotate_euler_deg and compose, made for all rows at
-    once (the same numbers for one node and for thousands)."""
+    """T * R * S of each row of (k, 3) translations, rotation angles (euler_rotations_deg) and
+    scales, as (k, 4, 4)."""
     t = np.asarray(translations, float).reshape(-1, 3)
-    count = len(t)
-    ax, ay, az = np.radians(np.asarray(rotations_deg, float).reshape(-1, 3)).T
-    cx, sx, cy, sy, cz, sz = np.cos(ax), np.sin(ax), np.cos(ay), np.sin(ay), np.cos(az), np.sin(az)
-    one, zero = np.ones(count), np.zeros(count)
-    rx = np.stack([one, zero, zero, zero, cx, -sx, zero, sx, cx], axis=1).reshape(-1, 3, 3)
-    ry = np.stack([cy, zero, sy, zero, one, zero, -sy, zero, cy], axis=1).reshape(-1, 3, 3)
-    rz = np.stack([cz, -sz, zero, sz, cz, zero, zero, zero, one], axis=1).reshape(-1, 3, 3)
-    rotation = np.zeros((count, 4, 4))
-    rotation[:, :3, :3] = rz @ ry @ rx
-    rotation[:, 3, 3] = 1.0
-    translation = np.tile(np.eye(4), (count, 1, 1))
-    translation[:, :3, 3] = t
-    scaling = np.zeros((count, 4, 4))
-    scaling[:, [0, 1, 2], [0, 1, 2]] = np.asarray(scales, float).reshape(-1, 3)
-    scaling[:, 3, 3] = 1.0
-    return translation @ rotation @ scaling
+    matrices = np.zeros((len(t), 4, 4))
+    matrices[:, :3, :3] = euler_rotations_deg(rotations_deg) * np.asarray(scales, float).reshape(-1, 1, 3)  # R S: columns scaled
+    matrices[:, :3, 3] = t
+    matrices[:, 3, 3] = 1.0
+    return matrices
 
 
 def perspective(vertical_fov_deg, aspect, near, far):
