@@ -4,8 +4,8 @@ rasterizes it, and written where the table changed since the last sync:
 - every mesh in one vertex buffer and one index buffer (`MeshPool`), each mesh once however
   many draws use it, its triangles sorted into spatial clusters (`MeshClusters`) with their
   bounds in a buffer of Cluster records, which the culling pass tests (engine/passes/cull.py);
-- a DrawRecord per draw (world and normal matrices, material) and a MaterialRecord per
-  material in storage buffers;
+- a DrawRecord per draw (world matrix, material) and a MaterialRecord per material in
+  storage buffers;
 - the materials' textures as layers of a few 2D texture arrays (`MaterialTextures`), bound once
   for every draw;
 - per draw, the flags that choose the program variant and face culling it is drawn with

@@ -384,13 +384,13 @@ class VoxelGrid:
         for name, values in (("VOXEL_ALBEDO", self.albedo), ("VOXEL_NORMAL", self.normal), ("VOXEL_EMISSION", self.emission),
                              ("VOXEL_EMITTER_IRRADIANCE", self.emitter_irradiance), ("VOXEL_SKY_IRRADIANCE", self.sky_irradiance)):
             if values is not None:
-                bind_values(values, name)
+                bind_storage(values, name)
 
     def use_faces(self):
         """What cones read: the voxels' records with their surface and reflected light
         (level 0), the face views and the emission volume (level 1 up)."""
         self.use_surface()
-        bind_values(self.reflected, "VOXEL_REFLECTED")
+        bind_storage(self.reflected, "VOXEL_REFLECTED")
         bind_texture(self.faces, "VOXEL_FACES")
         if self.cone_emission is not None:
             bind_texture(self.cone_emission, "VOXEL_CONE_EMISSION")
@@ -426,7 +426,10 @@ class VoxelGrid:
 
     def size_list(self, voxel_list):
         """The segment row of a voxel list (every entry) from its count, after a pass appended."""
-        self._size(voxel_list.buffer, 0, 1, voxel_list.table, 0)
+        bind_storage(voxel_list.buffer, "COUNTED")
+        voxel_list.table.bind()
+        self.size_program.run(1)
+        self.barrier()
 
     def size_cells(self):
         """The segment rows of every level's covered cells from their counts, after they are
@@ -435,13 +438,6 @@ class VoxelGrid:
         self.cells.table.bind()
         self.size_cells_program.set(top_level=self.mip_count - 1, level_first=self.cells.first_words())
         self.size_cells_program.run(1)
-        self.barrier()
-
-    def _size(self, buffer, count_index, entries_first, table, row):
-        bind_storage(buffer, "COUNTED")
-        table.bind()
-        self.size_program.set(count_index=count_index, entries_first=entries_first, row=row)
-        self.size_program.run(1)
         self.barrier()
 
     def barrier(self):
@@ -526,11 +522,6 @@ def pack_voxels(coords):
     """Voxel coordinates (k, 3) as x, y, z packed into one uint each (lib/voxel.glsl pack_voxel)."""
     coords = np.asarray(coords, np.uint32).reshape(-1, 3)
     return coords[:, 0] | (coords[:, 1] << VOXEL_PACK_BITS) | (coords[:, 2] << (2 * VOXEL_PACK_BITS))
-
-
-def bind_values(values, name):
-    """An array of values at the storage binding `name`."""
-    bind_storage(values, name)
 
 
 def bind_volume(volume, name, level=0, read=False):

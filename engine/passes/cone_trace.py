@@ -11,7 +11,7 @@ import numpy as np
 from ..constants import GL_IMAGE_FORMAT, SHADER_ENUMS
 from ..gl_bindings import bind_image, bind_storage, bind_texture
 from ..gl_functions import write_buffer
-from ..voxel_grid import VoxelGrid, bind_values
+from ..voxel_grid import VoxelGrid
 from .gbuffer import GBuffer
 from .target import ScreenTarget
 
@@ -58,7 +58,7 @@ class ConeTracePass:
         self.specular_in, self.diffuse_in = (self.ctx.texture(anchors, 4, dtype="f4") for _ in range(2))
 
     def render(self, gbuffer, direct, grid, gathered, emitters, environment, cone_uniforms, camera, terms, ao_distance):
-        """`camera`: renderer.FrameCamera; `emitters`: scene_gpu.EmitterBuffers; `environment`:
+        """`camera`: frame_camera.FrameCamera; `emitters`: scene_gpu.EmitterBuffers; `environment`:
         scene_gpu.EnvironmentMap; `terms`: settings.ImageTerms (which of direct, diffuse,
         specular, or AO)."""
         program = self.programs[emitters.count > 0, environment.environment is not None]
@@ -68,7 +68,7 @@ class ConeTracePass:
             environment.bind(handle)
         grid.use_surface()
         grid.use_faces()
-        bind_values(gathered, "VOXEL_GATHERED")
+        bind_storage(gathered, "VOXEL_GATHERED")
         bind_texture(direct.texture, "DIRECT_LIGHT")
         grid_uniforms = dict(grid.uniforms(), voxel_emitters=emitters.count > 0)
         program.set(**grid_uniforms, **cone_uniforms, output_kind=SHADER_ENUMS["OUTPUT"]["ao" if terms.ao else "radiance"], include_direct=terms.direct,

@@ -12,6 +12,7 @@ every command draws one material, so a fragment's texture array is the same acro
 A list can also be written by the host (`DrawList.write`): the voxelizer's few moved draws."""
 import math
 
+import moderngl
 import numpy as np
 
 from ..constants import LIST_GROUP, MAX_DRAW_VIEWS, struct_dtype
@@ -22,7 +23,6 @@ from ..scene_gpu import VERTEX_ATTRIBUTES
 
 VIEW_DTYPE = struct_dtype("DrawView")
 COMMAND_WORDS = 5  # count, instance count, first index, base vertex, base instance
-GL_TRIANGLES = 0x0004
 
 
 class DrawList:
@@ -78,8 +78,8 @@ class DrawList:
         self.item_count, self.command_count, self.capacity = len(items), len(unique), int(capacity.sum())
         self.bucket_ranges = [(int(np.searchsorted(unique[:, 0], b)), int(np.count_nonzero(unique[:, 0] == b)))
                               for b in range(self.bucket_count)]
-        self.items = _replace(self.ctx, self.items, items)
-        self.table = _replace(self.ctx, self.table, table)
+        self.items = buffer_holding(self.ctx, self.items, items)
+        self.table = buffer_holding(self.ctx, self.table, table)
         self._ensure_commands(self.command_count)
 
     def _ensure_commands(self, count):
@@ -104,7 +104,7 @@ class DrawList:
         if len(views) > MAX_DRAW_VIEWS:
             raise VctError(f"{len(views)} views of one draw list, at most {MAX_DRAW_VIEWS}", field="views")
         self.view_count = len(views)
-        self.views = _replace(self.ctx, self.views, views, keep=True)
+        self.views = buffer_holding(self.ctx, self.views, views, keep=True)
 
     def write(self, commands, instances, bucket_ranges):
         """Commands (uint32 (k, 5)) and instances written by the host, with their buckets'
@@ -140,7 +140,7 @@ class DrawList:
         """Draw a bucket's commands with `handle` (one multi-draw-indirect); nothing where it has none."""
         first, count = self.bucket_ranges[bucket]
         if count:
-            self.vertex_array(handle, buffers).render_indirect(self.commands, GL_TRIANGLES, count=count, first=first)
+            self.vertex_array(handle, buffers).render_indirect(self.commands, moderngl.TRIANGLES, count=count, first=first)
             program_used(handle.program)
             buffers.draw_calls += 1
 
@@ -199,7 +199,7 @@ def _ranks(counts):
     return np.arange(total) - np.repeat(np.cumsum(counts) - counts, counts)
 
 
-def _replace(ctx, buffer, array, keep=False):
+def buffer_holding(ctx, buffer, array, keep=False):
     """A buffer holding `array`: `buffer` where it has room (and `keep`), else a new one."""
     data = np.ascontiguousarray(array).tobytes() or bytes(16)
     if keep and buffer is not None and buffer.size >= len(data):

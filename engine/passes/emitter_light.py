@@ -4,7 +4,7 @@ through the face views (which must hold the grid's current coverage), and the fr
 that arrives, which the image interpolates per pixel. Runs over a segment of the grid's class
 list when the voxels or the emitters change; light injection adds it to the base radiance."""
 from ..gl_bindings import bind_storage
-from ..voxel_grid import VoxelGrid, bind_values
+from ..voxel_grid import VoxelGrid
 
 
 class EmitterLightPass:
@@ -22,7 +22,7 @@ class EmitterLightPass:
         grid.use_faces()
         bind_storage(segment.buffer, "VOXEL_LIST")
         emitters.bind(self.program)
-        bind_values(grid.emitter_irradiance, "VOXEL_EMITTER_IRRADIANCE")
+        bind_storage(grid.emitter_irradiance, "VOXEL_EMITTER_IRRADIANCE")
         self.program.set(**grid.uniforms(), **cone_uniforms, lit_levels=grid.level_mask(levels))
         grid.dispatch(self.program, segment)
         return grid.emitter_irradiance

@@ -6,7 +6,7 @@ import numpy as np
 
 from ..constants import VOXEL_FACES
 from ..gl_bindings import bind_storage
-from ..voxel_grid import VoxelGrid, bind_values
+from ..voxel_grid import VoxelGrid
 
 
 class FaceViewsPass:
@@ -26,10 +26,10 @@ class FaceViewsPass:
         first bounce), for the voxels of `segment` (a VoxelSegment) that lie in `levels`
         (None: every level). Returns grid.reflected."""
         grid.use_surface()
-        bind_values(grid.base, "VOXEL_BASE")
+        bind_storage(grid.base, "VOXEL_BASE")
         if gathered is not None:
-            bind_values(gathered, "VOXEL_GATHERED")
-        bind_values(grid.reflected, "VOXEL_REFLECTED")
+            bind_storage(gathered, "VOXEL_GATHERED")
+        bind_storage(grid.reflected, "VOXEL_REFLECTED")
         bind_storage(segment.buffer, "VOXEL_LIST")
         self.compose_program.set(**grid.uniforms(), include_gathered=gathered is not None, composed_levels=grid.level_mask(levels))
         grid.dispatch(self.compose_program, segment)

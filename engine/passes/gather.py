@@ -14,7 +14,7 @@ from ..clipmap import with_coarser_levels
 from ..constants import CLASS_BLOCK, CLASS_FACINGS, CLASS_PARTS, MAX_INTERLEAVE, MAX_SEGMENT_ROWS
 from ..gl_bindings import bind_storage
 from ..gl_functions import write_buffer
-from ..voxel_grid import GridStorage, VoxelGrid, bind_values
+from ..voxel_grid import GridStorage, VoxelGrid
 from ..voxel_lists import ClassIndex, SegmentTable, VoxelList
 
 
@@ -165,7 +165,7 @@ class GatherPass:
         grid.use_surface()
         grid.use_faces()
         bind_storage(self.anchors, "GATHER_ANCHORS")
-        bind_values(out, "GATHERED_OUT")
+        bind_storage(out, "GATHERED_OUT")
         self.trace_program.set(**grid.uniforms(), **cone_uniforms)
         bind_storage(anchors.buffer, "CLASS_LIST")
         grid.dispatch(self.trace_program, anchors)
@@ -179,7 +179,7 @@ class GatherPass:
         the segments holding them (a class's, every class's, or the touched voxels again).
         Returns `values`."""
         grid.use_surface()
-        bind_values(values, "GATHERED_OUT")
+        bind_storage(values, "GATHERED_OUT")
         bind_storage(self.anchors, "GATHER_ANCHORS")
         bind_storage(filled.buffer, "CLASS_LIST")
         self.fill_program.set(**grid.uniforms())
@@ -194,8 +194,8 @@ class GatherPass:
     def extrapolate(self, grid, latest, older, gain):
         """older <- latest + (latest - older) * gain, per covered voxel; returns `older`."""
         grid.records.bind()
-        bind_values(latest, "VOXEL_GATHERED")
-        bind_values(older, "GATHERED_OUT")
+        bind_storage(latest, "VOXEL_GATHERED")
+        bind_storage(older, "GATHERED_OUT")
         grid.covered.bind("COVERED")
         self.extrapolate_program.set(**grid.uniforms(), gain=tuple(float(g) for g in gain))
         grid.dispatch(self.extrapolate_program, grid.covered.segment())

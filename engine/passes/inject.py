@@ -3,7 +3,7 @@ its surface receives from every light (with the shadow maps), evaluated per voxe
 surface point, and from the emitters (passes/emitter_light.py). Runs when lights, shadows,
 the emitters' light or the voxels change, over a segment of a voxel list."""
 from ..gl_bindings import bind_storage
-from ..voxel_grid import VoxelGrid, bind_values
+from ..voxel_grid import VoxelGrid
 
 
 class InjectPass:
@@ -20,7 +20,7 @@ class InjectPass:
         grid.use_surface()
         bind_storage(segment.buffer, "VOXEL_LIST")
         shadow_maps.bind(self.program)
-        bind_values(grid.base, "VOXEL_BASE")
+        bind_storage(grid.base, "VOXEL_BASE")
         self.program.set(**grid.uniforms(), voxel_emitters=emitters.count > 0, voxel_sky=environment.environment is not None)
         grid.dispatch(self.program, segment)
         return grid.base

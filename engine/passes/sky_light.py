@@ -11,7 +11,7 @@ in may take theirs from the next coarser level instead (take_coarser), until the
 import numpy as np
 
 from ..gl_bindings import bind_storage
-from ..voxel_grid import VoxelGrid, bind_values
+from ..voxel_grid import VoxelGrid
 
 
 class SkyLightPass:
@@ -37,7 +37,7 @@ class SkyLightPass:
         bind_storage(segment.buffer, "VOXEL_LIST")
         bind_storage(anchors, "GATHER_ANCHORS")
         environment.bind(self.program)
-        bind_values(grid.traced_sky_irradiance, "VOXEL_TRACED_SKY_IRRADIANCE")
+        bind_storage(grid.traced_sky_irradiance, "VOXEL_TRACED_SKY_IRRADIANCE")
         self.program.set(**grid.uniforms(), **cone_uniforms, lit_levels=grid.level_mask(levels), **_box_uniforms(box))
         grid.dispatch(self.program, segment)
         return grid.traced_sky_irradiance
@@ -49,8 +49,8 @@ class SkyLightPass:
         (the voxels lit in it; None: anywhere) from grid.traced_sky_irradiance around each
         (written and returned)."""
         grid.use_surface()
-        bind_values(grid.traced_sky_irradiance, "VOXEL_TRACED_SKY_IRRADIANCE")
-        bind_values(grid.sky_irradiance, "VOXEL_SKY_IRRADIANCE")
+        bind_storage(grid.traced_sky_irradiance, "VOXEL_TRACED_SKY_IRRADIANCE")
+        bind_storage(grid.sky_irradiance, "VOXEL_SKY_IRRADIANCE")
         bind_storage(segment.buffer, "VOXEL_LIST")
         self.filter_program.set(**grid.uniforms(), lit_levels=grid.level_mask(levels), **_box_uniforms(box))
         grid.dispatch(self.filter_program, segment)
@@ -62,8 +62,8 @@ class SkyLightPass:
         grid.sky_irradiance around them: a lookup in place of their cones. Writes it as their
         grid.traced_sky_irradiance and grid.sky_irradiance; returns the latter."""
         grid.use_surface()
-        bind_values(grid.traced_sky_irradiance, "VOXEL_TRACED_SKY_IRRADIANCE")
-        bind_values(grid.sky_irradiance, "VOXEL_SKY_IRRADIANCE")
+        bind_storage(grid.traced_sky_irradiance, "VOXEL_TRACED_SKY_IRRADIANCE")
+        bind_storage(grid.sky_irradiance, "VOXEL_SKY_IRRADIANCE")
         bind_storage(segment.buffer, "VOXEL_LIST")
         self.coarser_program.set(**grid.uniforms(), lit_levels=grid.level_mask(levels))
         grid.dispatch(self.coarser_program, segment)

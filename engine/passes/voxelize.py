@@ -26,8 +26,8 @@ from ..constants import (DRAW_HELD, DRAW_TEST_BOX, DRAW_VIEW_SHIFT, LIST_GROUP, 
                          VOXEL_SUM_CHANNELS)
 from ..gl_bindings import bind_storage
 from ..scene_gpu import DRAW_FLAGS, draw_records
-from .cull import DrawList, _replace, view_records
-from ..voxel_grid import GridStorage, VoxelGrid, bind_values, bind_volume, sum_room
+from .cull import DrawList, buffer_holding, view_records
+from ..voxel_grid import GridStorage, VoxelGrid, bind_volume, sum_room
 from ..voxel_room import CoveredBound
 
 GL_CLIP_DISTANCES = [0x3000 + plane for plane in range(6)]  # GL_CLIP_DISTANCE0..5: rasterize.geom's planes
@@ -202,7 +202,7 @@ class VoxelizePass:
             _job_view(view, job)
         self.moved.write_views(views)
         held = draw_records(np.array([draw.world for draw in update.removed]).reshape(-1, 4, 4), NO_MATERIAL)
-        self.held_draws = _replace(self.ctx, self.held_draws, held, keep=True)
+        self.held_draws = buffer_holding(self.ctx, self.held_draws, held, keep=True)
         job_count = len(jobs)
         placed = [(index | DRAW_HELD, draw, 0) for index, draw in enumerate(update.removed)]
         placed += [(draw.index, draw, int((buffers.draw_flags[draw.index] & DRAW_FLAGS["extras"]) != 0)) for draw in update.added]
@@ -260,7 +260,7 @@ class VoxelizePass:
         grid.newly_covered.bind("NEWLY_COVERED")
         grid.records.bind()
         for name, values in (("VOXEL_ALBEDO", grid.albedo), ("VOXEL_NORMAL", grid.normal), ("VOXEL_EMISSION", grid.emission)):
-            bind_values(values, name)
+            bind_storage(values, name)
         self.resolve.set(**grid.uniforms(), chunk_first=chunk_first)
         for freeing in (True, False):
             self.resolve.set(freeing=freeing)
@@ -287,7 +287,7 @@ class VoxelizePass:
                              ("VOXEL_EMITTER_IRRADIANCE", grid.emitter_irradiance), ("VOXEL_SKY_IRRADIANCE", grid.sky_irradiance),
                              ("VOXEL_TRACED_SKY_IRRADIANCE", grid.traced_sky_irradiance)):
             if values is not None:
-                bind_values(values, name)
+                bind_storage(values, name)
         self.clear_new_records.set(**grid.uniforms(), voxel_emitters=grid.emitter_irradiance is not None,
                                    voxel_sky=grid.sky_irradiance is not None)
         grid.dispatch(self.clear_new_records, grid.newly_covered.segment())
