@@ -7,7 +7,6 @@ changed since it last ran (found from the scene's edits: engine/scene_table.py, 
         r.save_png("out.png")                          # tone-mapped with the settings' curve
 """
 import functools
-import math
 import numbers
 from contextlib import contextmanager
 from dataclasses import dataclass
@@ -15,16 +14,16 @@ from dataclasses import dataclass
 import moderngl
 import numpy as np
 
-from . import transforms
 from . import bounces
 from .changes import FrameInputs, HeldDraws, Stage, VoxelUpdate
 from .clipmap import frame_levels, level_shift, moved_levels, scrolled_regions, with_coarser_levels
-from .constants import SKY_NEAR_REACH, struct_dtype
+from .constants import SKY_NEAR_REACH
 from .emitters import frame_emitters
 from .errors import VctError
+from .frame_camera import CameraBlock, frame_camera
 from .gl import create_headless_context
-from .gl_bindings import bind_uniform_block, forget_bindings
-from .gl_functions import GL_DEBUG_SOURCE_APPLICATION, gl_functions, write_buffer
+from .gl_bindings import forget_bindings
+from .gl_functions import GL_DEBUG_SOURCE_APPLICATION, gl_functions
 from .gpu_timing import PassTimer
 from .output import save_png
 from .passes.cone_trace import ConeTracePass
@@ -48,8 +47,6 @@ from .settings import RenderSettings
 from .shaders import GLSL_ROOT, ProgramLibrary
 from .voxel_grid import VoxelGrid
 
-NEAR_PLANE = 0.01
-CAMERA_DTYPE = struct_dtype("FrameCamera")
 VOXEL_VOLUMES = {"radiance": "voxels", "normal": "voxel-normals", "albedo": "voxel-albedo", "gathered": None}
 
 
@@ -60,63 +57,6 @@ class WorkResources:
     emitters: object
     environment: object
     cone_uniforms: dict
-
-
-@dataclass
-class FrameCamera:
-    position: np.ndarray
-    forward: np.ndarray
-    view_projection: np.ndarray
-    far: float
-    pixel_angle: float  # radians between neighbouring pixels' rays, at the image centre (0: orthographic)
-    orthographic: bool = False
-    buffer: object = None  # the uniform buffer the frame's camera is written into (CameraBlock)
-
-    def record(self):
-        """The camera as glsl/lib/camera.glsl reads it (GLSL_STRUCTS["FrameCamera"])."""
-        record = np.zeros(1, CAMERA_DTYPE)
-        record["view_projection"] = np.asarray(self.view_projection, "f4").T.ravel()
-        record["inverse_view_projection"] = np.asarray(np.linalg.inv(self.view_projection), "f4").T.ravel()
-        record["position"] = (*self.position, float(self.orthographic))
-        record["forward"][0, :3] = self.forward
-        return record
-
-    def bind(self):
-        """The camera's uniform block, for a program that reads glsl/lib/camera.glsl."""
-        bind_uniform_block(self.buffer.buffer, "CAMERA")
-
-
-class CameraBlock:
-    """The uniform buffer holding the frame's camera: written when the camera changed."""
-
-    def __init__(self, ctx):
-        self.buffer = ctx.buffer(reserve=CAMERA_DTYPE.itemsize)
-        self.held = None
-
-    def write(self, camera):
-        """Hold `camera` (a FrameCamera, which then binds this buffer)."""
-        data = camera.record().tobytes()
-        if data != self.held:
-            write_buffer(self.buffer, data)
-            self.held = data
-        camera.buffer = self
-        return camera
-
-    def release(self):
-        self.buffer.release()
-
-
-def frame_camera(camera, size, bounds):
-    """The camera's matrices for an image of `size`; the far plane lies past the farthest
-    corner of the scene's bounds."""
-    corners = transforms.box_corners(*bounds)
-    far = float(np.max(np.linalg.norm(corners - camera.position, axis=1))) * 1.1 + 1.0
-    forward = camera.look_at - camera.position
-    projection = camera.projection_matrix(size[0] / size[1], NEAR_PLANE, far)
-    orthographic = camera.projection == "orthographic"
-    pixel_angle = 0.0 if orthographic else 2.0 * math.tan(math.radians(camera.vertical_fov_deg) / 2.0) / size[1]
-    return FrameCamera(np.asarray(camera.position, float), forward / np.linalg.norm(forward),
-                       projection @ camera.view_matrix(), far, pixel_angle, orthographic)
 
 
 def _current(method):
@@ -428,9 +368,9 @@ class Renderer:
 
     def _voxels(self, frame, s, source, emitters, camera):
         """Voxelize what changed: the draws whose mesh, transform or material changed since the
-        grid last took them in (as it holds them: self.held), and the levels that moved with the camera: scrolled where they
-        moved by part of their cube, else voxelized anew (every level of a new grid); where
-        surfaces emit, the emission volume's mip chain follows. Progressive frames (the viewer)
+        grid last took them in (as it holds them: self.held), and the levels that moved with
+        the camera: scrolled where they moved by part of their cube, else voxelized anew (every
+        level of a new grid); where surfaces emit, the emission volume's mip chain follows. Progressive frames (the viewer)
         move one level a frame (clipmap.scrolled_regions). Returns the changes.VoxelUpdate
         applied, or None where the voxels' inputs did not change."""
         stage = self.stages["voxels"]

@@ -60,7 +60,7 @@ def test_the_camera_draws_the_clusters_in_its_frustum_and_no_others():
             draw_list = r.gbuffer.draw_list
             commands = np.frombuffer(draw_list.commands.read(), "u4")[:5 * draw_list.command_count].reshape(-1, 5)
         table, pool = r.table, r.scene_buffers.pool
-        view_projection = engine.renderer.frame_camera(scene.camera, r.size, table.bounds).view_projection
+        view_projection = engine.frame_camera.frame_camera(scene.camera, r.size, table.bounds).view_projection
         expected = 0
         for draw in range(table.draw_count):
             entry = r.scene_buffers.draw_entries[draw]

@@ -14,7 +14,7 @@ class LightingPass:
         self.target.resize(size)
 
     def render(self, gbuffer, shadow_maps, camera):
-        """`camera`: renderer.FrameCamera."""
+        """`camera`: frame_camera.FrameCamera."""
         gbuffer.use()
         shadow_maps.bind(self.program)
         camera.bind()
