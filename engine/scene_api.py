@@ -49,7 +49,7 @@ import numpy as np
 from .errors import SceneError, VctError
 from .input_files import InputFiles
 from .limits import MAX_DEPTH, MIN_FOV_DEG, check_material, check_placement, check_vertices
-from .mesh_files import _Textures, default_material, face_normals, generate_tangents, smooth_normals
+from .mesh_building import FileTextures, default_material, face_normals, generate_tangents, smooth_normals
 from .scene import TEXTURE_FIELDS, Material, Mesh, Node, NodeCamera, Scene
 from .scene_file import DEFAULT_WIDTH, FALLBACK_ASPECT, framing_camera
 from .transforms import decompose
@@ -246,7 +246,7 @@ class _TrimeshScene:
         self.where = f'trimesh scene "{name}"'
         self.parts = {}      # geometry name -> (Mesh or None, Material)
         self.materials = {}  # id of a trimesh material (the scene holds each while it is read) -> its Material
-        self.textures = _Textures(InputFiles())
+        self.textures = FileTextures(InputFiles())
         self.grey = default_material()
         self.coloured = Material(name="vertex colours", albedo=np.ones(3))
 
