@@ -1,6 +1,6 @@
 """The limits every input is held to: one set, whether a node, transform or material comes from
 a scene file, a glTF file or an OBJ/MTL file, and the checks that apply them (plain numpy, no
-GL). The README's "Limits" table states each one.
+GL). docs/USAGE.md's "Limits" table states each one.
 
 Each check takes `fail(field, message)`, the caller's way of raising SceneError with the field
 named as its file names it (`objects[2] "Lamp".scale`, `materials[3].emissiveFactor`,
