@@ -1,5 +1,5 @@
 # make render | test | bench | bench-peers | clean. System libraries come from tools/ensure_system_deps.sh,
-# Python packages go into .venv (reinstalled when pyproject.toml or this file changes).
+# Python packages go into .venv (reinstalled when pyproject.toml, setup.py or this file changes).
 PYTHON ?= python3
 VENV := .venv
 SCENE := scenes/cornell_box.json
@@ -35,12 +35,12 @@ test-system-deps:
 $(VENV)/bin/python:
 	$(PYTHON) -m venv $(VENV)
 
-# Stamps: the venv is created once (order-only), packages are reinstalled when pyproject.toml or
-# this file changes.
-$(VENV)/.installed: pyproject.toml Makefile | $(VENV)/bin/python
+# Stamps: the venv is created once (order-only), packages are reinstalled when pyproject.toml,
+# setup.py or this file changes.
+$(VENV)/.installed: pyproject.toml setup.py Makefile | $(VENV)/bin/python
 	$(PIP_INSTALL) -e .
 	@touch $@
 
-$(VENV)/.installed-test: pyproject.toml Makefile | $(VENV)/bin/python
+$(VENV)/.installed-test: pyproject.toml setup.py Makefile | $(VENV)/bin/python
 	$(PIP_INSTALL) -e '.[test,reference]'
 	@touch $@ $(VENV)/.installed

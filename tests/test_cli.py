@@ -1,5 +1,5 @@
-"""The `vct` command line (engine.cli), run as a real process (`python -m engine.cli`), or in
-this process (engine.cli.main) where a failure of the driver is simulated or many cases run.
+"""The `vct` command line (engine.app.cli), run as a real process (`python -m engine.app.cli`), or in
+this process (engine.app.cli.main) where a failure of the driver is simulated or many cases run.
 
 Facts: every command's --help is complete; `vct render` writes the PNG and the float32 HDR it
 was asked for and says where; every bad input (a broken scene, an impossible setting, an
@@ -35,7 +35,7 @@ HELP = {
 
 
 def vct(*args, cwd=ROOT):
-    return subprocess.run([sys.executable, "-m", "engine.cli", *map(str, args)], cwd=cwd,
+    return subprocess.run([sys.executable, "-m", "engine.app.cli", *map(str, args)], cwd=cwd,
                           capture_output=True, text=True, timeout=120)
 
 
@@ -65,7 +65,7 @@ def test_entry_point_is_the_cli_main():
     tomllib = pytest.importorskip("tomllib")  # Python 3.11+
 
     scripts = tomllib.loads((ROOT / "pyproject.toml").read_text())["project"]["scripts"]
-    assert scripts["vct"] == "engine.cli:main"
+    assert scripts["vct"] == "engine.app.cli:main"
 
 
 @pytest.mark.parametrize("command, options", list(HELP.items()), ids=lambda v: " ".join(v) if isinstance(v, tuple) else None)
@@ -101,7 +101,7 @@ def test_counts_beyond_their_bound_exit_2_naming_the_option(args, option):
 
 
 def test_render_help_lists_every_mode_and_tone_mapper():
-    from engine.settings import MODES, TONEMAPS
+    from engine.frame.settings import MODES, TONEMAPS
 
     text = vct("render", "--help").stdout
     for name in (*MODES, *TONEMAPS):
@@ -250,7 +250,7 @@ def test_concurrent_renders_to_the_same_outputs_all_succeed_and_leave_both_files
     """Four processes writing the same --out and --hdr at once each write their own temporary
     files and move them into place: every one succeeds, and both files are there, complete."""
     png, npy = out_dir / "same.png", out_dir / "same.npy"
-    command = [sys.executable, "-m", "engine.cli", "render", str(CORNELL), "--out", str(png), "--hdr", str(npy), *SMALL]
+    command = [sys.executable, "-m", "engine.app.cli", "render", str(CORNELL), "--out", str(png), "--hdr", str(npy), *SMALL]
     processes = [subprocess.Popen(command, cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
                  for _ in range(4)]
     results = [process.communicate(timeout=120) + (process.returncode,) for process in processes]
@@ -261,13 +261,13 @@ def test_concurrent_renders_to_the_same_outputs_all_succeed_and_leave_both_files
     assert sorted(p.name for p in out_dir.iterdir()) == ["same.npy", "same.png"]
 
 
-# ---- writing outputs (engine.output.write_files) ---------------------------------------------
+# ---- writing outputs (engine.formats.output.write_files) ---------------------------------------------
 
 def test_write_files_writes_all_or_nothing_and_keeps_the_files_that_were_there(tmp_path):
     """The second output cannot be written (its directory is missing): the first file keeps its
     old content and no temporary file is left."""
-    from engine.errors import VctError
-    from engine.output import write_files
+    from engine.core.errors import VctError
+    from engine.formats.output import write_files
 
     first = tmp_path / "first.npy"
     first.write_bytes(b"old")
@@ -278,7 +278,7 @@ def test_write_files_writes_all_or_nothing_and_keeps_the_files_that_were_there(t
 
 
 def test_write_files_removes_its_temporaries_whatever_a_writer_raises(tmp_path):
-    from engine.output import write_files
+    from engine.formats.output import write_files
 
     def broken(f):
         f.write(b"half")
@@ -295,7 +295,7 @@ def test_write_files_removes_its_temporaries_whatever_a_writer_raises(tmp_path):
 def test_write_files_to_the_same_path_at_the_same_time_both_succeed(tmp_path):
     """Another writer of the same path finishes while this one is writing: each has its own
     temporary file, so neither fails nor removes the other's result; the last move wins."""
-    from engine.output import write_files
+    from engine.formats.output import write_files
 
     target = tmp_path / "same.npy"
 
@@ -310,7 +310,7 @@ def test_write_files_to_the_same_path_at_the_same_time_both_succeed(tmp_path):
 
 def test_write_files_takes_names_as_long_as_the_file_system_allows(tmp_path):
     """Temporary names do not grow with the target's name."""
-    from engine.output import write_files
+    from engine.formats.output import write_files
 
     longest = tmp_path / ("x" * 255)
     write_files([(longest, lambda f: f.write(b"data"))])
@@ -340,7 +340,7 @@ def test_shader_syntax_error_exits_2_naming_the_glsl_file_and_line_and_writes_no
 def test_no_opengl_45_exits_2_with_one_line(out_dir):
     """A context backend that cannot give OpenGL 4.5 is one clear line, not a traceback."""
     env = dict(os.environ, VCT_GL_BACKEND="none-such")
-    result = subprocess.run([sys.executable, "-m", "engine.cli", "render", str(CORNELL), "--out", str(out_dir / "x.png"), *SMALL],
+    result = subprocess.run([sys.executable, "-m", "engine.app.cli", "render", str(CORNELL), "--out", str(out_dir / "x.png"), *SMALL],
                             cwd=ROOT, capture_output=True, text=True, timeout=120, env=env)
     assert_one_line_error(result, "OpenGL 4.5")
     assert list(out_dir.iterdir()) == []
@@ -355,7 +355,7 @@ def test_osmesa_fallback_renders_the_same_image(out_dir):
     for backend in ("egl", "osmesa"):
         env = dict(os.environ, VCT_GL_BACKEND=backend)
         npy = out_dir / f"{backend}.npy"
-        result = subprocess.run([sys.executable, "-m", "engine.cli", "render", str(CORNELL), "--out", str(out_dir / f"{backend}.png"),
+        result = subprocess.run([sys.executable, "-m", "engine.app.cli", "render", str(CORNELL), "--out", str(out_dir / f"{backend}.png"),
                                  "--hdr", str(npy), *SMALL], cwd=ROOT, capture_output=True, text=True, timeout=120, env=env)
         assert result.returncode == 0, result.stderr
         outputs[backend] = np.load(npy)
@@ -372,7 +372,7 @@ def test_image_larger_than_the_driver_allows_exits_2(out_dir):
 
 def run_main(capsys, *args):
     """`vct ARGS` in this process: (exit code, stdout, stderr lines)."""
-    from engine.cli import main
+    from engine.app.cli import main
 
     try:
         code = main([str(a) for a in args])

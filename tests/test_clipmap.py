@@ -8,11 +8,11 @@ import numpy as np
 import pytest
 
 import engine
-from engine.clipmap import default_clipmap, level_regions, level_shift, level_snap_voxels, moved_levels
-from engine.constants import FACING_EXPONENT, VOXEL_PACK_BITS
-from engine.passes.voxelize import entered_slabs
-from engine.errors import SceneError
-from engine.scene import Clipmap, VoxelRegion
+from engine.voxels.clipmap import default_clipmap, level_regions, level_shift, level_snap_voxels, moved_levels
+from engine.core.constants import FACING_EXPONENT, VOXEL_PACK_BITS
+from engine.voxels.clipmap import entered_slabs
+from engine.core.errors import SceneError
+from engine.scene.model import Clipmap, VoxelRegion
 from conftest import REFERENCE, SCENES, reference_file, rel_mae
 from test_cli import assert_one_line_error, vct
 from test_tracking import SCREEN_PASSES

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 import engine
-from engine.constants import diffuse_cones
+from engine.core.constants import diffuse_cones
 from conftest import SCENES, TEST_SCENES, luminance_ratio, rel_mae
 
 

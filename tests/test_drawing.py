@@ -5,10 +5,10 @@ import numpy as np
 import pytest
 
 import engine
-from engine import transforms
-from engine.scene import Camera, Light, Material, Node, Scene, Texture, box_mesh, quad_mesh
-from engine.scene_gpu import texture_groups
-from engine.constants import MATERIAL_TEXTURE_ARRAYS
+from engine.core import transforms
+from engine.scene.model import Camera, Light, Material, Node, Scene, Texture, box_mesh, quad_mesh
+from engine.gpu.scene_buffers import texture_groups
+from engine.core.constants import MATERIAL_TEXTURE_ARRAYS
 
 
 def field_of_boxes(count, materials=4):
@@ -60,7 +60,7 @@ def test_the_camera_draws_the_clusters_in_its_frustum_and_no_others():
             draw_list = r.gbuffer.draw_list
             commands = np.frombuffer(draw_list.commands.read(), "u4")[:5 * draw_list.command_count].reshape(-1, 5)
         table, pool = r.table, r.scene_buffers.pool
-        view_projection = engine.frame_camera.frame_camera(scene.camera, r.size, table.bounds).view_projection
+        view_projection = engine.frame.camera.frame_camera(scene.camera, r.size, table.bounds).view_projection
         expected = 0
         for draw in range(table.draw_count):
             entry = r.scene_buffers.draw_entries[draw]

@@ -1,11 +1,11 @@
-"""Emissive surfaces as area lights (engine/emitters.py, GL-free): which triangles emit, how
+"""Emissive surfaces as area lights (engine/scene/emitters.py, GL-free): which triangles emit, how
 they are grouped into patches that share a visibility cone, and what radiance each carries."""
 import numpy as np
 import pytest
 
-from engine.emitters import frame_emitters
-from engine.scene import Camera, Material, Node, Scene, Texture, box_mesh, quad_mesh
-from engine.scene_table import SceneTable
+from engine.scene.emitters import frame_emitters
+from engine.scene.model import Camera, Material, Node, Scene, Texture, box_mesh, quad_mesh
+from engine.scene.table import SceneTable
 
 PANEL = [[-0.25, 0.99, 0.25], [-0.25, 0.99, -0.25], [0.25, 0.99, -0.25], [0.25, 0.99, 0.25]]  # facing down
 

@@ -21,7 +21,7 @@ import pytest
 
 import engine
 from engine import SceneError, load_scene
-from engine.constants import SKY_FILTER_RADIUS, SKY_NEAR_REACH
+from engine.core.constants import SKY_FILTER_RADIUS, SKY_NEAR_REACH
 from test_cli import assert_one_line_error, vct  # tests/ is on sys.path under pytest
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -175,7 +175,7 @@ def test_while_an_object_moves_under_a_sky_only_the_voxels_near_it_are_relit_the
 
 # What the card returns seen at n.v = 1/2: the diffuse layer's 1 - F(1/2) = 0.93 of the sky's 1
 # plus the specular lobe's directional albedo A there, by Monte Carlo over cosine-weighted light
-# directions (2M samples; independent of engine/specular_lobe.py's table): 0.070, 0.068 and 0.031
+# directions (2M samples; independent of engine/core/specular_lobe.py's table): 0.070, 0.068 and 0.031
 # for the dielectric at roughness 0.1, 0.5 and 1 (Smith's masking takes more of a rough lobe's
 # light), 0.996 and 0.517 for metals of F0 1 and 0.5 at roughness 0.3.
 @pytest.mark.parametrize("material, returned", [

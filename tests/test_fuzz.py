@@ -13,7 +13,7 @@ and no file created or changed (lines "vct: warning: ..." may come before either
 Reproducible and bounded: derandomize=True draws the same examples on every run (the seed is
 derived from the test itself; no example database), so a failure reports the same falsifying
 example each time; each test has a fixed number of examples and a deadline per example, with
-16x16 images at grid 16. Renders run in-process through engine.cli.run (main without its
+16x16 images at grid 16. Renders run in-process through engine.app.cli.run (main without its
 filter of library warnings, so that a warning on the way fails the test); the last test runs
 a few cases as real processes to check exit codes and stderr end to end.
 """
@@ -35,8 +35,8 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from engine import SceneError, VctWarning, load_scene
-from engine.cli import run
-from engine.transforms import gl_bytes
+from engine.app.cli import run
+from engine.core.transforms import gl_bytes
 from test_mesh_files import MTL, OBJ, two_material_gltf, write_model_scene, write_obj  # tests/ is on sys.path
 from test_scene_file import DATA, write_scene
 
@@ -209,7 +209,7 @@ def test_mutated_scene_loads_with_finite_gpu_inputs_or_fails_with_one_line_namin
 
 
 def run_vct(args):
-    """engine.cli.run (main without its warnings filter) in this process: (exit code, stdout,
+    """engine.app.cli.run (main without its warnings filter) in this process: (exit code, stdout,
     stderr), warnings as errors."""
     out, err = io.StringIO(), io.StringIO()
     with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err), warnings.catch_warnings():
@@ -411,7 +411,7 @@ def test_mutated_inputs_as_a_real_process_exit_0_or_2_with_one_line_and_no_trace
         path = write_document(directory, document)
         out = Path(directory) / "out"
         out.mkdir()
-        result = subprocess.run([sys.executable, "-m", "engine.cli", "render", str(path), "--out", str(out / "x.png"),
+        result = subprocess.run([sys.executable, "-m", "engine.app.cli", "render", str(path), "--out", str(out / "x.png"),
                                  "--hdr", str(out / "x.npy"), *options],
                                 cwd=ROOT, capture_output=True, text=True, timeout=120)
         assert result.returncode in (0, 2), result.stderr

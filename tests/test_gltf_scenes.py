@@ -133,7 +133,7 @@ def test_an_orthographic_camera_sees_ymag_metres_above_and_below_its_axis(small,
     node(g, {"mesh": face(g, CARD, texcoords=None)})
     camera_node(g, {"type": "orthographic", "orthographic": {"xmag": 2.0, "ymag": 2.0, "znear": 0.1, "zfar": 10}}, (0, 0, 3))
     scene = load_scene(g.write(tmp_path / "o.glb"))
-    scene.root.children.append(engine.scene.Node(name="Sun", light=engine.scene.Light(
+    scene.root.children.append(engine.scene.model.Node(name="Sun", light=engine.scene.model.Light(
         "directional", np.ones(3), direction=np.array([0.0, 0.0, -1.0]))))
     assert scene.camera.projection == "orthographic" and scene.camera.half_height == 2.0
     covered = small.render(scene, mode="albedo").max(axis=2) > 0

@@ -30,9 +30,9 @@ import pytest
 
 import engine
 from engine import SceneError, ShaderError, VctError, VctWarning, load_scene
-from engine.cli import main
-from engine.limits import MAX_DEPTH, MAX_FILE_BYTES, MAX_IMAGE_PIXELS, MAX_INCLUDE_DEPTH
-from engine.shaders import preprocess
+from engine.app.cli import main
+from engine.core.limits import MAX_DEPTH, MAX_FILE_BYTES, MAX_IMAGE_PIXELS, MAX_INCLUDE_DEPTH
+from engine.gpu.shaders import preprocess
 from conftest import interruptible
 from test_cli import CORNELL, assert_one_line_error, vct  # tests/ is on sys.path under pytest
 from test_mesh_files import PAINTING, TEXTURE, png, textured_quad, write_model_scene, write_obj
@@ -156,18 +156,18 @@ def test_the_images_of_a_scene_share_one_pixel_budget(tmp_path, monkeypatch):
         other = g.texture(g.image(png(PAINTING[::-1].copy())))
         g.doc["materials"][0]["emissiveTexture"] = {"index": other}
     scene = model_gltf(tmp_path, change)
-    monkeypatch.setattr("engine.input_files.MAX_INPUT_PIXELS", 12)
+    monkeypatch.setattr("engine.formats.input_files.MAX_INPUT_PIXELS", 12)
     load_scene(scene)
-    monkeypatch.setattr("engine.input_files.MAX_INPUT_PIXELS", 11)
+    monkeypatch.setattr("engine.formats.input_files.MAX_INPUT_PIXELS", 11)
     assert "materials[0].emissiveTexture: images[1]: 2x3 pixels" in load_error(scene)
 
 
 def test_the_files_of_a_scene_share_one_size_budget(tmp_path, monkeypatch):
     scene = model_gltf(tmp_path)
     total = sum(f.stat().st_size for f in (scene, tmp_path / "model.gltf", tmp_path / "model.bin"))
-    monkeypatch.setattr("engine.input_files.MAX_INPUT_BYTES", total)
+    monkeypatch.setattr("engine.formats.input_files.MAX_INPUT_BYTES", total)
     assert len(load_scene(scene).files) == 3
-    monkeypatch.setattr("engine.input_files.MAX_INPUT_BYTES", total - 1)
+    monkeypatch.setattr("engine.formats.input_files.MAX_INPUT_BYTES", total - 1)
     assert "model.gltf: buffers[0].uri" in load_error(scene)
 
 
@@ -349,8 +349,8 @@ def test_emission_above_half_floats_is_refused_whichever_file_the_material_comes
 
 SIGNALLED_RENDER = """
 import os, signal, sys
-import engine.output
-from engine.cli import main
+import engine.formats.output
+from engine.app.cli import main
 
 def png_writer(pixels):
     def write(f):
@@ -360,7 +360,7 @@ def png_writer(pixels):
         f.write(b"the other half")
     return write
 
-engine.output.png_writer = png_writer
+engine.formats.output.png_writer = png_writer
 sys.exit(main(sys.argv[1:]))
 """
 
@@ -380,7 +380,7 @@ def test_a_signal_while_outputs_are_written_removes_their_temporary_files_and_ex
 
 def test_a_closed_stdout_loses_only_the_report(tmp_path):
     """The reader of stdout is gone before vct reports what it wrote."""
-    process = subprocess.Popen([sys.executable, "-m", "engine.cli", "render", CORNELL, "--out", tmp_path / "x.png",
+    process = subprocess.Popen([sys.executable, "-m", "engine.app.cli", "render", CORNELL, "--out", tmp_path / "x.png",
                                 *SMALL], cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE)
     process.stdout.close()
     _, stderr = process.communicate(timeout=120)
@@ -390,7 +390,7 @@ def test_a_closed_stdout_loses_only_the_report(tmp_path):
 
 def test_a_full_stdout_loses_only_the_report(tmp_path):
     with open("/dev/full", "w") as full:
-        result = subprocess.run([sys.executable, "-m", "engine.cli", "render", CORNELL, "--out", tmp_path / "x.png",
+        result = subprocess.run([sys.executable, "-m", "engine.app.cli", "render", CORNELL, "--out", tmp_path / "x.png",
                                  *SMALL], cwd=ROOT, stdout=full, stderr=subprocess.PIPE, text=True, timeout=120)
     assert result.returncode == 0 and result.stderr == ""
     assert (tmp_path / "x.png").read_bytes()[:4] == b"\x89PNG"
@@ -424,7 +424,7 @@ def test_a_library_warning_on_the_way_to_an_error_is_not_printed(tmp_path, monke
     def load_scene_warning(path, **options):
         np.float32(1e39)  # numpy: overflow encountered in cast
         raise SceneError("the error", source=path)
-    monkeypatch.setattr("engine.scene_file.load_scene", load_scene_warning)
+    monkeypatch.setattr("engine.formats.scene_file.load_scene", load_scene_warning)
     with np.errstate(all="warn"):
         assert main(["render", str(CORNELL), "--out", str(tmp_path / "x.png")]) == 2
     assert capsys.readouterr().err == f"vct: error: {CORNELL}: the error\n"

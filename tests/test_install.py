@@ -20,7 +20,7 @@ from PIL import Image
 
 ROOT = Path(__file__).resolve().parent.parent
 CORNELL = ROOT / "scenes" / "cornell_box.json"
-WHEEL_SOURCES = ["pyproject.toml", "README.md", "engine", "glsl"]
+WHEEL_SOURCES = ["pyproject.toml", "setup.py", "README.md", "engine", "glsl"]
 SHADER_SUFFIXES = {".vert", ".frag", ".geom", ".comp", ".glsl"}
 PIP = [sys.executable, "-m", "pip", "--disable-pip-version-check"]
 
@@ -70,7 +70,7 @@ def test_the_wheel_holds_every_engine_module_and_shader(wheel):
 def test_a_wheel_built_from_the_repository_renders_from_any_directory(venv, tmp_path):
     """`vct render` of the installed wheel, run outside the checkout, uses the engine and the
     shaders of the wheel and writes a lit image."""
-    where = run(venv / "bin" / "python", "-c", "import engine.shaders; print(engine.__file__); print(engine.shaders.GLSL_ROOT)",
+    where = run(venv / "bin" / "python", "-c", "import engine.gpu.shaders; print(engine.__file__); print(engine.gpu.shaders.GLSL_ROOT)",
                 cwd=tmp_path).splitlines()
     assert all(Path(path).is_relative_to(venv) for path in where), where
     png = tmp_path / "cornell.png"

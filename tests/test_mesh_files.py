@@ -1,4 +1,4 @@
-"""Mesh files (engine.mesh_files): glTF/GLB and OBJ+MTL keep their structure, materials and textures.
+"""Mesh files (engine.formats.mesh_files): glTF/GLB and OBJ+MTL keep their structure, materials and textures.
 
 Facts: a glTF built here loads into its node hierarchy (names, TRS and matrix transforms), one node
 per primitive with that primitive's material; materials follow the documented glTF mapping;
@@ -21,9 +21,9 @@ import pytest
 from PIL import Image
 
 from engine import SceneError, load_scene
-from engine.limits import MAX_IMAGE_SIDE as MAX_TEXTURE_SIZE
-from engine.mesh_files import load_mesh_file
-from engine.transforms import compose, transform_points
+from engine.core.limits import MAX_IMAGE_SIDE as MAX_TEXTURE_SIZE
+from engine.formats.mesh_files import load_mesh_file
+from engine.core.transforms import compose, transform_points
 from test_cli import assert_one_line_error, vct  # tests/ is on sys.path under pytest
 
 ROOT = Path(__file__).resolve().parent.parent

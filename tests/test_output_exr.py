@@ -1,4 +1,4 @@
-"""OpenEXR output (engine.output.save_exr, `vct render --hdr FILE.exr`).
+"""OpenEXR output (engine.formats.output.save_exr, `vct render --hdr FILE.exr`).
 
 Facts: an .exr holds the radiance it was given (float32 RGB, row 0 at the top), read back with
 the same library; `vct render --hdr x.exr` writes one next to the PNG, the same image as

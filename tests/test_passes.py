@@ -3,17 +3,17 @@ whose inputs are known, checked against the formula it implements."""
 import numpy as np
 import pytest
 
-from engine.gl import create_headless_context
+from engine.gpu.context import create_headless_context
 from engine.passes.cull import CullPass
 from engine.passes.faces import FaceViewsPass
 from engine.passes.gather import GatherPass
 from engine.passes.inject import InjectPass
 from engine.passes.shadow import ShadowPass
-from engine.scene import Light, VoxelRegion
-from engine.scene_gpu import EmitterBuffers, EnvironmentMap, SceneBuffers
-from engine.settings import RenderSettings
-from engine.shaders import ProgramLibrary
-from engine.voxel_grid import VoxelGrid
+from engine.scene.model import Light, VoxelRegion
+from engine.gpu.scene_buffers import EmitterBuffers, EnvironmentMap, SceneBuffers
+from engine.frame.settings import RenderSettings
+from engine.gpu.shaders import ProgramLibrary
+from engine.voxels.grid import VoxelGrid
 
 N = 16
 REGION = VoxelRegion(np.zeros(3), 1.6)  # 10 cm voxels over [-0.8, 0.8]^3

@@ -1,4 +1,4 @@
-"""engine/progress.py: the progress of long work, on stderr.
+"""engine/core/progress.py: the progress of long work, on stderr.
 
 Facts: on a terminal long work shows a bar with the units done of the total, the rate and the
 time left, cleared when the work ends; in a log (stderr not a terminal) it prints nothing while
@@ -22,7 +22,7 @@ from pathlib import Path
 
 import pytest
 
-from engine.progress import MIN_SECONDS, progress, set_quiet, summary_line
+from engine.core.progress import MIN_SECONDS, progress, set_quiet, summary_line
 
 ROOT = Path(__file__).resolve().parent.parent
 LONG = MIN_SECONDS * 1.3  # seconds of work: long enough for a bar and a summary line
@@ -38,7 +38,7 @@ def work(total, seconds, summary=True):
 
 
 # The start of the programs run on a terminal: work() and what it needs.
-WORK = "import time\nfrom engine.progress import progress, set_quiet\n\n" + inspect.getsource(work)
+WORK = "import time\nfrom engine.core.progress import progress, set_quiet\n\n" + inspect.getsource(work)
 
 
 def on_a_terminal(code):

@@ -2,10 +2,10 @@
 or the lights changed, and how the bounces converge, headless and over progressive frames."""
 import numpy as np
 
-from engine.bounces import (EVERY_VOXEL, TOUCHED_VOXELS, ClassRounds, ComposeFaces, ExtrapolateGather, FindAnchors, Gather, Inject,
-                            LightVoxels, MeasureTotals, Mipmap, RadianceSchedule, ReadTotals, RequestTotals, SortClasses, Voxels,
-                            class_voxels, run_plan)
-from engine.voxel_grid import Epoch
+from engine.frame.schedule import (EVERY_VOXEL, TOUCHED_VOXELS, ClassRounds, ComposeFaces, ExtrapolateGather, FindAnchors, Gather, Inject,
+                                   LightVoxels, MeasureTotals, Mipmap, RadianceSchedule, ReadTotals, RequestTotals, SortClasses, Voxels,
+                                   class_voxels, run_plan)
+from engine.voxels.grid import Epoch
 
 
 def run(plan, totals=()):

@@ -1,4 +1,4 @@
-"""Scene files (engine.scene_file.load_scene): what a JSON scene loads into, and how bad input fails.
+"""Scene files (engine.formats.scene_file.load_scene): what a JSON scene loads into, and how bad input fails.
 
 Loading facts: the reference Cornell box loads unchanged into a "Cornell Box" node; quads face
 where the right-hand rule of their vertex order says; boxes, spheres, groups and mesh files
@@ -20,8 +20,8 @@ import pytest
 
 from conftest import REFERENCE, REQUIRE_REFERENCES, reference_file  # tests/ is on sys.path under pytest
 from engine import SceneError, VctWarning, load_scene
-from engine.scene_schema import SCHEMA, default, reference_text, schema_text
-from engine.transforms import transform_points
+from engine.formats.scene_schema import SCHEMA, default, reference_text, schema_text
+from engine.core.transforms import transform_points
 
 ROOT = Path(__file__).resolve().parent.parent
 CORNELL = ROOT / "scenes" / "cornell_box.json"
@@ -501,7 +501,7 @@ def test_scene_path_that_is_not_a_regular_file_is_refused_without_reading_it(tmp
 
 
 def test_scene_file_larger_than_the_limit_is_refused(tmp_path):
-    from engine.scene_file import MAX_SCENE_BYTES
+    from engine.formats.scene_file import MAX_SCENE_BYTES
 
     path = tmp_path / "huge.json"
     with open(path, "wb") as f:

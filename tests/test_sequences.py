@@ -24,7 +24,7 @@ import pytest
 from PIL import Image
 
 import engine
-from engine.sequence import orbit
+from engine.formats.sequence import orbit
 from test_animation import animated_gltf  # tests/ is on sys.path under pytest
 from test_cli import assert_one_line_error, vct
 
@@ -135,7 +135,7 @@ def test_progressive_frames_after_an_object_moved_converge_without_class_pattern
 
 
 def test_an_interrupted_sequence_leaves_complete_frames_and_no_partial_file(tmp_path):
-    process = subprocess.Popen([sys.executable, "-m", "engine.cli", "render", str(ROOM), *SMALL, "--frames", "200",
+    process = subprocess.Popen([sys.executable, "-m", "engine.app.cli", "render", str(ROOM), *SMALL, "--frames", "200",
                                 "--out", str(tmp_path / "f_%03d.png"), "--video", str(tmp_path / "v.mp4")],
                                cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
                                preexec_fn=interruptible)

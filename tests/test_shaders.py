@@ -6,8 +6,8 @@ import shutil
 import pytest
 
 import engine
-from engine import constants
-from engine.shaders import GLSL_ROOT, preprocess
+from engine.core import constants
+from engine.gpu.shaders import GLSL_ROOT, preprocess
 
 
 @pytest.fixture
@@ -22,7 +22,7 @@ def test_includes_are_expanded_once_with_line_directives():
     assert "#include" not in source.text
     assert source.text.startswith("#version 450")
     assert source.files[0] == "glsl/lighting/shade_lights.frag"
-    assert "glsl/lib/lights.glsl" in source.files and "engine/constants.py" in source.files
+    assert "glsl/lib/lights.glsl" in source.files and "engine/core/constants.py" in source.files
     # engine_constants.glsl is pulled in by several libraries but expanded once.
     assert source.text.count("#define MAX_LIGHTS") == 1
 
@@ -44,7 +44,7 @@ def test_shared_enums_and_struct_layouts_come_from_the_python_tables():
     for name, members in constants.GLSL_STRUCTS.items():
         assert constants.struct_dtype(name).itemsize == 16 * sum((4 if kind == "mat4" else 1) * (count[0] if count else 1)
                                                                  for kind, _, *count in members)
-    # No shader defines them again: each lives in engine/constants.py alone.
+    # No shader defines them again: each lives in engine/core/constants.py alone.
     for path in GLSL_ROOT.rglob("*.*"):
         text = path.read_text()
         assert not re.search(r"#define (TONEMAP|OUTPUT|VIEW|SHOW|VOXELIZE|MAP)_[A-Z_]+ \d", text), path

@@ -1,4 +1,4 @@
-"""The interactive viewer (`vct view`, engine.viewer).
+"""The interactive viewer (`vct view`, engine.app.viewer).
 
 The window tests run a real glfw window with an OpenGL 4.5 core context on a private Xvfb
 server (started here on a free display number); they skip, saying why, only where no
@@ -18,13 +18,13 @@ import pytest
 from PIL import Image
 
 import engine
-from engine.errors import VctError
-from engine.viewer import inspector
-from engine.viewer import layout
-from engine.viewer.camera import FlyCamera
-from engine.viewer.hot_reload import ShaderWatcher
-from engine.viewer.playback import Playback
-from engine.viewer.stats import FrameStats, reused, work_line
+from engine.core.errors import VctError
+from engine.app.viewer import inspector
+from engine.app.viewer import layout
+from engine.app.viewer.camera import FlyCamera
+from engine.app.viewer.hot_reload import ShaderWatcher
+from engine.app.viewer.playback import Playback
+from engine.app.viewer.stats import FrameStats, reused, work_line
 
 ROOT = Path(__file__).resolve().parent.parent
 SCENE = ROOT / "scenes" / "cornell_box.json"
@@ -86,13 +86,13 @@ def scene():
 
 
 def open_viewer(scene, mode="direct", size=SMALL, **kw):
-    from engine.viewer.app import Viewer
+    from engine.app.viewer.app import Viewer
 
     return Viewer(scene, engine.RenderSettings(mode=mode, grid=32), size, vsync=False, **kw)
 
 
 def vct(*args, env=None):
-    return subprocess.run([sys.executable, "-m", "engine.cli", *map(str, args)], cwd=ROOT, env=env,
+    return subprocess.run([sys.executable, "-m", "engine.app.cli", *map(str, args)], cwd=ROOT, env=env,
                           capture_output=True, text=True, timeout=300)
 
 
@@ -400,7 +400,7 @@ def test_view_frames_plays_the_animations_as_render_poses_them(display, tmp_path
 def test_the_overlay_says_what_a_frame_reused(on_display, scene, mode, camera_frame, static_frame):
     from imgui_bundle import imgui
 
-    from engine.viewer.panels import overlay_lines
+    from engine.app.viewer.panels import overlay_lines
 
     def work(viewer):
         lines = [line[0] for line in overlay_lines(viewer.frames, viewer.process, viewer.renderer, False) if line]
@@ -429,9 +429,9 @@ def test_the_viewer_flies_through_a_clipmap_moving_one_level_a_frame(on_display,
     levels one a frame, until every level follows the camera."""
     from imgui_bundle import imgui
 
-    from engine.clipmap import level_regions, moved_levels
-    from engine.scene import Clipmap
-    from engine.viewer.panels import overlay_lines
+    from engine.voxels.clipmap import level_regions, moved_levels
+    from engine.scene.model import Clipmap
+    from engine.app.viewer.panels import overlay_lines
 
     scene.clipmap = Clipmap(levels=3, resolution=16, voxel_size=0.05)
     with open_viewer(scene, mode="gi") as viewer:

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 import engine
-from engine import voxel_grid
+from engine.voxels import grid as voxel_grid
 from conftest import SCENES
 
 
@@ -31,7 +31,7 @@ def voxels64(renderer):
 def test_voxel_size_follows_region_and_grid(renderer):
     """Voxel size = region size / N: the lecture's 2.56-unit region gives 0.01 at 256^3."""
     scene = engine.load_scene(SCENES / "cornell_box.json")
-    scene.voxel_region = engine.scene.VoxelRegion(np.zeros(3), 2.56)
+    scene.voxel_region = engine.scene.model.VoxelRegion(np.zeros(3), 2.56)
     renderer.render(scene, mode="voxels", grid=16)
     assert renderer.grid.voxel_size == pytest.approx(0.16)
     assert 2.56 / 256 == pytest.approx(0.01)
@@ -177,7 +177,7 @@ def shelved(scene, heights):
     white = next(node.material for node, _ in scene.root.walk() if node.name == "Bottom Plane")
     for k, y in enumerate(heights):
         corners = [[-0.95, y, -0.95], [-0.95, y, 0.95], [0.95, y, 0.95], [0.95, y, -0.95]]
-        scene.root.children.append(engine.Node(f"Shelf {k}", mesh=engine.scene.quad_mesh(corners), material=white))
+        scene.root.children.append(engine.Node(f"Shelf {k}", mesh=engine.scene.model.quad_mesh(corners), material=white))
     return scene
 
 
@@ -213,8 +213,8 @@ def test_a_draw_covers_no_more_voxels_than_its_fragment_bound():
     moved object be voxelized without reading a count back): every draw of the spheres' box,
     walls, boxes and tessellated spheres, voxelized alone over the same region, covers at most
     that many voxels, and the bound is within an order of magnitude of what it covers."""
-    from engine.scene_table import SceneTable
-    from engine.voxel_room import fragment_bound
+    from engine.scene.table import SceneTable
+    from engine.voxels.room import fragment_bound
 
     scene = engine.load_scene(SCENES / "cornell_spheres.json")
     scene.voxel_region = scene.region()
@@ -275,7 +275,7 @@ def test_voxels_summed_in_chunks_are_the_voxels_summed_at_once(monkeypatch):
 
 @pytest.mark.parametrize("sum_room", [voxel_grid.SUM_ROOM, 1])
 def test_every_covered_voxel_holds_a_record_of_its_own_and_an_emptied_voxel_gives_it_back(monkeypatch, sum_room):
-    """Per-voxel values live in records (engine/voxel_records.py): as the short box moves about,
+    """Per-voxel values live in records (engine/voxels/records.py): as the short box moves about,
     its updates summed at once or in chunks of 1024 voxels, each covered voxel holds one record
     no other voxel holds, no empty voxel holds one, and every other record is free in the pool."""
     monkeypatch.setattr(voxel_grid, "SUM_ROOM", sum_room)

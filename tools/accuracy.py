@@ -17,8 +17,8 @@ from pathlib import Path
 import numpy as np
 
 import engine
-from engine.bench import relative_errors
-from engine.emitters import scene_emits
+from engine.app.bench import relative_errors
+from engine.scene.emitters import scene_emits
 
 ROOT = Path(__file__).resolve().parent.parent
 SHARED = ROOT.parent / "shared" / "reference"

@@ -3,7 +3,7 @@
     .venv/bin/python tools/gl_calls.py scenes/sponza.json [--kinds static,light,object] [--grid 128]
         [--frames 4] [--size 256x256] [--json out.json] [--calls]
 
-Renders the frames `vct bench` times (engine.bench.FramePath: the radiance settled first, as in
+Renders the frames `vct bench` times (engine.app.bench.FramePath: the radiance settled first, as in
 the viewer) under `apitrace trace`, with a debug marker (glDebugMessageInsert) before each
 frame, then reads the trace back with `apitrace dump` and counts the calls between the markers.
 A count does not vary from run to run the way milliseconds do on a shared machine, so it is
@@ -47,7 +47,7 @@ def inner(args):
     import ctypes
 
     import engine
-    from engine.bench import FramePath, settle
+    from engine.app.bench import FramePath, settle
 
     gl = ctypes.CDLL("libGL.so.1")
 

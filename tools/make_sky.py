@@ -1,5 +1,5 @@
 """Writes scenes/sky/daylight.exr: a clear daylight sky as an equirectangular map of linear
-radiance (256 x 128 float RGB OpenEXR, engine.scene.Environment's convention: row 0 looks
+radiance (256 x 128 float RGB OpenEXR, engine.scene.model.Environment's convention: row 0 looks
 straight up, the left edge along -z), made from a formula:
 
 - above the horizon, a blue zenith (0.10, 0.20, 0.45) W/(m^2 sr) brightening towards a hazy
@@ -20,7 +20,7 @@ import numpy as np
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
-from engine.output import save_exr  # noqa: E402
+from engine.formats.output import save_exr  # noqa: E402
 
 OUT = ROOT / "scenes" / "sky" / "daylight.exr"
 ZENITH = np.array([0.10, 0.20, 0.45])

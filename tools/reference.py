@@ -18,7 +18,7 @@ hit), 3 direct + one bounce, -1 all bounces. `--variant llvm_ad_rgb` is several 
 than the default scalar_rgb but needs a libLLVM that Dr.Jit can drive: Debian 12's LLVM 15
 aborts ("Cannot select: fminimum"); libllvm19 works with
 DRJIT_LIBLLVM_PATH=/usr/lib/x86_64-linux-gnu/libLLVM.so.19.1. The passes' progress goes to
-stderr (engine/progress.py): a bar on a terminal, else one line at the end; none with --quiet.
+stderr (engine/core/progress.py): a bar on a terminal, else one line at the end; none with --quiet.
 
 What is converted, and how
 --------------------------
@@ -27,7 +27,7 @@ shading normals (spheres are shaded smooth, as the renderer draws them) and its 
 coordinates. Faces are one-sided by their winding (right-hand rule), as in the renderer.
 Camera: perspective, vertical field of view, the scene's width and height. Environment: a
 uniform sky is Mitsuba's `constant` emitter, a map its `envmap` with the same bitmap, `scale`
-and `to_world` the rotation about +y (engine.scene.Environment's convention is Mitsuba's).
+and `to_world` the rotation about +y (engine.scene.model.Environment's convention is Mitsuba's).
 Lights: point
 (W/sr, inverse square), spot (Mitsuba's fall-off between the inner and outer angles is linear in
 angle, vct's smooth) and directional (W/m^2); `range` and `cast_shadows: false` are refused.
@@ -56,7 +56,7 @@ emit and reflect nothing) a white dielectric returns the light it receives and a
 directional albedo, which tests/test_reference_tool.py renders. Mitsuba's plastics are not
 used: they couple the layers through internal reflections, a different model.
 
-Textures (materials from glTF/OBJ files, engine/scene.py `Material`): the base-colour texture
+Textures (materials from glTF/OBJ files, engine/scene/model.py `Material`): the base-colour texture
 (sRGB-decoded) times the albedo factor becomes the float bitmap k_d; the metal-roughness
 texture's G and B channels times the factors become per-texel roughness and metalness bitmaps;
 the emissive texture (sRGB-decoded) times `emission` becomes the area emitter's radiance bitmap.
@@ -88,10 +88,10 @@ ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
 import engine  # noqa: E402
-from engine import transforms  # noqa: E402
-from engine.cli import OneLineErrorParser, positive_int  # noqa: E402
-from engine.emitters import srgb_to_linear  # noqa: E402
-from engine.progress import progress, set_quiet  # noqa: E402
+from engine.core import transforms  # noqa: E402
+from engine.app.cli import OneLineErrorParser, positive_int  # noqa: E402
+from engine.scene.emitters import srgb_to_linear  # noqa: E402
+from engine.core.progress import progress, set_quiet  # noqa: E402
 
 TOOL_VERSION = 3  # 1: Lambertian only; 2: specular layer, textures, alpha masks, meta/png/halves; 3: glTF's layers
 MIN_ROUGHNESS = 0.05  # glsl/lib/brdf.glsl clamps the roughness the same way
@@ -439,7 +439,7 @@ class Converter:
                            "irradiance": {"type": "rgb", "value": [float(v) for v in light.intensity]}}
             result[f"light{k}"] = emitter
         environment = scene.environment
-        if environment is not None:  # the same convention (engine.scene.Environment): no conversion of the map
+        if environment is not None:  # the same convention (engine.scene.model.Environment): no conversion of the map
             if environment.image is None:
                 result["environment"] = {"type": "constant", "radiance": {
                     "type": "rgb", "value": [float(v) * environment.scale for v in environment.radiance]}}
@@ -624,8 +624,8 @@ def main(argv=None):
             "shape": list(image.shape), "dtype": "float32", "row0": "top",
         }
         text = json.dumps(meta, indent=1) + "\n"
-        engine.output.write_files([(out, engine.output.npy_writer(image)),
-                                   (out.with_suffix(".png"), engine.output.png_writer(preview(image, args.png_exposure))),
+        engine.formats.output.write_files([(out, engine.formats.output.npy_writer(image)),
+                                   (out.with_suffix(".png"), engine.formats.output.png_writer(preview(image, args.png_exposure))),
                                    (out.with_suffix(".meta.json"), lambda f: f.write(text.encode()))])
     except engine.VctError as exc:
         print(f"reference.py: error: {exc}", file=sys.stderr)

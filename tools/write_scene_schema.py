@@ -1,4 +1,4 @@
-"""Writes scenes/scene.schema.json, the scene format's JSON Schema (engine/scene_schema.py),
+"""Writes scenes/scene.schema.json, the scene format's JSON Schema (engine/formats/scene_schema.py),
 for editors that validate and complete scene files, and docs/SCENE_FORMAT.md, its reference
 for readers, from the same schema:
 
@@ -10,8 +10,8 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
-from engine.output import write_files  # noqa: E402
-from engine.scene_schema import reference_text, schema_text  # noqa: E402
+from engine.formats.output import write_files  # noqa: E402
+from engine.formats.scene_schema import reference_text, schema_text  # noqa: E402
 
 if __name__ == "__main__":
     outputs = [(ROOT / "scenes" / "scene.schema.json", schema_text()), (ROOT / "docs" / "SCENE_FORMAT.md", reference_text())]

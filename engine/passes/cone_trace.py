@@ -8,10 +8,10 @@ anchors and unshared cones first, then the pixels between anchors, then those of
 anchor stood for."""
 import numpy as np
 
-from ..constants import GL_IMAGE_FORMAT, SHADER_ENUMS
-from ..gl_bindings import bind_image, bind_storage, bind_texture
-from ..gl_functions import write_buffer
-from ..voxel_grid import VoxelGrid
+from ..core.constants import GL_IMAGE_FORMAT, SHADER_ENUMS
+from ..gpu.bindings import bind_image, bind_storage, bind_texture
+from ..gpu.functions import write_buffer
+from ..voxels.grid import VoxelGrid
 from .gbuffer import GBuffer
 from .target import ScreenTarget
 

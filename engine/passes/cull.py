@@ -1,7 +1,7 @@
 """Culling pass: writes a draw list's indirect commands and instances on the GPU, for the views a
 raster pass draws it into (the camera, the shadow views, the voxelization's jobs).
 
-A DrawList is what one raster pass draws of the scene (engine/scene_gpu.py SceneBuffers): its
+A DrawList is what one raster pass draws of the scene (engine/gpu/scene_buffers.py SceneBuffers): its
 items, one per draw and cluster of the draw's mesh, and its commands, one per bucket (the
 program variant and face culling the pass draws a draw with), mesh, material and cluster,
 sorted by bucket. The pass culls each item against each view (glsl/cull/cull_clusters.comp:
@@ -15,11 +15,11 @@ import math
 import moderngl
 import numpy as np
 
-from ..constants import LIST_GROUP, MAX_DRAW_VIEWS, struct_dtype
-from ..errors import VctError
-from ..gl_bindings import bind_storage, program_used
-from ..gl_functions import write_buffer
-from ..scene_gpu import VERTEX_ATTRIBUTES
+from ..core.constants import LIST_GROUP, MAX_DRAW_VIEWS, struct_dtype
+from ..core.errors import VctError
+from ..gpu.bindings import bind_storage, program_used
+from ..gpu.functions import write_buffer
+from ..gpu.scene_buffers import VERTEX_ATTRIBUTES
 
 VIEW_DTYPE = struct_dtype("DrawView")
 COMMAND_WORDS = 5  # count, instance count, first index, base vertex, base instance

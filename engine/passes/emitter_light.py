@@ -3,8 +3,8 @@ triangle at its surface point (Lambert's polygon formula), shadowed by one cone 
 through the face views (which must hold the grid's current coverage), and the fraction of it
 that arrives, which the image interpolates per pixel. Runs over a segment of the grid's class
 list when the voxels or the emitters change; light injection adds it to the base radiance."""
-from ..gl_bindings import bind_storage
-from ..voxel_grid import VoxelGrid
+from ..gpu.bindings import bind_storage
+from ..voxels.grid import VoxelGrid
 
 
 class EmitterLightPass:

@@ -4,9 +4,9 @@ each face direction (level 0); then their mip levels, built over the covered cel
 level only."""
 import numpy as np
 
-from ..constants import VOXEL_FACES
-from ..gl_bindings import bind_storage
-from ..voxel_grid import VoxelGrid
+from ..core.constants import VOXEL_FACES
+from ..gpu.bindings import bind_storage
+from ..voxels.grid import VoxelGrid
 
 
 class FaceViewsPass:

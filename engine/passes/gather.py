@@ -10,12 +10,12 @@ finer level, and the covered level-1 cells by class, and closes the bounce serie
 extrapolation."""
 import numpy as np
 
-from ..clipmap import with_coarser_levels
-from ..constants import CLASS_BLOCK, CLASS_FACINGS, CLASS_PARTS, MAX_INTERLEAVE, MAX_SEGMENT_ROWS
-from ..gl_bindings import bind_storage
-from ..gl_functions import write_buffer
-from ..voxel_grid import GridStorage, VoxelGrid
-from ..voxel_lists import ClassIndex, SegmentTable, VoxelList
+from ..core.constants import CLASS_BLOCK, CLASS_FACINGS, CLASS_PARTS, MAX_INTERLEAVE, MAX_SEGMENT_ROWS
+from ..gpu.bindings import bind_storage
+from ..gpu.functions import write_buffer
+from ..voxels.clipmap import with_coarser_levels
+from ..voxels.grid import GridStorage, VoxelGrid
+from ..voxels.lists import ClassIndex, SegmentTable, VoxelList
 
 
 def class_buckets(grid):
@@ -52,7 +52,7 @@ class GatherPass:
         self._storage = GridStorage()
 
     def _ensure_storage(self, grid):
-        """Per record of the grid (engine/voxel_records.py, the list room): its voxel's anchors
+        """Per record of the grid (engine/voxels/records.py, the list room): its voxel's anchors
         (lib/gather_anchors.glsl); the list of covered voxels whose anchors to find again; the
         covered voxels sorted by class and the covered level-1 cells sorted by class (what a
         ClassIndex points into); the buckets of those counting sorts, and the classes of the

@@ -4,9 +4,9 @@ textures), with a depth buffer; back faces of single-sided materials are culled.
 GBuffer the screen passes read."""
 import numpy as np
 
-from ..constants import DRAW_TEST_FRUSTUM, HDR_FORMAT
-from ..gl_bindings import bind_texture
-from ..scene_gpu import DRAW_FLAGS
+from ..core.constants import DRAW_TEST_FRUSTUM, HDR_FORMAT
+from ..gpu.bindings import bind_texture
+from ..gpu.scene_buffers import DRAW_FLAGS
 from .cull import DrawList, view_records
 
 

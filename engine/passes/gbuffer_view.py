@@ -1,5 +1,5 @@
 """G-buffer inspection views: albedo, normals (encoded 0.5 n + 0.5), depth / far plane."""
-from ..constants import SHADER_ENUMS
+from ..core.constants import SHADER_ENUMS
 from .target import ScreenTarget
 
 

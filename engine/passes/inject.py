@@ -2,8 +2,8 @@
 its surface receives from every light (with the shadow maps), evaluated per voxel at its
 surface point, and from the emitters (passes/emitter_light.py). Runs when lights, shadows,
 the emitters' light or the voxels change, over a segment of a voxel list."""
-from ..gl_bindings import bind_storage
-from ..voxel_grid import VoxelGrid
+from ..gpu.bindings import bind_storage
+from ..voxels.grid import VoxelGrid
 
 
 class InjectPass:

@@ -7,12 +7,12 @@ import math
 
 import numpy as np
 
-from .. import transforms
-from ..constants import DRAW_TEST_FRUSTUM, LIGHT_TYPE, MAX_LIGHTS, MAX_SHADOW_VIEWS, struct_dtype
-from ..errors import VctError
-from ..gl_bindings import bind_storage, bind_texture, bind_uniform_block
-from ..gl_functions import gl_functions, write_buffer
-from ..scene_gpu import DRAW_FLAGS
+from ..core import transforms
+from ..core.constants import DRAW_TEST_FRUSTUM, LIGHT_TYPE, MAX_LIGHTS, MAX_SHADOW_VIEWS, struct_dtype
+from ..core.errors import VctError
+from ..gpu.bindings import bind_storage, bind_texture, bind_uniform_block
+from ..gpu.functions import gl_functions, write_buffer
+from ..gpu.scene_buffers import DRAW_FLAGS
 from .cull import DrawList, view_records
 
 CUBE_FACES = (  # (direction, up) in the order of cube_face() in glsl/lib/lights.glsl

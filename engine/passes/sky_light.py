@@ -10,8 +10,8 @@ the base radiance and the image interpolates per pixel. The voxels a scrolled cl
 in may take theirs from the next coarser level instead (take_coarser), until the camera rests."""
 import numpy as np
 
-from ..gl_bindings import bind_storage
-from ..voxel_grid import VoxelGrid
+from ..gpu.bindings import bind_storage
+from ..voxels.grid import VoxelGrid
 
 
 class SkyLightPass:

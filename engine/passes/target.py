@@ -1,7 +1,7 @@
 """A colour render target and the fullscreen-triangle draw that the screen-space passes share."""
 import numpy as np
 
-from ..gl_bindings import program_used
+from ..gpu.bindings import program_used
 
 
 class ScreenTarget:

@@ -1,6 +1,6 @@
 """Tone mapping: exposure, a tone curve and sRGB encoding into an 8-bit target."""
-from ..constants import SHADER_ENUMS
-from ..gl_bindings import bind_texture
+from ..core.constants import SHADER_ENUMS
+from ..gpu.bindings import bind_texture
 from .target import ScreenTarget
 
 

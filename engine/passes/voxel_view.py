@@ -1,7 +1,7 @@
 """Voxel views: one level of the grid ray-marched from the camera at one mip level, as blocks:
 the base radiance (emission + injected direct light), the mean normals or the albedo."""
-from ..constants import SHADER_ENUMS
-from ..gl_bindings import bind_texture
+from ..core.constants import SHADER_ENUMS
+from ..gpu.bindings import bind_texture
 from .target import ScreenTarget
 
 # What each voxel view shows (voxel_view/march_voxels.frag's SHOW_*).

@@ -15,20 +15,21 @@ Integer sums make the result the same bits as a full voxelization.
 Afterwards the covered-voxel list and the covered cells of every mip level are brought up to
 date. Where the grid's lists had no room for the voxels an update listed, the grid grows its
 lists (made anew, empty) and the whole scene is voxelized into it. Whether they had room is
-read back from the GPU only where the host cannot bound it (engine/voxel_room.py)."""
+read back from the GPU only where the host cannot bound it (engine/voxels/room.py)."""
 from contextlib import contextmanager
 from dataclasses import dataclass
 
 import numpy as np
 
-from ..changes import VoxelUpdate
-from ..constants import (DRAW_HELD, DRAW_TEST_BOX, DRAW_VIEW_SHIFT, LIST_GROUP, NO_MATERIAL, SHADER_ENUMS, VOXEL_FACES,
-                         VOXEL_SUM_CHANNELS)
-from ..gl_bindings import bind_storage
-from ..scene_gpu import DRAW_FLAGS, draw_records
+from ..core.constants import (DRAW_HELD, DRAW_TEST_BOX, DRAW_VIEW_SHIFT, LIST_GROUP, NO_MATERIAL, SHADER_ENUMS, VOXEL_FACES,
+                              VOXEL_SUM_CHANNELS)
+from ..gpu.bindings import bind_storage
+from ..gpu.scene_buffers import DRAW_FLAGS, draw_records
+from ..scene.changes import VoxelUpdate
+from ..voxels.clipmap import entered_slabs
+from ..voxels.grid import GridStorage, VoxelGrid, bind_volume, sum_room
+from ..voxels.room import CoveredBound
 from .cull import DrawList, buffer_holding, view_records
-from ..voxel_grid import GridStorage, VoxelGrid, bind_volume, sum_room
-from ..voxel_room import CoveredBound
 
 GL_CLIP_DISTANCES = [0x3000 + plane for plane in range(6)]  # GL_CLIP_DISTANCE0..5: rasterize.geom's planes
 
@@ -378,20 +379,3 @@ def _job_view(view, job):
     view["voxels_min"] = (*job.voxels[0], job.level)
     view["voxels_max"] = (*job.voxels[1], 0)
     view["box_min"][:3], view["box_max"][:3] = job.box
-
-
-def entered_slabs(shift, n):
-    """The voxels a level of n^3 that scrolled by `shift` of its voxels took in, as disjoint
-    boxes (lo, hi) in its new coordinates: along each axis that moved, the slab past the voxels
-    it kept, across the axes before it only over the voxels kept along them."""
-    lo, hi = np.zeros(3, int), np.full(3, n)
-    slabs = []
-    for axis, step in enumerate(int(s) for s in shift):
-        if step == 0:
-            continue
-        first, last = lo.copy(), hi.copy()
-        kept = (0, n - step) if step > 0 else (-step, n)
-        first[axis], last[axis] = (n - step, n) if step > 0 else (0, -step)
-        slabs.append((first, last))
-        lo[axis], hi[axis] = kept
-    return slabs

@@ -3,7 +3,7 @@
 #include "lib/gbuffer.glsl"
 #include "lib/camera.glsl"
 
-uniform int view;  // VIEW_* (engine/constants.py: SHADER_ENUMS)
+uniform int view;  // VIEW_* (engine/core/constants.py: SHADER_ENUMS)
 uniform float far_plane;
 layout(location = 0) out vec4 out_value;
 

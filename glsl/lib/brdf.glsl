@@ -57,7 +57,7 @@ vec3 mean_fresnel(vec3 f0) {
 
 // What the specular layer reflects of light arriving from every direction, seen from cos_view
 // to the normal: its directional albedo A = F0 scale + bias, bilinear in the table of
-// engine/specular_lobe.py over (cos_view, roughness) (Smith's masking makes it less than
+// engine/core/specular_lobe.py over (cos_view, roughness) (Smith's masking makes it less than
 // F(n.v) for rough lobes); none without a layer.
 vec3 specular_layer_albedo(vec3 f0, float roughness, float cos_view) {
     if (!has_specular_layer(f0)) return vec3(0.0);

@@ -1,4 +1,4 @@
-// The covered voxels (engine/voxel_grid.py: grid.covered): a voxel per record of the record
+// The covered voxels (engine/voxels/grid.py: grid.covered): a voxel per record of the record
 // pool (lib/voxel_records.glsl), packed by pack_voxel, NO_VOXEL at the records no voxel holds,
 // up to `covered_count`, the records handed out so far (the resolve writes them:
 // voxelize/resolve_sums.comp).

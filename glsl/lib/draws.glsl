@@ -1,4 +1,4 @@
-// The scene's draws (engine/scene_gpu.py), and the values of a draw list's instances
+// The scene's draws (engine/gpu/scene_buffers.py), and the values of a draw list's instances
 // (engine/passes/cull.py): every command of a list draws one mesh's cluster, once per
 // instance, and an instance's value (a vertex shader's in_instance: an attribute that steps
 // once an instance, offset by the command's base instance) holds the index of its draw

@@ -1,4 +1,4 @@
-// Direct light from emissive surfaces (engine/emitters.py): exact per triangle by Lambert's
+// Direct light from emissive surfaces (engine/scene/emitters.py): exact per triangle by Lambert's
 // polygon formula. Shadowed per patch by a visibility cone through the face views at the
 // voxels (emitter_light/light_voxels.comp), whose visible fraction the pixels interpolate.
 #include "engine_constants.glsl"

@@ -1,7 +1,7 @@
 // Punctual lights and their shadow maps, shared by the lighting pass and voxel injection.
 #include "engine_constants.glsl"
 
-// The structs Light and ShadowView are engine/constants.py's GLSL_STRUCTS.
+// The structs Light and ShadowView are engine/core/constants.py's GLSL_STRUCTS.
 layout(std140, binding = UBO_LIGHTS) uniform LightBuffer { Light lights[MAX_LIGHTS]; };
 layout(std140, binding = UBO_SHADOW_VIEWS) uniform ShadowBuffer { ShadowView shadow_views[MAX_SHADOW_VIEWS]; };
 layout(binding = TEX_SHADOW_ATLAS) uniform sampler2DShadow shadow_atlas;

@@ -1,5 +1,5 @@
 // The segment of a list a pass runs over: row `segment` of a table of ListSegments that the
-// GPU filled (engine/voxel_lists.py SegmentTable): entries segment_first() ..
+// GPU filled (engine/voxels/lists.py SegmentTable): entries segment_first() ..
 // segment_first() + segment_count() - 1 of the list, and the size of the dispatch over them.
 #include "engine_constants.glsl"
 

@@ -1,5 +1,5 @@
-// The material of the surface being drawn (engine.scene.Material): its record in the materials'
-// buffer (engine/scene_gpu.py, GLSL_STRUCTS["MaterialRecord"]), its factors times its textures at
+// The material of the surface being drawn (engine.scene.model.Material): its record in the materials'
+// buffer (engine/gpu/scene_buffers.py, GLSL_STRUCTS["MaterialRecord"]), its factors times its textures at
 // the surface's texture coordinates, the base colour times the mesh's vertex colour. A texture
 // is a layer of one of the texture arrays every draw binds; a map without a texture reads white
 // (a flat normal for the normal map is never read: such draws have no NORMAL_MAP). Draws whose

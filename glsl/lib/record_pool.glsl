@@ -1,4 +1,4 @@
-// The records no voxel holds (engine/voxel_records.py): a stack of free records, its height
+// The records no voxel holds (engine/voxels/records.py): a stack of free records, its height
 // first, then how many records a voxelization asked of it in vain.
 layout(std430, binding = SSBO_RECORD_POOL) buffer RecordPool { int free_count; uint short_count; uint free_records[]; };
 

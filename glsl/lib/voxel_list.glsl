@@ -1,4 +1,4 @@
-// The voxels a pass runs over (engine/voxel_lists.py: a VoxelSegment of a list), each packed by
+// The voxels a pass runs over (engine/voxels/lists.py: a VoxelSegment of a list), each packed by
 // pack_voxel: the segment of voxel_list that lib/list_segment.glsl gives.
 #include "lib/voxel.glsl"
 #include "lib/list_segment.glsl"

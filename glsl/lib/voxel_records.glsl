@@ -1,4 +1,4 @@
-// Per-voxel data of the covered voxels (engine/voxel_records.py): voxel v's record is
+// Per-voxel data of the covered voxels (engine/voxels/records.py): voxel v's record is
 // voxel_records[voxel_index(v)] - 1 where a surface covers it (0 there: none), and each array
 // of values holds an RGBA16F value per record, two halves to a uint.
 #include "lib/voxel.glsl"

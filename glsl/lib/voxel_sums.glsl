@@ -1,4 +1,4 @@
-// The voxelizer's fixed-point sums (engine/constants.py VOXEL_SUM_CHANNELS) and front-layer
+// The voxelizer's fixed-point sums (engine/core/constants.py VOXEL_SUM_CHANNELS) and front-layer
 // keys (one per facing direction) of the voxels an update touched, a record per voxel at its
 // slot (lib/voxel_slots.glsl). The sums have room for a chunk of the touched list (sum_room);
 // an update touching more voxels sums them chunk after chunk. Integer sums make the average of

@@ -4,7 +4,7 @@
 // trilinear lookup of the coarser level's filtered sky light over its voxels that face alike,
 //   E(v) = sum_u t_u facing_weight(n_v, n_u) E(u) / sum_u t_u facing_weight(n_v, n_u)
 // (t_u: u's trilinear weight), written as the voxel's traced and filtered light. The level's
-// voxels are lit by their own cones once the camera rests (engine/bounces.py, light_voxels).
+// voxels are lit by their own cones once the camera rests (engine/frame/schedule.py, light_voxels).
 #include "lib/voxel_surface.glsl"
 
 layout(local_size_x = LIST_GROUP) in;

@@ -3,7 +3,7 @@
 // interpolate them, gather/interpolate_from_anchors.comp, and sky_light/filter_sky_light.comp averages the result), where the
 // scene has one: at the voxel's surface point along its normalized mean normal (as the
 // emitters' light, emitter_light/light_voxels.comp), through SKY_CONE_COUNT cones over the hemisphere,
-// uniform in solid angle and offset by the voxel's own jitter (engine/constants.py), each
+// uniform in solid angle and offset by the voxel's own jitter (engine/core/constants.py), each
 // reading the voxels finer than its footprint (SKY_CONE_LEVEL_OFFSET),
 //   E = pi sum_j z_j (1 - a_j) L_sky(w_j, a) / sum_j z_j   (z_j = n . w_j; a_j: the cone's
 //                                                            opacity on its way out)

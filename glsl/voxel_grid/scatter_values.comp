@@ -1,5 +1,5 @@
 #version 450 core
-// An array of values (one per record: engine/voxel_records.py) into an n^3 volume, over the
+// An array of values (one per record: engine/voxels/records.py) into an n^3 volume, over the
 // covered voxels, for inspection: the voxel views and Renderer.voxels (the volume is zero
 // before, so empty voxels read zero).
 #include "lib/voxel_records.glsl"

@@ -1,6 +1,6 @@
 #version 450 core
 // A voxel list's segment row (row 0 of its table) from its count as the GPU left it (the list's
-// first word, engine/voxel_lists.py VoxelList): its entries from word 1 on, and the group count
+// first word, engine/voxels/lists.py VoxelList): its entries from word 1 on, and the group count
 // of a dispatch over them, so that the passes over the list are dispatched indirectly and no
 // count is read back. A count past the list's room (lib/list_append.glsl) is cut to the room.
 #include "lib/list_segment.glsl"

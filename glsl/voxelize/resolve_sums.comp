@@ -1,7 +1,7 @@
 #version 450 core
 // Voxel resolve, over the voxels the last voxelization touched, those of the chunk being
 // summed (lib/voxel_sums.glsl), in two dispatches. First (`freeing`) the voxels every surface
-// left give their records back to the pool (engine/voxel_records.py), and the covered list
+// left give their records back to the pool (engine/voxels/records.py), and the covered list
 // reads NO_VOXEL at them; then each covered voxel takes a record where it had none (the covered
 // list holds it at that record, and it is listed as newly covered), and the
 // fixed-point sums divided by the fragment count become its surface: albedo, mean normal,

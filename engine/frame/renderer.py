@@ -1,0 +1,672 @@
+"""The renderer: the frame's data flow, pass after pass, each stage run only when its inputs
+changed since it last ran (found from the scene's edits: engine/scene/table.py, engine/scene/changes.py).
+
+    scene = engine.load_scene("scenes/cornell_box.json")
+    with engine.Renderer(256, 256) as r:
+        radiance = r.render(scene, mode="direct")    # float32 (H, W, 3), row 0 at the top
+        r.save_png("out.png")                          # tone-mapped with the settings' curve
+"""
+import functools
+import numbers
+from contextlib import contextmanager
+from dataclasses import dataclass
+
+import moderngl
+import numpy as np
+
+from ..core.constants import SKY_NEAR_REACH
+from ..core.errors import VctError
+from ..formats.output import save_png
+from ..gpu.bindings import forget_bindings
+from ..gpu.context import create_headless_context
+from ..gpu.functions import GL_DEBUG_SOURCE_APPLICATION, gl_functions
+from ..gpu.scene_buffers import EmitterBuffers, EnvironmentMap, SceneBuffers
+from ..gpu.shaders import GLSL_ROOT, ProgramLibrary
+from ..gpu.timing import PassTimer
+from ..passes.cone_trace import ConeTracePass
+from ..passes.cull import CullPass
+from ..passes.emitter_light import EmitterLightPass
+from ..passes.faces import FaceViewsPass
+from ..passes.gather import GatherPass
+from ..passes.gbuffer import GBufferPass
+from ..passes.gbuffer_view import GBufferViewPass
+from ..passes.inject import InjectPass
+from ..passes.lighting import LightingPass
+from ..passes.shadow import ShadowPass
+from ..passes.sky_light import SkyLightPass
+from ..passes.tonemap import TonemapPass
+from ..passes.voxel_view import VoxelViewPass, shown_values
+from ..passes.voxelize import VoxelizePass
+from ..scene.changes import FrameInputs, HeldDraws, Stage, VoxelUpdate
+from ..scene.emitters import frame_emitters
+from ..scene.model import Scene
+from ..scene.table import SceneTable
+from ..voxels.clipmap import frame_levels, level_shift, moved_levels, scrolled_regions, with_coarser_levels
+from ..voxels.grid import VoxelGrid
+from . import schedule
+from .camera import CameraBlock, frame_camera
+from .settings import RenderSettings
+
+VOXEL_VOLUMES = {"radiance": "voxels", "normal": "voxel-normals", "albedo": "voxel-albedo", "gathered": None}
+
+
+@dataclass(frozen=True)
+class WorkResources:
+    """What the radiance schedule's work items read besides the grid, for one frame."""
+    shadow_maps: object
+    emitters: object
+    environment: object
+    cone_uniforms: dict
+
+
+def _current(method):
+    """Make the renderer's context current around a public method: several renderers (and
+    their contexts) may live in one process. After close() the method raises VctError."""
+    @functools.wraps(method)
+    def wrapper(self, *args, **kwargs):
+        if self.ctx is None:
+            raise VctError("the renderer is closed (close() was called)", field=f"Renderer.{method.__name__}")
+        if self._context_entered:  # nested call: already current
+            return method(self, *args, **kwargs)
+        self._context_entered = True
+        try:
+            with self.ctx:
+                return method(self, *args, **kwargs)
+        finally:
+            self._context_entered = False
+    return wrapper
+
+
+def _image_size(width, height):
+    """(width, height) as ints; VctError naming the one that is not a positive whole number."""
+    for name, value in (("width", width), ("height", height)):
+        if not isinstance(value, numbers.Integral) or isinstance(value, bool) or value <= 0:
+            raise VctError(f"must be a positive whole number, got {value!r}", field=name)
+    return int(width), int(height)
+
+
+class Renderer:
+    def __init__(self, width, height, settings=None, ctx=None, glsl_root=GLSL_ROOT):
+        self.ctx = None
+        self.settings = _settings(settings or RenderSettings())
+        self.size = _image_size(width, height)
+        self._owns_context = ctx is None
+        self._context_entered = False
+        self.ctx = ctx or create_headless_context()
+        self._check_size(self.size)
+        self.measure = False        # when True, each pass is timed (GPU timer queries, read a few frames later)
+        self.progressive = False    # bounces 0: one bounce per frame on top of the last (the viewer)
+        self.track_changes = True   # False: every frame recomputes every stage (for comparison)
+        self.debug_groups = False   # True: each pass is a GL debug group of its name
+        self.passes_ran = []        # the passes the last frame ran, in order
+        self.output = None          # the ScreenTarget holding the last frame's HDR result
+        self.frame_settings = self.settings
+        self.programs = ProgramLibrary(self.ctx, glsl_root)
+        self.pass_timer = PassTimer(self.ctx)
+        self.camera_block = CameraBlock(self.ctx)
+        self.table = SceneTable()
+        self.scene_buffers = SceneBuffers(self.ctx)
+        self.grid = None
+        self.emitters = EmitterBuffers(self.ctx)
+        self.environment = EnvironmentMap(self.ctx)
+        self._passes = []
+        try:
+            self.grid = VoxelGrid(self.ctx, self.programs)
+            with self._creating_targets(self.size):
+                self._create_passes()
+        except Exception:
+            self.close()
+            raise
+        self.schedule = schedule.RadianceSchedule()
+        self.class_index = None     # the covered voxels sorted into interleave classes (GatherPass.sort_classes)
+        self.eye = None             # where the camera was at the last frame
+        self.held = HeldDraws()     # the draws as the voxels hold them
+        self._caster_bounds = None  # (table structure, the draws' bounds as the shadow maps hold them)
+        self.stages = {name: Stage() for name in ("shadows", "gbuffer", "lighting", "emitters", "environment", "voxels",
+                                                  "emitter_light", "sky_light", "radiance", "bounces")}
+
+    def _create_passes(self):
+        """The passes of a frame, each with its programs and targets."""
+        self.cull = self._add(CullPass(self.ctx, self.programs))
+        self.shadow = self._add(ShadowPass(self.ctx, self.programs, self.cull, self.settings.shadow_map_size))
+        self.gbuffer = self._add(GBufferPass(self.ctx, self.programs, self.cull, self.size))
+        self.lighting = self._add(LightingPass(self.ctx, self.programs, self.size))
+        self.gbuffer_view = self._add(GBufferViewPass(self.ctx, self.programs, self.size))
+        self.voxelize = self._add(VoxelizePass(self.ctx, self.programs, self.cull))
+        self.emitter_light = self._add(EmitterLightPass(self.ctx, self.programs))
+        self.sky_light = self._add(SkyLightPass(self.ctx, self.programs))
+        self.inject = self._add(InjectPass(self.ctx, self.programs))
+        self.gather = self._add(GatherPass(self.ctx, self.programs))
+        self.faces = self._add(FaceViewsPass(self.ctx, self.programs))
+        self.cone_trace = self._add(ConeTracePass(self.ctx, self.programs, self.size))
+        self.voxel_view = self._add(VoxelViewPass(self.ctx, self.programs, self.size))
+        self.tonemap = self._add(TonemapPass(self.ctx, self.programs, self.size))
+
+    @staticmethod
+    @contextmanager
+    def _creating_targets(size):
+        """Render targets of a size the driver allows but cannot create (memory): a size error."""
+        try:
+            yield
+        except (moderngl.Error, MemoryError) as exc:
+            raise VctError(f"cannot create the {size[0]}x{size[1]} render targets ({exc})", field="size") from None
+
+    def _add(self, render_pass):
+        self._passes.append(render_pass)
+        return render_pass
+
+    def _check_size(self, size):
+        limit = min(self.ctx.info["GL_MAX_TEXTURE_SIZE"], *self.ctx.info["GL_MAX_VIEWPORT_DIMS"])
+        if max(size) > limit:
+            if self._owns_context:
+                self.ctx.release()
+            raise VctError(f"image size {size[0]}x{size[1]} exceeds the driver's limit of {limit} pixels per side",
+                           field="size")
+
+    @_current
+    def resize(self, width, height):
+        """Follow a new output size (all screen-space targets are recreated)."""
+        size = _image_size(width, height)
+        self._check_size(size)
+        self.size = size
+        with self._creating_targets(self.size):
+            for render_pass in (self.gbuffer, self.lighting, self.gbuffer_view, self.cone_trace, self.voxel_view, self.tonemap):
+                render_pass.resize(self.size)
+
+    @_current
+    def voxels(self, name="radiance", level=0):
+        """A voxel volume of the last frame as float32 (L n, n, n, 4), indexed [z, y, x] (the
+        grid's L levels one after the other along z):
+        "radiance" (emission + direct light, a = opacity), "normal" (mean normal, its length
+        the coherence), "albedo", "gathered" (the diffuse light each voxel gathered in the latest
+        bounce, G = sum_j w_j L(p, w_j)); levels above 0 (up to log2 n, one voxel) come from hardware
+        mipmaps."""
+        if name not in VOXEL_VOLUMES:
+            raise VctError(f"must be one of {', '.join(VOXEL_VOLUMES)}, got {name!r}", field="name")
+        if not self.grid.n:
+            raise VctError("no voxels yet: render a frame in a mode that uses them first", field="voxels")
+        top = self.grid.n.bit_length() - 1
+        if not isinstance(level, numbers.Integral) or isinstance(level, bool) or not 0 <= level <= top:
+            raise VctError(f"must be a whole number in 0..{top} for grid {self.grid.n}, got {level!r}", field="level")
+        values = self._gathered() if name == "gathered" else shown_values(self.grid, VOXEL_VOLUMES[name])
+        return self.grid.read_level(values, level)
+
+    @_current
+    def reload_shaders(self):
+        """Rebuild the programs whose GLSL files changed; a failing one keeps its last good
+        build. After a rebuild the next frame recomputes every stage with the new programs
+        (an edit of the voxelizer or the bounce shows without a scene change). Returns
+        (rebuilt count, [ShaderError]) for this poll."""
+        rebuilt, errors = self.programs.reload_changed()
+        if rebuilt:
+            for stage in self.stages.values():
+                stage.forget()
+        return rebuilt, errors
+
+    def voxel_memory_bytes(self):
+        """GPU bytes of the voxel grid and of the passes' storage sized by it."""
+        return self.grid.memory_bytes() + self.voxelize.memory_bytes() + self.gather.memory_bytes()
+
+    @property
+    def bounce_iterations(self):
+        return self.schedule.iterations
+
+    # -- frame ---------------------------------------------------------------------------
+
+    @contextmanager
+    def timed(self, name):
+        """Around a pass: named in passes_ran, timed when measuring, and a debug group of its
+        name where `debug_groups` (what GPU debuggers and apitrace show the frame by)."""
+        self.passes_ran.append(name)
+        if self.debug_groups:
+            gl_functions(self.ctx).glPushDebugGroup(GL_DEBUG_SOURCE_APPLICATION, 0, -1, name.encode())
+        try:
+            if not self.measure:
+                yield
+            else:
+                with self.pass_timer.timed(name):
+                    yield
+        finally:
+            if self.debug_groups:
+                gl_functions(self.ctx).glPopDebugGroup()
+
+    @property
+    def timings(self):
+        """Milliseconds per pass of the latest frame measured whose figures are in (on a GPU, a
+        few frames back: engine/gpu/timing.py)."""
+        return self.pass_timer.timings
+
+    @_current
+    def render_frame(self, scene, settings=None):
+        """Render one frame on the GPU; `self.output` holds the HDR result. Returns it."""
+        if not isinstance(scene, Scene):
+            raise VctError(f"must be an engine Scene (engine.load_scene), got {type(scene).__name__}", field="scene")
+        s = _settings(settings or self.settings)
+        self.frame_settings = s
+        if not self._owns_context:  # GL code between frames (a window's GUI) may have bound anything
+            forget_bindings(self.ctx)
+        self.passes_ran = []
+        self.scene_buffers.draw_calls = 0
+        self.table.sync(scene, rebuild=not self.track_changes)
+        self.scene_buffers.sync(self.table)
+        frame = FrameInputs(scene, self.table)
+        if self.measure:
+            with self.pass_timer.frame():
+                self.output = self._frame(frame, scene, s)
+        else:
+            self.output = self._frame(frame, scene, s)
+        return self.output
+
+    def _frame(self, frame, scene, s):
+        """The passes of one frame; returns the target holding its image."""
+        camera = self.camera_block.write(frame_camera(scene.camera, self.size, frame.bounds))
+        resting = self.eye is not None and np.array_equal(camera.position, self.eye)
+        self.eye = camera.position
+        shadow_maps = self._shadows(frame, scene.source)
+        gbuffer = self._gbuffer(frame, camera)
+        if s.shown.stage == "gbuffer":
+            with self.timed("gbuffer_view"):
+                return self.gbuffer_view.render(gbuffer, s.mode, camera)
+        direct = self._lighting(gbuffer, shadow_maps, camera)
+        emitters = self._emitters(frame)
+        environment = self._environment(frame)
+        if not s.shown.uses_voxels(emitters.count > 0 or frame.environment is not None):
+            return direct
+        update = self._voxels(frame, s, scene.source, emitters, camera)
+        for stage in self.grid.hold_light_arrays(emitters=emitters.count > 0, sky=environment.environment is not None):
+            self.stages[stage].forget()
+        work = WorkResources(shadow_maps, emitters, environment, s.cone_uniforms())
+        if emitters.count:
+            self._voxel_light("emitter_light", work, s, update, resting, emitters=self.stages["emitters"].version)
+        if environment.environment is not None:
+            self._voxel_light("sky_light", work, s, update, resting, near_reach=SKY_NEAR_REACH, environment=frame.environment_values)
+        if s.shown.uses_radiance:
+            self._radiance(s, work, update)
+            self._bounces(s, work)
+        if s.shown.stage == "voxel_view":
+            with self.timed("voxel_view"):
+                return self.voxel_view.render(self.grid, s.mode, s.voxel_mip, self._shown_level(s), camera)
+        with self.timed("cone_trace"):
+            return self.cone_trace.render(gbuffer, direct, self.grid, self._gathered(), emitters,
+                                          environment, s.cone_uniforms(), camera, s.image_terms(), s.ao_distance)
+
+    def _shown_level(self, s):
+        """The level the voxel views show; VctError where the grid has no such level."""
+        if s.voxel_level >= self.grid.levels:
+            raise VctError(f"must be in 0..{self.grid.levels - 1} for {self.grid.levels} voxel level(s), got {s.voxel_level}",
+                           field="level")
+        return s.voxel_level
+
+    def _shadows(self, frame, source):
+        """Shadow maps: the tiles of the lights that changed, or of the views that see a
+        shadow caster that moved; all of them when both changed, the scene bounds changed or
+        lights came or went."""
+        stage, table = self.stages["shadows"], self.table
+        inputs = dict(casters=(table.structure, table.casters_changed_at), bounds=_bytes(frame.bounds), lights=frame.light_values)
+        changed = stage.changed(inputs, self.track_changes)
+        if changed:
+            redraw = changed_casters = None
+            if changed == {"lights"} and len(stage.last("lights")) == len(inputs["lights"]):
+                redraw = {i for i, (a, b) in enumerate(zip(stage.last("lights"), inputs["lights"])) if a != b}
+            held = self._caster_bounds
+            moved = None
+            if held is not None and held[0] == table.structure and stage.last("casters") is not None:
+                moved = table.changed_casters(stage.last("casters")[1])
+            if changed == {"casters"} and moved is not None:
+                redraw = set()
+                changed_casters = [(lo, hi) for lo, hi in held[1][moved]] + [(lo, hi) for lo, hi in table.draw_bounds[moved]]
+            with self.timed("shadow"):
+                self.shadow.render(frame.lights, self.scene_buffers, frame.bounds, redraw, source, changed_casters)
+            if moved is None:
+                self._caster_bounds = (table.structure, table.draw_bounds.copy())
+            else:
+                held[1][moved] = table.draw_bounds[moved]
+            stage.ran(inputs)
+        return self.shadow.maps
+
+    def _gbuffer(self, frame, camera):
+        """The G-buffer, drawn again when the view, the image size or a draw changed."""
+        stage, table = self.stages["gbuffer"], self.table
+        inputs = dict(view_projection=_bytes(camera.view_projection), size=self.size,
+                      draws=(table.structure, table.draws_changed_at))
+        if stage.changed(inputs, self.track_changes):
+            with self.timed("gbuffer"):
+                self.gbuffer.render(self.scene_buffers, camera)
+            stage.ran(inputs)
+        return self.gbuffer.target
+
+    def _lighting(self, gbuffer, shadow_maps, camera):
+        """Direct light, again when the G-buffer (and so the viewpoint) or the shadow maps (and so
+        the lights) changed."""
+        stage = self.stages["lighting"]
+        inputs = dict(gbuffer=self.stages["gbuffer"].version, shadows=self.stages["shadows"].version)
+        if stage.changed(inputs, self.track_changes):
+            with self.timed("lighting"):
+                self.lighting.render(gbuffer, shadow_maps, camera)
+            stage.ran(inputs)
+        return self.lighting.target
+
+    def _emitters(self, frame):
+        """The emissive triangles, again when an emissive draw changed."""
+        stage = self.stages["emitters"]
+        inputs = dict(emissive_draws=(self.table.structure, self.table.emitters_changed_at))
+        if stage.changed(inputs, self.track_changes):
+            with self.timed("emitters"):
+                self.emitters.upload(frame_emitters(frame.emissive_draws()))
+            stage.ran(inputs)
+        return self.emitters
+
+    def _environment(self, frame):
+        """The environment's map, again when the environment changed."""
+        stage = self.stages["environment"]
+        inputs = dict(environment=frame.environment_values)
+        if stage.changed(inputs, self.track_changes):
+            with self.timed("environment"):
+                self.environment.upload(frame.environment)
+            stage.ran(inputs)
+        return self.environment
+
+    def _voxels(self, frame, s, source, emitters, camera):
+        """Voxelize what changed: the draws whose mesh, transform or material changed since the
+        grid last took them in (as it holds them: self.held), and the levels that moved with
+        the camera: scrolled where they moved by part of their cube, else voxelized anew (every
+        level of a new grid); where surfaces emit, the emission volume's mip chain follows. Progressive frames (the viewer)
+        move one level a frame (clipmap.scrolled_regions). Returns the changes.VoxelUpdate
+        applied, or None where the voxels' inputs did not change."""
+        stage = self.stages["voxels"]
+        n, regions = frame_levels(frame, s, camera.position)
+        field = "voxel_region.clipmap" if frame.clipmap is not None and s.clipmap_levels is None else "grid"
+        held = self.grid.regions
+        if self.progressive and self.grid.n == n and len(held) == len(regions):
+            regions = scrolled_regions(held, regions)
+        if self.grid.ensure(n, regions, source, field):
+            stage.forget()
+        if self.grid.hold_cone_emission(emitters.count > 0):  # the first emitter of a grid holding voxels
+            with self.timed("voxelize"):
+                self.voxelize.fill_cone_emission(self.grid)
+        placed = tuple(_bytes([region.center, region.size]) for region in regions)
+        table, buffers = self.table, self.scene_buffers
+        held_key = (table.structure, buffers.pool.epoch)
+        inputs = dict(grid=n, regions=placed, draws=(*held_key, table.draws_changed_at))
+        if stage.changed(inputs, self.track_changes):
+            tracked = self.track_changes and stage.inputs is not None and self.held.holds(held_key)
+            moved = moved_levels(held, regions) if tracked else frozenset()
+            shifts = {level: level_shift(held[level], regions[level], n) for level in moved}
+            scrolled = {level: shift for level, shift in shifts.items() if shift is not None}
+            if tracked:
+                changed = table.changed_draws(stage.last("draws")[2])
+                update = VoxelUpdate(False, self.held.held(changed), self.held.placed(table, buffers, changed),
+                                     frozenset(moved - set(scrolled)), scrolled)
+            else:
+                changed, update = None, VoxelUpdate(True, [], [])
+            if update.changed_levels(self.grid.levels):
+                with self.timed("voxelize"):
+                    self.voxelize.update(self.grid, update, buffers, table.draw_bounds)
+                if update.scrolled:
+                    self.schedule.faces_moved(update.scrolled)
+            self.held.hold(held_key, table, buffers, changed)
+            if emitters.count:
+                with self.timed("emission_mipmap"):
+                    self.grid.build_emission_mips()
+            stage.ran(inputs)
+            return update
+        return None
+
+    def _voxel_light(self, name, work, s, update, resting, near_reach=None, **source):
+        """The emitters' or the sky's light at the voxels ("emitter_light", "sky_light"), when
+        the voxels, its `source` or the cones that bring it changed: where only the voxels
+        changed (`update`, this frame's changes.VoxelUpdate), at the voxels of the levels it
+        relit and of those that scrolled, and of the next coarser ones (cones from a level never
+        read the finer ones, but a level's voxels beneath the finer level take its light).
+        Progressive frames (the viewer, converging bounces) spread a relight over the
+        interleave classes, one a frame, as the bounce is spread: an edit makes no frame pay
+        for more than 1 voxel in K, and while an emitter or the sky keeps changing every voxel
+        is still relit once every K frames; a scrolled level lights the voxels it took in at
+        once and relights the others once the camera rests (`resting`: it did not move this
+        frame; RadianceSchedule.light_voxels). With `near_reach` (the sky's), while draws move
+        only the voxels within near_reach times their size of them are relit, the others once
+        they rest too (constants.SKY_NEAR_REACH)."""
+        stage = self.stages[name]
+        inputs = dict(voxels=self.stages["voxels"].version, **source, cone_step=s.cone_step, cone_offset=s.cone_offset)
+        changed = stage.changed(inputs, self.track_changes)
+        spread = self._spreads_work(s)
+        levels, scrolled, near = None, frozenset(), None
+        draws_moved = update is not None and update.draws_changed
+        if changed == {"voxels"} and update is not None:
+            count = self.grid.levels
+            levels = with_coarser_levels(update.relit_levels(count), count)
+            if not draws_moved:
+                scrolled = with_coarser_levels(update.scrolled, count)
+            if not spread:  # converged within the frame: every voxel of a scrolled level too
+                levels, scrolled = levels | scrolled, frozenset()
+            elif near_reach is not None and draws_moved and not update.full:
+                size = max(float(np.max(d.bounds[1] - d.bounds[0])) for d in update.removed + update.added)
+                near = tuple(tuple(float(c) for c in corner) for corner in update.touched_bounds(margin=near_reach * size))
+        restart = bool(changed) and levels != frozenset()
+        plan = self.schedule.light_voxels(name, restart, s.bounce_interleave if spread else 1, self.grid.epoch, levels, scrolled,
+                                          resting and not scrolled and not draws_moved, near)
+        lit = [item for item in self._run(plan, work) if isinstance(item, schedule.LightVoxels)]
+        if lit and all(item.voxels.kind == "touched" for item in lit):
+            stage.extended(inputs)  # the light of before, extended to the voxels a scroll took in
+        elif lit:
+            stage.ran(inputs)
+
+    def _radiance(self, s, work, update):
+        """Inject direct light into the voxels when the voxels, the lights or the emitters'
+        light changed (schedule.RadianceSchedule.inject); where the voxels changed by a scroll
+        alone (`update`, this frame's changes.VoxelUpdate), in progressive frames, at the
+        voxels it took in, gathered at once, the bounces kept
+        (schedule.RadianceSchedule.scrolled)."""
+        stage = self.stages["radiance"]
+        inputs = dict(voxels=self.stages["voxels"].version, shadows=self.stages["shadows"].version,
+                      emitter_light=self.stages["emitter_light"].version, sky_light=self.stages["sky_light"].version,
+                      sky_lit=work.environment.environment is not None)
+        changed = stage.changed(inputs, self.track_changes)
+        if changed:
+            interleave = s.bounce_interleave if self.progressive and s.bounces == 0 else 1
+            spread = self._spreads_work(s) and stage.inputs is not None
+            if spread and changed == {"voxels"} and update is not None and update.scrolls_only:
+                self._run(self.schedule.scrolled(self.grid.epoch), work)
+                stage.extended(inputs)
+                return
+            self._run(self.schedule.inject("voxels" in changed, bool(changed - {"voxels"}), interleave, spread,
+                                           self.grid.epoch), work)
+            stage.ran(inputs)
+
+    def _spreads_work(self, s):
+        """Whether per-voxel work that follows a change is spread over the interleave classes,
+        one a frame: in progressive frames with converging bounces (the viewer), tracked."""
+        return self.progressive and s.bounces == 0 and self.track_changes
+
+    def _bounces(self, s, work):
+        """Bounce again when the base radiance or the bounce settings changed; progressive
+        frames add one bounce until the radiance settles."""
+        stage = self.stages["bounces"]
+        inputs = dict(radiance=self.stages["radiance"].version, bounces=s.bounces, interleave=s.bounce_interleave,
+                      cone_step=s.cone_step, cone_offset=s.cone_offset, progressive=self.progressive)
+        restart = bool(stage.changed(inputs, self.track_changes))
+        if restart:
+            stage.ran(inputs)
+        self._run(self.schedule.bounce(restart, s.bounces, s.bounce_interleave, self.progressive, self.grid.epoch), work)
+
+    # -- the radiance schedule's work items -----------------------------------------------------
+
+    def _run(self, plan, work):
+        """Run the work items a plan of the radiance schedule yields, each under the timer of
+        its pass; returns the items run."""
+        def execute(item):
+            with self.timed(item.timer):
+                return self._execute(item, work)
+        return schedule.run_plan(plan, execute)
+
+    def _gathered(self, index=None):
+        """Gather array `index` (None: the latest)."""
+        return self.grid.gathered[self.schedule.latest if index is None else index]
+
+    def _voxel_segment(self, voxels):
+        """The VoxelSegment of a schedule.Voxels selection: every voxel from the covered list
+        (which a scroll keeps current without sorting the classes again), a class from the
+        class index."""
+        if voxels.kind == "touched":
+            return self.grid.touched.segment()
+        if voxels.kind == "every":
+            return self.grid.covered.segment()
+        return self.class_index.segment(voxels.class_index)
+
+    def _gather_segments(self, voxels):
+        """What the gather of a schedule.Voxels selection runs over: (the segment holding the
+        anchors to trace, the one holding the voxels to interpolate, those holding the ones
+        beneath a finer level by level): a class's parts, or the touched voxels three times
+        (the passes take their own among them)."""
+        if voxels.kind == "touched":
+            touched = self.grid.touched.segment()
+            return touched, touched, self._by_level(touched)
+        classes = self.class_index
+        return (classes.anchor_segment(voxels.class_index), classes.filled_segment(voxels.class_index),
+                classes.finer_segments(voxels.class_index))
+
+    def _by_level(self, segment):
+        """`segment` for each level above the finest, as GatherPass.fill takes the voxels
+        beneath a finer level (the pass takes those of the level among them)."""
+        return {level: [segment] for level in range(1, self.grid.levels)}
+
+    def _sky_segments(self, voxels):
+        """What the sky's light at a schedule.Voxels selection runs over: (the segment holding
+        the anchors to trace, the one holding the voxels to interpolate, those holding the
+        voxels beneath a finer level by level, the voxels to filter): for a class, its
+        anchors, then every voxel (whose anchors may lie in any class: once the last class is
+        traced every voxel holds what all the anchors brought), every class's voxels beneath a
+        finer level and every covered voxel; or the touched voxels four times. The passes take
+        their own among them."""
+        if voxels.kind == "touched":
+            touched = self.grid.touched.segment()
+            return touched, touched, self._by_level(touched), touched
+        classes = self.class_index
+        return classes.anchor_segment(voxels.class_index), classes.segment(), classes.finer_segments(), self.grid.covered.segment()
+
+    def _cell_segments(self, voxels):
+        """The level-1 cells of a schedule.Voxels selection, as (VoxelSegment, the level of its
+        entries): the covered cells, a class's cells, or the touched voxels themselves."""
+        if voxels.kind == "touched":
+            return [(self.grid.touched.segment(), 0)]
+        if voxels.kind == "class":
+            return [(segment, 1) for segment in self.class_index.cell_segments(voxels.class_index)]
+        return [(self.grid.cells.segment(1), 1)]  # every covered cell
+
+    def _execute(self, item, work):
+        grid = self.grid
+        if isinstance(item, schedule.SortClasses):
+            self.class_index = self.gather.sort_classes(grid, item.interleave)
+        elif isinstance(item, schedule.FindAnchors):
+            self.gather.find_anchors(grid)
+        elif isinstance(item, schedule.Inject):
+            self.inject.run(grid, work.shadow_maps, work.emitters, work.environment, self._voxel_segment(item.voxels))
+        elif isinstance(item, schedule.LightVoxels) and item.source == "emitter_light":
+            self.emitter_light.run(grid, work.emitters, work.cone_uniforms, self._voxel_segment(item.voxels), item.levels)
+        elif isinstance(item, schedule.LightVoxels):
+            traced, filled, finer, filtered = self._sky_segments(item.voxels)
+            levels = range(grid.levels) if item.levels is None else item.levels
+            if item.voxels.kind == "touched":  # a scroll's: lit as the coarser level is, until the camera rests
+                self.sky_light.take_coarser(grid, traced, [level for level in levels if level < grid.levels - 1])
+                levels = [level for level in levels if level == grid.levels - 1]
+            if levels:
+                self.sky_light.run(grid, work.environment, work.cone_uniforms, traced, self.gather.anchors, levels, item.box)
+                self.gather.fill(grid, grid.traced_sky_irradiance, filled, finer)
+                self.sky_light.filter(grid, filtered, levels, item.box)
+        elif isinstance(item, schedule.ComposeFaces):
+            gathered = None if item.gathered is None else self._gathered(item.gathered)
+            for voxels in item.voxels:
+                self.faces.compose(grid, gathered, self._voxel_segment(voxels), voxels.levels)
+        elif isinstance(item, schedule.Mipmap):
+            self.faces.mipmap(grid, [segment for voxels in item.voxels for segment in self._cell_segments(voxels)], item.levels)
+        elif isinstance(item, schedule.Gather):
+            self.gather.run(grid, work.cone_uniforms, self._gathered(item.into), *self._gather_segments(item.voxels))
+        elif isinstance(item, schedule.ExtrapolateGather):
+            self.gather.extrapolate(grid, self._gathered(item.latest), self._gathered(item.older), item.gain)
+        elif isinstance(item, schedule.MeasureTotals):
+            return self.faces.totals(grid)
+        elif isinstance(item, schedule.RequestTotals):
+            self.faces.request_totals(grid)
+        elif isinstance(item, schedule.ReadTotals):
+            return self.faces.read_totals()
+        else:
+            raise TypeError(f"not a work item: {item!r}")
+        return None
+
+    @_current
+    def render(self, scene, mode=None, **changes):
+        """Render and return linear radiance, float32 (H, W, 3), row 0 at the top. `mode` and
+        other settings given here apply to this frame only."""
+        settings = self.settings.replace(**changes) if changes else self.settings
+        if mode is not None:
+            settings = settings.replace(mode=mode)
+        self.render_frame(scene, settings)
+        return self.radiance()
+
+    @_current
+    def radiance(self):
+        """The last frame's linear radiance (or encoded data view), float32 (H, W, 3), row 0 at the top."""
+        return self.output.read()[..., :3].copy()
+
+    @_current
+    def display_target(self):
+        """Tone-map the last frame on the GPU; returns the 8-bit ScreenTarget (for a window)."""
+        s = self.frame_settings
+        if not self._owns_context:
+            forget_bindings(self.ctx)
+        with self.timed("tonemap"):
+            if s.shown.data:  # encoded data: shown as stored, no curve, no sRGB
+                return self.tonemap.render(self.output.texture, 1.0, "none", encode_srgb=False)
+            return self.tonemap.render(self.output.texture, s.exposure, s.tonemap)
+
+    @_current
+    def tonemapped(self):
+        """The last frame as display pixels, uint8 (H, W, 3), row 0 at the top."""
+        return self.display_target().read()[..., :3].copy()
+
+    def inputs(self, scene):
+        """The files a frame of `scene` reads: the scene's own (its file, mesh files, images)
+        and the GLSL files of the renderer's programs."""
+        return list(scene.files) + self.programs.files()
+
+    def save_png(self, path):
+        """Tone-map the last frame and write it as PNG (written to a temporary name, then moved)."""
+        save_png(path, self.tonemapped())
+
+    # -- lifetime ------------------------------------------------------------------------
+
+    def close(self):
+        if self.ctx is None:
+            return
+        with self.ctx:
+            for render_pass in reversed(self._passes):
+                render_pass.release()
+            self._passes = []
+            if self.grid is not None:
+                self.grid.release()
+            self.emitters.release()
+            self.environment.release()
+            self.scene_buffers.release()
+            self.pass_timer.release()
+            self.camera_block.release()
+        if self._owns_context:
+            self.ctx.release()
+        self.ctx = None
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+
+
+def _settings(settings):
+    """`settings` validated; VctError where it is not a RenderSettings."""
+    if not isinstance(settings, RenderSettings):
+        raise VctError(f"must be an engine.RenderSettings, got {type(settings).__name__}", field="settings")
+    return settings.validate()
+
+
+def _bytes(arrays):
+    """Arrays as one comparable bytes key."""
+    return b"".join(np.asarray(a, dtype=np.float64).tobytes() for a in arrays)
