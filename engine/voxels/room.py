@@ -8,12 +8,14 @@ one voxel: so a draw covers at most `fragment_bound` voxels. The voxels covered 
 update lie in those covered when they were last counted by the draws that have not changed
 since, or in those the changed draws cover now: at most the count plus the changed draws'
 bounds. An update lists as touched the voxels its removed draws covered and its added draws
-cover: at most their bounds."""
+cover: at most their bounds; a scroll, every voxel of the slabs its levels took in (each of
+which it may cover)."""
 from dataclasses import dataclass
 
 import numpy as np
 
 from ..core import transforms
+from .clipmap import entered_slabs
 
 
 def fragment_bound(draw, lo, voxel_size, n):
@@ -66,12 +68,14 @@ class CoveredBound:
     def bound(self, grid, update):
         """The ListBound of `update` (a changes.VoxelUpdate) to the grid; None where nothing is
         known."""
-        if update.full or update.levels or update.scrolled or self.epoch is not grid.epoch:
+        if update.full or update.levels or (update.scrolled and not update.scrolls_only) or self.epoch is not grid.epoch:
             return None
         placed = dict(self.placed)
         placed.update((draw.index, draw) for draw in update.added)
-        return ListBound(covered=self.covered + sum(self._bound(d, grid) for d in placed.values()),
-                         touched=sum(self._bound(d, grid) for d in update.removed + update.added))
+        # A scroll alone marks every voxel of the slabs its levels took in, and may cover each.
+        entered = sum(int(np.prod(hi - lo)) for shift in update.scrolled.values() for lo, hi in entered_slabs(shift, grid.n))
+        return ListBound(covered=self.covered + entered + sum(self._bound(d, grid) for d in placed.values()),
+                         touched=entered + sum(self._bound(d, grid) for d in update.removed + update.added))
 
     def _bound(self, draw, grid):
         """The draw's fragment_bound summed over the grid's levels (it is rasterized into each)."""
