@@ -125,7 +125,7 @@ void main() {
         return;
     }
     if (output_kind == OUTPUT_AO) {
-        float occlusion = trace_diffuse(s.position, s.normal, surface_level(s.position), ao_distance, false).a;
+        float occlusion = trace_diffuse(s.position, s.normal, surface_level(s.position), ao_distance, SCREEN_DIFFUSE_READING).a;
         out_radiance = vec4(vec3(1.0 - clamp(occlusion, 0.0, 1.0)), 1.0);
         return;
     }

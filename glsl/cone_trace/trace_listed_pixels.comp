@@ -33,7 +33,7 @@ void main() {
     Surface s = read_gbuffer(pixel);
     vec3 radiance = vec3(0.0);
     if ((entry.y & PIXEL_DIFFUSE_CONES) != 0u) {
-        vec3 gathered = trace_diffuse(s.position, s.normal, surface_level(s.position), 1e9, false).rgb;
+        vec3 gathered = trace_diffuse(s.position, s.normal, surface_level(s.position), 1e9, SCREEN_DIFFUSE_READING).rgb;
         if (is_anchor(pixel)) imageStore(diffuse_in, pixel / 2, vec4(gathered, 1.0));
         radiance += diffuse_albedo(s) * gathered;
     }

@@ -36,8 +36,9 @@ float patch_visibility(vec3 p, vec3 n, int level, EmitterPatch e) {
     float voxel = level_voxel_size[level];
     float reach = (d * c - e.plane.w - voxel) / (c + 1.5 * tan_half_angle);
     if (reach <= voxel) return 1.0;
-    bool wide = tan_half_angle > sqrt(0.5);  // wider than 35.3 degrees
-    return 1.0 - min(trace_cone(p, n, level, w, tan_half_angle, reach, wide, false, false, 0.0, true, 1.0, 1.0, true).a, 1.0);
+    ConeReading reading = EMITTER_READING;
+    reading.wide = tan_half_angle > sqrt(0.5);  // wider than 35.3 degrees
+    return 1.0 - min(trace_cone(p, n, level, w, tan_half_angle, reach, reading).a, 1.0);
 }
 
 uniform uint lit_levels;  // bit k: level k's voxels take their light now, the others keep theirs

@@ -21,5 +21,5 @@ void main() {
     uint record = voxel_record(v);
     if (record == NO_RECORD || (gather_anchors[record] & ANCHOR_SELF) == 0u) return;  // empty, or interpolated (GatherPass.fill)
     VoxelSurface s = voxel_surface(v, record);
-    gathered_out[record] = pack_value(vec4(trace_diffuse(s.position, normalize(s.mean_normal), voxel_level(v), 1e9, true).rgb, 1.0));
+    gathered_out[record] = pack_value(vec4(trace_diffuse(s.position, normalize(s.mean_normal), voxel_level(v), 1e9, VOXEL_DIFFUSE_READING).rgb, 1.0));
 }

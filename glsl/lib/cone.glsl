@@ -106,11 +106,12 @@ vec4 faces_at_level_zero(vec3 uvw, int level, FaceWeights f, float front_share, 
 }
 
 // Premultiplied radiance (rgb) and coverage (a) of the cell around uvw at a mip level, as seen
-// by a cone with the given face weights; `wide`: a cone wider than 35.3 degrees. The faces the
-// cone looks into read `mip` (two levels blended where it is fractional), the back faces, which
-// take the small shares of the rays that diverge sideways, the nearest level: a blended lookup
-// reads twice the texels, and the back faces' jumps between levels do not show. (The front
-// faces read at the nearest level too make coarse grids read bright: docs/PERFORMANCE.md.)
+// by a cone with the given face weights. The faces the cone looks into read `mip` (two levels
+// blended where it is fractional), the back faces, which take the small shares of the rays that
+// diverge sideways, the nearest level: a blended lookup reads twice the texels, and the back
+// faces' jumps between levels do not show. (The front faces read at the nearest level too make
+// coarse grids read bright: docs/PERFORMANCE.md.) The dominant axis's back face takes rays
+// only in cones wider than 35.3 degrees (face_weights): `wide` ones.
 vec4 sample_faces(vec3 uvw, int level, float mip, FaceWeights f, bool wide) {
     float nearest = round(mip);
     float level_zero_share = max(1.0 - mip, 0.0);  // of the front faces' lookups, blended
@@ -131,22 +132,64 @@ vec4 sample_faces(vec3 uvw, int level, float mip, FaceWeights f, bool wide) {
     return sum;
 }
 
+// How a kind of cone reads the voxels (trace_cone), one description per kind below.
+struct ConeReading {
+    // Wider than 35.3 degrees, so the back face of a cell's dominant axis takes rays
+    // (face_weights; narrower cones skip it: a compile-time branch for the kinds always narrow).
+    bool wide;
+    // Read that many levels below the footprint's: narrower lookups than the cone (the diffuse
+    // and sky cones), which sample the surfaces it sweeps more finely.
+    float level_offset;
+    // Step by the lookups' diameter (the narrowed ones: the sky's cones, and the others, which
+    // are not narrowed), else by the cone's (the diffuse cones: less than a level finer, their
+    // steps span 1.3 of their cells and the opacity counts the step's length).
+    bool step_by_lookup;
+    // The narrowest lookups, in voxels of the level holding the step (1, or
+    // SPECULAR_CONE_MIN_DIAMETER): a narrow cone passing into a coarser level steps as one that
+    // started there.
+    float min_diameter;
+    // How many times a cell's coverage counts (1, or SPECULAR_CONE_OPACITY).
+    float opacity_scale;
+    // Read the two mip levels around the footprint blended (the diffuse and sky cones: at the
+    // nearest level the reading jumps where the distance to a surface crosses from one level to
+    // the next, which draws bands on the receivers), else the nearest one (the specular and
+    // emitter cones: narrow and long, most of their steps fall between levels 0 and 1, where
+    // blending doubles the texel reads for images that hardly differ).
+    bool blend_mips;
+    // Near a level's border read one of the two levels, chosen by a hash of the step's point with
+    // odds of their shares (the same blend on average, and no second lookup), else both, weighed
+    // by their shares. The cones from voxels dither: their light reaches the image through
+    // trilinear lookups and interpolation that average it over many voxels and steps. The
+    // screen's cones blend: a pixel's own choice would show as grain.
+    bool dither_levels;
+    // Add the emission of the surfaces met (the specular cones) from the emission volume: its
+    // mean over the covered voxels of the cell, e.rgb / e.a, seen from every side.
+    bool emitted;
+};
+
+// The kinds of cone. An emitter's cone is as wide as its patch: EMITTER_READING with `wide` set.
+//                                                    wide   level_offset               step_by_lookup min_diameter                opacity_scale          blend_mips dither_levels emitted
+const ConeReading SCREEN_DIFFUSE_READING = ConeReading(false, DIFFUSE_CONE_LEVEL_OFFSET, false,         1.0,                        1.0,                   true,      false,        false);
+const ConeReading VOXEL_DIFFUSE_READING  = ConeReading(false, DIFFUSE_CONE_LEVEL_OFFSET, false,         1.0,                        1.0,                   true,      true,         false);
+const ConeReading SPECULAR_READING       = ConeReading(true,  0.0,                       true,          SPECULAR_CONE_MIN_DIAMETER, SPECULAR_CONE_OPACITY, false,     false,        true);
+const ConeReading SKY_READING            = ConeReading(false, SKY_CONE_LEVEL_OFFSET,     true,          1.0,                        1.0,                   true,      true,         false);
+const ConeReading EMITTER_READING        = ConeReading(false, 0.0,                       true,          1.0,                        1.0,                   false,     true,         false);
+
 // A cone's lookup at p in level `level` for lookups at mip `mip` (in the finest level's voxels;
 // level k reads its own mip - k, which is 1..2 where the level matches the footprint), a step of
-// `step_length` on (trace_cone): the radiance it meets (rgb, emission added where `emitted`) and
-// the covered fraction of the step's cross-section (a).
-vec4 level_lookup(vec3 p, int level, float mip, FaceWeights weights, bool wide, bool blend_levels, bool emitted,
-                  float step_length, float opacity_scale) {
+// `step_length` on (trace_cone): the radiance it meets (rgb, emission added where the reading
+// says) and the covered fraction of the step's cross-section (a).
+vec4 level_lookup(vec3 p, int level, float mip, FaceWeights weights, ConeReading reading, float step_length) {
     float local_mip = clamp(mip - float(level), 0.0, voxel_max_mip);
-    if (!blend_levels) local_mip = round(local_mip);
+    if (!reading.blend_mips) local_mip = round(local_mip);
     vec3 uvw = level_uvw(p, level);
-    vec4 s = sample_faces(uvw, level, local_mip, weights, wide);
+    vec4 s = sample_faces(uvw, level, local_mip, weights, reading.wide);
     if (s.a <= 0.0) return vec4(0.0);
     // c = min(1, a 2^mip) over cells 2^mip of the level's voxels (trace_cone)
     float cell = exp2(local_mip) * level_voxel_size[level];
-    float coverage = opacity_scale * min(1.0, s.a * exp2(local_mip)) * step_length / cell;
+    float coverage = reading.opacity_scale * min(1.0, s.a * exp2(local_mip)) * step_length / cell;
     vec3 radiance = s.rgb / s.a;
-    if (emitted && voxel_emitters) {
+    if (reading.emitted && voxel_emitters) {
         vec3 e_uvw = stacked_uvw(uvw, level, 0, 1, float(voxel_grid >> int(ceil(local_mip))));
         vec4 e = textureLod(voxel_cone_emission, e_uvw, local_mip - 1.0);  // it holds mips 1 and up
         if (e.a > 0.0) radiance += e.rgb / e.a;
@@ -164,33 +207,14 @@ float level_dither(vec3 q) {
 }
 
 // Radiance (rgb) and opacity (a) gathered along a cone from surface point p with normal n
-// whose voxels are `start_level`'s (`wide`: a half-angle over 35.3 degrees), starting one of
-// its voxels out along the normal and along the cone, one sample per step. Each lookup reads the
-// level whose voxels are half its cells (the levels take the place of the single grid's mips
-// past the finest; at least start_level, the finest holding the lookup: holding_level), blended
-// into the next coarser one near the level's border (level_share). `blend_levels`: read the two
-// mip levels around the footprint
-// blended (at the faces it looks into: sample_faces), or the nearest one. The diffuse cones
-// blend: at the nearest level the reading jumps where the distance to a surface crosses from
-// one level to the next, which draws bands on the receivers. The specular cones read the
-// nearest level: they are narrow and long, so most of their steps fall between levels 0 and 1,
-// where blending doubles the texel reads for images that hardly differ. `emitted`: add the emission of the surfaces met (the specular cones), from the
-// emission volume: its mean over the covered voxels of the cell, e.rgb / e.a, seen from every side.
-// `level_offset`: read that many levels below the footprint's (the sky's cones:
-// SKY_CONE_LEVEL_OFFSET; the diffuse ones: DIFFUSE_CONE_LEVEL_OFFSET; 0 for the others);
-// `narrow_steps`: step by the narrower lookups (the sky's cones) or by the footprint (the
-// diffuse ones: less than a level finer, their steps span 1.3 of their cells and the opacity
-// below counts the step's length). `min_diameter`: the narrowest lookups, in voxels of the
-// level holding the step (1, or SPECULAR_CONE_MIN_DIAMETER for the specular cones): a narrow
-// cone passing into a coarser level steps as one that started there.
-// `opacity_scale` k: how many times a cell's coverage counts (1, or SPECULAR_CONE_OPACITY).
-// `dither_levels`: near a level's border a step reads one of the two levels, chosen by a hash of
-// its point with odds of their shares (the same blend on average, and no second lookup), else
-// both, weighed by their shares. The cones from voxels dither: their light reaches the image
-// through trilinear lookups and interpolation that average it over many voxels and steps. The
-// screen's cones blend: a pixel's own choice would show as grain.
+// whose voxels are `start_level`'s, starting one of its voxels out along the normal and along
+// the cone, one sample per step, read as `reading` describes. Each lookup reads the level whose
+// voxels are half its cells (the levels take the place of the single grid's mips past the
+// finest; at least start_level, the finest holding the lookup: holding_level), blended into the
+// next coarser one near the level's border (level_share).
 // With voxel the side of the voxels of the finest level from the start level up that holds the
-// step's point, and v0 the finest level's:
+// step's point, v0 the finest level's, and the reading's level_offset, min_diameter and
+// opacity_scale k:
 //   D = max(min_diameter voxel, 2 tan(a/2) t)    the cone's diameter at distance t, at least
 //                                                the narrowest lookup's
 //   d = max(min_diameter voxel, D 2^-level_offset)   the lookups' diameter (narrowed)
@@ -202,17 +226,16 @@ float level_dither(vec3 q) {
 //   alpha += min(k c step / (2^mip v0), 1 - alpha)  the covered fraction of a step through
 //                                                cells 2^mip voxels wide, front to back, which
 //                                                makes the result independent of the step
-//   t += step = cone_step * (narrow_steps ? d : D)
-vec4 trace_cone(vec3 p, vec3 n, int start_level, vec3 direction, float tan_half_angle, float max_distance, bool wide,
-                bool blend_levels, bool emitted, float level_offset, bool narrow_steps, float min_diameter,
-                float opacity_scale, bool dither_levels) {
+//   t += step = cone_step * (step_by_lookup ? d : D)
+vec4 trace_cone(vec3 p, vec3 n, int start_level, vec3 direction, float tan_half_angle, float max_distance,
+                ConeReading reading) {
     float unit = level_voxel_size[start_level];
     vec3 start = p + n * (cone_offset * unit);
     vec4 gathered = vec4(0.0);
     float spread = tan_half_angle / sqrt(1.0 + tan_half_angle * tan_half_angle);  // sin(half-angle)
     FaceWeights weights = face_weights(direction, spread);
     float t = unit;  // start one voxel out along the cone
-    float narrowing = exp2(-level_offset);
+    float narrowing = exp2(-reading.level_offset);
     float top_mip = voxel_max_mip + float(voxel_levels - 1);  // the coarsest level's 1^3
     // Near a level's border a step that does not dither reads the level (its share) and then, in
     // the next pass of the loop, the next coarser level (the rest): one lookup a pass keeps the
@@ -228,7 +251,7 @@ vec4 trace_cone(vec3 p, vec3 n, int start_level, vec3 direction, float tan_half_
             // The narrowest lookup: min_diameter voxels of the finest level that holds q (from
             // the start level up: no finer level is read).
             int point_level = holding_level(q, start_level, 0.0, 0.0);
-            float narrowest = min_diameter * level_voxel_size[point_level];
+            float narrowest = reading.min_diameter * level_voxel_size[point_level];
             cone_diameter = max(narrowest, 2.0 * tan_half_angle * t);
             diameter = max(narrowest, narrowing * cone_diameter);
             mip = min(max(log2(diameter / voxel_size) - 1.0, 0.0), top_mip);
@@ -240,15 +263,14 @@ vec4 trace_cone(vec3 p, vec3 n, int start_level, vec3 direction, float tan_half_
             // Stop half a cell past the coarsest level: the lookups clamp to the outer cells, which
             // hold the surfaces at its edge once; further out they would repeat them.
             if (level_depth(q, level) < -level_reach(level, reach, 0.0)) break;
-            step_length = cone_step * (narrow_steps ? diameter : cone_diameter);
+            step_length = cone_step * (reading.step_by_lookup ? diameter : cone_diameter);
             share = level_share(q, level, level_reach(level, reach, 0.0));
-            if (dither_levels && share < 1.0) {  // one of the two levels, chosen with odds share : 1 - share
+            if (reading.dither_levels && share < 1.0) {  // one of the two levels, chosen with odds share : 1 - share
                 if (level_dither(q) >= share) ++level;
                 share = 1.0;
             }
         }
-        vec4 lookup = level_lookup(q, coarser_due ? level + 1 : level, mip, weights, wide, blend_levels, emitted,
-                                   step_length, opacity_scale);
+        vec4 lookup = level_lookup(q, coarser_due ? level + 1 : level, mip, weights, reading, step_length);
         vec4 s = finer + (coarser_due ? 1.0 - share : share) * vec4(lookup.rgb * lookup.a, lookup.a);
         if (!coarser_due && share < 1.0) {
             finer = s;
@@ -268,16 +290,15 @@ vec4 trace_cone(vec3 p, vec3 n, int start_level, vec3 direction, float tan_half_
     return gathered;
 }
 
-// Diffuse gather with the lecture's 6 cones from p in start_level, read 0.4 levels finer than
-// their footprints (DIFFUSE_CONE_LEVEL_OFFSET): returns sum_j w_j Lv(p, w_j) (rgb) and the cosine-weighted
-// occlusion sum_j w_j a_j (a).
-vec4 trace_diffuse(vec3 p, vec3 n, int start_level, float max_distance, bool dither_levels) {
+// Diffuse gather with the lecture's 6 cones from p in start_level, read as `reading` describes
+// (SCREEN_DIFFUSE_READING or VOXEL_DIFFUSE_READING: 0.4 levels finer than their footprints):
+// returns sum_j w_j Lv(p, w_j) (rgb) and the cosine-weighted occlusion sum_j w_j a_j (a).
+vec4 trace_diffuse(vec3 p, vec3 n, int start_level, float max_distance, ConeReading reading) {
     mat3 frame = tangent_frame(n);
     float tan_half = tan(DIFFUSE_CONE_HALF_ANGLE);
     vec4 sum = vec4(0.0);
     for (int j = 0; j < DIFFUSE_CONE_COUNT; ++j) {
-        vec4 cone = trace_cone(p, n, start_level, frame * DIFFUSE_CONE_DIRECTIONS[j], tan_half, max_distance, false, true, false, DIFFUSE_CONE_LEVEL_OFFSET, false, 1.0, 1.0,
-                                 dither_levels);
+        vec4 cone = trace_cone(p, n, start_level, frame * DIFFUSE_CONE_DIRECTIONS[j], tan_half, max_distance, reading);
         sum += DIFFUSE_CONE_WEIGHTS[j] * cone;
     }
     return sum;

@@ -1,5 +1,5 @@
 // The light from beyond the scene (engine.scene.model.Environment, uploaded by
-// scene_gpu.EnvironmentMap): an equirectangular map of linear radiance, a uniform sky being a
+// scene_buffers.EnvironmentMap): an equirectangular map of linear radiance, a uniform sky being a
 // map of one texel. Direction d, turned into the map's frame, reads
 //   u = atan2(d.x, -d.z) / (2 pi), v = acos(d.y) / pi     (Mitsuba's envmap)
 // at the mip level whose texels are as wide as the cone around d (its prefiltering).

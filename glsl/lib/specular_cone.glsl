@@ -16,8 +16,7 @@ vec3 specular_incoming(Surface s) {
     vec3 wo = to_camera(s.position);
     vec3 ws = 2.0 * max(dot(wo, s.normal), 0.0) * s.normal - wo;
     float tan_half_angle = specular_tan_half_angle(s.roughness);
-    vec4 cone = trace_cone(s.position, s.normal, surface_level(s.position), ws, tan_half_angle, 1e9, true, false, true, 0.0, true, SPECULAR_CONE_MIN_DIAMETER,
-                           SPECULAR_CONE_OPACITY, false);
+    vec4 cone = trace_cone(s.position, s.normal, surface_level(s.position), ws, tan_half_angle, 1e9, SPECULAR_READING);
     return cone.rgb + (1.0 - min(cone.a, 1.0)) * environment_radiance(ws, atan(tan_half_angle));
 }
 

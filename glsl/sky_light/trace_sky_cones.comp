@@ -59,7 +59,7 @@ void main() {
         for (int j = 0; j < SKY_CONE_COUNT; ++j) {
             vec3 local = sky_cone(j, jitter);
             vec3 w = frame * local;
-            float opacity = trace_cone(s.position, n, voxel_level(v), w, tan_half, 1e9, false, true, false, SKY_CONE_LEVEL_OFFSET, true, 1.0, 1.0, true).a;
+            float opacity = trace_cone(s.position, n, voxel_level(v), w, tan_half, 1e9, SKY_READING).a;
             irradiance += local.z * (1.0 - min(opacity, 1.0)) * environment_radiance(w, SKY_CONE_HALF_ANGLE);
             cosine_sum += local.z;
         }
