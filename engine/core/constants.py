@@ -125,7 +125,7 @@ GLSL_STRUCTS = {
     # A segment of a list: the group count of an indirect dispatch over it (x; y = z = 1) and
     # its first entry and count (xy of `range`), as the GPU counted them (engine/voxels/lists.py).
     "ListSegment": (("uvec4", "dispatch"), ("uvec4", "range")),
-    # The camera a frame is seen from (frame_camera.FrameCamera, glsl/lib/camera.glsl): its
+    # The camera a frame is seen from (frame.camera.FrameCamera, glsl/lib/camera.glsl): its
     # view-projection and inverse, its position (xyz; w: 1 where orthographic) and unit forward
     # direction (xyz).
     "FrameCamera": (("mat4", "view_projection"), ("mat4", "inverse_view_projection"), ("vec4", "position"),

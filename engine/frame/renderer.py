@@ -287,8 +287,9 @@ class Renderer:
             with self.timed("voxel_view"):
                 return self.voxel_view.render(self.grid, s.mode, s.voxel_mip, self._shown_level(s), camera)
         with self.timed("cone_trace"):
-            return self.cone_trace.render(gbuffer, direct, self.grid, self._gathered(), emitters,
-                                          environment, s.cone_uniforms(), camera, s.image_terms(), s.ao_distance)
+            return self.cone_trace.render(gbuffer, direct, self.grid, gathered=self._gathered(), emitters=emitters,
+                                          environment=environment, cone_uniforms=s.cone_uniforms(), camera=camera,
+                                          terms=s.image_terms(), ao_distance=s.ao_distance)
 
     def _shown_level(self, s):
         """The level the voxel views show; VctError where the grid has no such level."""

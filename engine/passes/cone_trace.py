@@ -57,10 +57,11 @@ class ConeTracePass:
         anchors = ((size[0] + 1) // 2, (size[1] + 1) // 2)
         self.specular_in, self.diffuse_in = (self.ctx.texture(anchors, 4, dtype="f4") for _ in range(2))
 
-    def render(self, gbuffer, direct, grid, gathered, emitters, environment, cone_uniforms, camera, terms, ao_distance):
-        """`camera`: frame_camera.FrameCamera; `emitters`: scene_gpu.EmitterBuffers; `environment`:
-        scene_gpu.EnvironmentMap; `terms`: settings.ImageTerms (which of direct, diffuse,
-        specular, or AO)."""
+    def render(self, gbuffer, direct, grid, *, gathered, emitters, environment, cone_uniforms, camera, terms, ao_distance):
+        """The HDR image over the G-buffer `gbuffer` and the direct light `direct`, from `grid`'s
+        voxels and the gather array `gathered`. `camera`: frame.camera.FrameCamera; `emitters`:
+        gpu.scene_buffers.EmitterBuffers; `environment`: gpu.scene_buffers.EnvironmentMap;
+        `terms`: settings.ImageTerms (which of direct, diffuse, specular, or AO)."""
         program = self.programs[emitters.count > 0, environment.environment is not None]
         gbuffer.use()
         emitters.bind(program)

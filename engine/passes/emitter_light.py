@@ -15,7 +15,7 @@ class EmitterLightPass:
                    "SSBO_EMITTER_PATCHES"))
 
     def run(self, grid, emitters, cone_uniforms, segment, levels=None):
-        """`emitters`: scene_gpu.EmitterBuffers; `segment`: a VoxelSegment of the class list,
+        """`emitters`: scene_buffers.EmitterBuffers; `segment`: a VoxelSegment of the class list,
         lit where they lie in `levels` (None: every level). Writes and returns
         grid.emitter_irradiance, at those voxels."""
         grid.use_surface()

@@ -69,7 +69,7 @@ class GBufferPass:
 
     def render(self, buffers, camera):
         """Cull the scene's draws (SceneBuffers) against the frustum of `camera` (a
-        frame_camera.FrameCamera) and draw them."""
+        frame.camera.FrameCamera) and draw them."""
         views = view_records(1)
         views["view_projection"][0] = np.asarray(camera.view_projection, "f4").T.ravel()
         views["items"][0] = (0, 0, DRAW_TEST_FRUSTUM, 0)

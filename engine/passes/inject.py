@@ -16,7 +16,7 @@ class InjectPass:
     def run(self, grid, shadow_maps, emitters, environment, segment):
         """Writes grid.base for the voxels of `segment` (a VoxelSegment), adding the emitters'
         and the sky's irradiance at the voxels where the scene has them (`emitters`:
-        scene_gpu.EmitterBuffers, `environment`: scene_gpu.EnvironmentMap)."""
+        scene_buffers.EmitterBuffers, `environment`: scene_buffers.EnvironmentMap)."""
         grid.use_surface()
         bind_storage(segment.buffer, "VOXEL_LIST")
         shadow_maps.bind(self.program)

@@ -14,7 +14,7 @@ class LightingPass:
         self.target.resize(size)
 
     def render(self, gbuffer, shadow_maps, camera):
-        """`camera`: frame_camera.FrameCamera."""
+        """`camera`: frame.camera.FrameCamera."""
         gbuffer.use()
         shadow_maps.bind(self.program)
         camera.bind()

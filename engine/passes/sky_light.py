@@ -27,7 +27,7 @@ class SkyLightPass:
             reads=("SSBO_VOXEL_LIST", "SSBO_SEGMENTS", *VoxelGrid.SURFACE_READS, "SSBO_VOXEL_SKY_IRRADIANCE"))
 
     def run(self, grid, environment, cone_uniforms, segment, anchors, levels=None, box=None):
-        """`environment`: scene_gpu.EnvironmentMap; `segment`: a VoxelSegment (the anchors of a
+        """`environment`: scene_buffers.EnvironmentMap; `segment`: a VoxelSegment (the anchors of a
         class, or the voxels a voxelization touched), whose anchors (`anchors`: the gather's
         anchor words, GatherPass.anchors) are lit where they lie in `levels` (None: every
         level) and their centres in the world box `box` ((lo, hi); None: anywhere). Writes and

@@ -39,7 +39,7 @@ class VoxelizePass:
         self.ctx = ctx
         self.cull = cull
         # Per whether the draw has vertex colours, a second texture coordinate set or texture
-        # transforms (scene_gpu.vertex_extras): the buckets of the draw lists.
+        # transforms (scene_buffers.vertex_extras): the buckets of the draw lists.
         self.programs = [programs.program({"VERTEX_EXTRAS": 1} if extras else None, vertex_shader="voxelize/rasterize.vert",
                                           geometry_shader="voxelize/rasterize.geom", fragment_shader="voxelize/rasterize.frag",
                                           reads=("SSBO_DRAWS", "SSBO_HELD_DRAWS", "SSBO_DRAW_VIEWS", "SSBO_MATERIALS",

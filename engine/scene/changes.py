@@ -49,7 +49,7 @@ class FrameInputs:
 class PlacedDraw:
     """A draw where the voxels hold it or where it is now: its index in the table, its world
     matrix, the mesh arrays it had, its world bounds (lo, hi) and its mesh's place in the GPU's
-    pool (scene_gpu.MeshEntry)."""
+    pool (scene_buffers.MeshEntry)."""
     index: int
     world: np.ndarray
     mesh_arrays: tuple

@@ -19,7 +19,7 @@ last ran at and asks for the draws changed since: a frame where nothing moved co
 whatever the scene holds.
 """
 import collections
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 
 import numpy as np
 
@@ -31,14 +31,23 @@ EXTREMES_HULL_VERTICES = 64  # meshes with more vertices are bounded through the
 RECENT_CHANGES = 1 << 16     # draws of the recent changes kept, to find what changed since a stamp
 
 
+def _comparable(value):
+    """A field's value as one that compares with ==: arrays and dicts as tuples (Textures
+    compare by identity)."""
+    if isinstance(value, np.ndarray):
+        return tuple(value.ravel().tolist())
+    if isinstance(value, dict):
+        return tuple(sorted((key, _comparable(item)) for key, item in value.items()))
+    return value
+
+
+MATERIAL_VALUE_FIELDS = tuple(f.name for f in fields(Material) if f.name != "name")
+
+
 def material_values(material):
-    """Everything about a material the passes read, as a comparable tuple (textures compare
-    by identity)."""
-    return (tuple(float(x) for x in material.albedo), float(material.roughness), float(material.metalness),
-            float(material.specular), tuple(float(x) for x in material.emission), float(material.alpha),
-            material.alpha_mode, float(material.alpha_cutoff), bool(material.double_sided),
-            float(material.normal_scale), tuple(material.textures()), tuple(sorted(material.uv_sets.items())),
-            tuple(sorted(material.uv_transforms.items())))
+    """Every field of a material but its name (all of them the passes read), as a comparable
+    tuple: a field added to Material is compared with the others."""
+    return tuple(_comparable(getattr(material, name)) for name in MATERIAL_VALUE_FIELDS)
 
 
 def cutout_values(material):
