@@ -3,7 +3,8 @@ or the lights changed, and how the bounces converge, headless and over progressi
 import numpy as np
 
 from engine.frame.schedule import (EVERY_VOXEL, TOUCHED_VOXELS, ClassRounds, ComposeFaces, ExtrapolateGather, FindAnchors, Gather, Inject,
-                                   LightVoxels, MeasureTotals, Mipmap, RadianceSchedule, ReadTotals, RequestTotals, SortClasses, Voxels,
+                                   LightVoxels, MeasureTotals, Mipmap, RadianceSchedule, ReadTotals, RequestTotals, SortClasses,
+                                   TakeCoarserSkyLight, Voxels,
                                    class_voxels, run_plan)
 from engine.voxels.grid import Epoch
 
@@ -25,7 +26,7 @@ def of_type(items, kind):
 
 
 def progressive_frame(schedule, epoch, interleave=4, restart=False, totals=()):
-    return run(schedule.bounce(restart, 0, interleave, True, epoch), totals)
+    return run(schedule.bounce(restart=restart, bounces=0, interleave=interleave, progressive=True, epoch=epoch), totals)
 
 
 def test_fixed_bounces_gather_k_times_and_compose_between():
@@ -33,7 +34,7 @@ def test_fixed_bounces_gather_k_times_and_compose_between():
     voxel with the face views composed again between them (the K-th gather is the image's),
     and no totals read back."""
     schedule, epoch = RadianceSchedule(), Epoch()
-    items = run(schedule.bounce(True, 3, 4, False, epoch))
+    items = run(schedule.bounce(restart=True, bounces=3, interleave=4, progressive=False, epoch=epoch))
     assert items[:3] == [ComposeFaces((EVERY_VOXEL,), None), Mipmap((EVERY_VOXEL,)), SortClasses(1)]
     assert len(of_type(items, Gather)) == 3 and all(g.voxels.class_index == 0 for g in of_type(items, Gather))
     composes = of_type(items, ComposeFaces)
@@ -46,7 +47,7 @@ def test_converging_bounces_close_a_geometric_series_by_extrapolation():
     remaining bounces are added as r / (1 - r) = 1 times the last increment, and the face views
     follow; the gathers alternate between the two volumes."""
     schedule, epoch = RadianceSchedule(), Epoch()
-    items = run(schedule.bounce(True, 0, 4, False, epoch), geometric_totals())
+    items = run(schedule.bounce(restart=True, bounces=0, interleave=4, progressive=False, epoch=epoch), geometric_totals())
     gathers = of_type(items, Gather)
     assert [g.into for g in gathers] == [1 - k % 2 for k in range(len(gathers))]
     extrapolations = of_type(items, ExtrapolateGather)
@@ -58,7 +59,7 @@ def test_converging_bounces_close_a_geometric_series_by_extrapolation():
 def test_converging_bounces_stop_when_an_increment_is_negligible():
     """A series whose second bounce adds nothing stops after it, without extrapolating."""
     schedule = RadianceSchedule()
-    items = run(schedule.bounce(True, 0, 4, False, Epoch()), [np.ones(3), 2 * np.ones(3), 2 * np.ones(3)])
+    items = run(schedule.bounce(restart=True, bounces=0, interleave=4, progressive=False, epoch=Epoch()), [np.ones(3), 2 * np.ones(3), 2 * np.ones(3)])
     assert len(of_type(items, Gather)) == 2 and not of_type(items, ExtrapolateGather) and schedule.settled
 
 
@@ -68,7 +69,7 @@ def test_progressive_frames_gather_one_class_each_until_the_cycles_converge():
     are computed, and read back at the start of the next frame only (no frame waits for the
     GPU's work of its own); once the series closes no frame plans any work."""
     schedule, epoch = RadianceSchedule(), Epoch()
-    run(schedule.inject(True, True, 4, False, epoch))
+    run(schedule.inject(voxels_changed=True, lights_changed=True, interleave=4, spread=False, epoch=epoch))
     totals = iter(geometric_totals())
     frames = [progressive_frame(schedule, epoch, restart=True, totals=totals)]
     while not schedule.settled:
@@ -91,9 +92,9 @@ def test_progressive_light_changes_inject_each_class_before_its_gather():
     """A light moved in progressive frames: no frame injects more than one class, each class
     is injected right before it gathers, and every class is relit within one cycle."""
     schedule, epoch = RadianceSchedule(), Epoch()
-    run(schedule.inject(True, True, 4, False, epoch))
+    run(schedule.inject(voxels_changed=True, lights_changed=True, interleave=4, spread=False, epoch=epoch))
     progressive_frame(schedule, epoch, restart=True, totals=geometric_totals())
-    assert run(schedule.inject(False, True, 4, True, epoch)) == []
+    assert run(schedule.inject(voxels_changed=False, lights_changed=True, interleave=4, spread=True, epoch=epoch)) == []
     frames = [progressive_frame(schedule, epoch, restart=True, totals=geometric_totals())]
     frames += [progressive_frame(schedule, epoch, totals=geometric_totals()) for _ in range(3)]
     injected = [of_type(items, Inject) for items in frames]
@@ -109,10 +110,10 @@ def test_progressive_voxel_changes_inject_and_compose_the_touched_voxels_before_
     are injected, and their face views (with the class's) are composed, with the mip levels
     over their cells, before the class gathers; after two voxelizations every voxel is injected again."""
     schedule, epoch = RadianceSchedule(), Epoch()
-    run(schedule.inject(True, True, 4, False, epoch))
+    run(schedule.inject(voxels_changed=True, lights_changed=True, interleave=4, spread=False, epoch=epoch))
     progressive_frame(schedule, epoch, restart=True)
     epoch = epoch.next()
-    items = run(schedule.inject(True, False, 4, True, epoch))
+    items = run(schedule.inject(voxels_changed=True, lights_changed=False, interleave=4, spread=True, epoch=epoch))
     assert items == [Inject(TOUCHED_VOXELS)]
     frame = progressive_frame(schedule, epoch, restart=True)
     compose = of_type(frame, ComposeFaces)[0]
@@ -120,16 +121,16 @@ def test_progressive_voxel_changes_inject_and_compose_the_touched_voxels_before_
     mipmap = Mipmap((TOUCHED_VOXELS, class_voxels(1)))
     assert frame.index(compose) < frame.index(mipmap) < frame.index(of_type(frame, Gather)[0])
     epoch = epoch.next().next()
-    assert of_type(run(schedule.inject(True, False, 4, True, epoch)), Inject) == [Inject(EVERY_VOXEL)]
+    assert of_type(run(schedule.inject(voxels_changed=True, lights_changed=False, interleave=4, spread=True, epoch=epoch)), Inject) == [Inject(EVERY_VOXEL)]
 
 
 def test_classes_are_sorted_again_only_for_a_new_covered_list_or_interleave():
     """The class index is sorted once per state of the covered list and interleave."""
     schedule, epoch = RadianceSchedule(), Epoch()
-    assert of_type(run(schedule.inject(True, True, 4, False, epoch)), SortClasses) == [SortClasses(4)]
-    assert not of_type(run(schedule.inject(True, True, 4, False, epoch)), SortClasses)
-    assert of_type(run(schedule.inject(True, True, 2, False, epoch)), SortClasses) == [SortClasses(2)]
-    assert of_type(run(schedule.inject(True, True, 2, False, epoch.next())), SortClasses) == [SortClasses(2)]
+    assert of_type(run(schedule.inject(voxels_changed=True, lights_changed=True, interleave=4, spread=False, epoch=epoch)), SortClasses) == [SortClasses(4)]
+    assert not of_type(run(schedule.inject(voxels_changed=True, lights_changed=True, interleave=4, spread=False, epoch=epoch)), SortClasses)
+    assert of_type(run(schedule.inject(voxels_changed=True, lights_changed=True, interleave=2, spread=False, epoch=epoch)), SortClasses) == [SortClasses(2)]
+    assert of_type(run(schedule.inject(voxels_changed=True, lights_changed=True, interleave=2, spread=False, epoch=epoch.next())), SortClasses) == [SortClasses(2)]
 
 
 def test_voxel_light_restarted_every_frame_still_reaches_every_class():
@@ -139,11 +140,12 @@ def test_voxel_light_restarted_every_frame_still_reaches_every_class():
     schedule, epoch = RadianceSchedule(), Epoch()
     chosen = []
     for _ in range(8):
-        items = run(schedule.light_voxels("emitter_light", True, 4, epoch))
+        items = run(schedule.light_voxels("emitter_light", restart=True, interleave=4, epoch=epoch, level_count=1))
         assert items.index(of_type(items, ComposeFaces)[0]) < items.index(of_type(items, LightVoxels)[0])
         chosen += [item.voxels.class_index for item in of_type(items, LightVoxels)]
     assert chosen == [0, 1, 2, 3, 0, 1, 2, 3]
-    frames = [run(schedule.light_voxels("sky_light", k == 0, 4, epoch)) for k in range(5)]
+    frames = [run(schedule.light_voxels("sky_light", restart=k == 0, interleave=4, epoch=epoch, level_count=1))
+              for k in range(5)]
     assert [[i.voxels.class_index for i in of_type(f, LightVoxels)] for f in frames] == [[0], [1], [2], [3], []]
 
 
@@ -153,13 +155,38 @@ def test_the_sky_of_moving_draws_is_relit_near_them_and_everywhere_once_they_res
     schedule, epoch = RadianceSchedule(), Epoch()
     near, levels = ((0.0, 0.0, 0.0), (1.0, 1.0, 1.0)), frozenset({0, 1})
     for _ in range(6):
-        items = run(schedule.light_voxels("sky_light", True, 4, epoch, levels, resting=False, near=near))
+        items = run(schedule.light_voxels("sky_light", restart=True, interleave=4, epoch=epoch, level_count=1,
+                                          levels=levels, resting=False, near=near))
         assert [(i.levels, i.box) for i in of_type(items, LightVoxels)] == [(levels, near)]
     assert not schedule.idle
-    frames = [of_type(run(schedule.light_voxels("sky_light", False, 4, epoch, resting=True)), LightVoxels) for _ in range(5)]
+    frames = [of_type(run(schedule.light_voxels("sky_light", restart=False, interleave=4, epoch=epoch, level_count=1,
+                                                resting=True)), LightVoxels) for _ in range(5)]
     assert [[(i.voxels.class_index, i.levels, i.box) for i in f] for f in frames] == \
         [[(2, levels, None)], [(3, levels, None)], [(0, levels, None)], [(1, levels, None)], []]
     assert schedule.idle
+
+
+def test_a_scroll_lights_the_voxels_it_took_in_at_once_and_the_others_once_the_camera_rests():
+    """The voxels a scroll took in (the touched ones) take light in the frame of the scroll: the
+    emitters' traced at every level; the sky's traced at the coarsest level and, below it, taken
+    from the next coarser level (its cones wait). The scrolled level's other voxels keep their
+    light while the camera moves, and are lit again over the classes once it rests."""
+    scrolled = frozenset({0})
+    for source in ("emitter_light", "sky_light"):
+        schedule, epoch = RadianceSchedule(), Epoch()
+        items = run(schedule.light_voxels(source, restart=False, interleave=4, epoch=epoch, level_count=3,
+                                          scrolled=scrolled, resting=False))
+        lit = [(type(i).__name__, i.voxels, i.levels) for i in items if isinstance(i, (LightVoxels, TakeCoarserSkyLight))]
+        if source == "emitter_light":
+            assert lit == [("LightVoxels", TOUCHED_VOXELS, None)]
+        else:
+            assert lit == [("TakeCoarserSkyLight", TOUCHED_VOXELS, frozenset({0, 1})), ("LightVoxels", TOUCHED_VOXELS, frozenset({2}))]
+        assert not of_type(run(schedule.light_voxels(source, restart=False, interleave=4, epoch=epoch, level_count=3,
+                                                     resting=False)), LightVoxels)
+        rested = [of_type(run(schedule.light_voxels(source, restart=False, interleave=4, epoch=epoch, level_count=3,
+                                                    resting=True)), LightVoxels) for _ in range(5)]
+        assert [[(i.voxels.class_index, i.levels) for i in f] for f in rested] == \
+            [[(0, scrolled)], [(1, scrolled)], [(2, scrolled)], [(3, scrolled)], []]
 
 
 def test_class_rounds_restart_where_the_last_round_stopped():
@@ -196,7 +223,7 @@ def test_a_scroll_lights_the_voxels_it_took_in_and_restarts_no_bounce():
     alone, without sorting the classes; the settled bounces stay settled, and the next frame
     plans no bounce work."""
     schedule, epoch = RadianceSchedule(), Epoch()
-    run(schedule.bounce(True, 0, 4, True, epoch), geometric_totals(ratio=0.01))
+    run(schedule.bounce(restart=True, bounces=0, interleave=4, progressive=True, epoch=epoch), geometric_totals(ratio=0.01))
     for _ in range(12):
         progressive_frame(schedule, epoch, totals=geometric_totals(ratio=0.01))
     assert schedule.settled

@@ -45,6 +45,7 @@ from ..voxels.clipmap import frame_levels, level_shift, moved_levels, scrolled_r
 from ..voxels.grid import VoxelGrid
 from . import schedule
 from .camera import CameraBlock, frame_camera
+from .segments import cell_segments, gather_segments, sky_segments, voxel_segment
 from .settings import RenderSettings
 
 VOXEL_VOLUMES = {"radiance": "voxels", "normal": "voxel-normals", "albedo": "voxel-albedo", "gathered": None}
@@ -444,8 +445,9 @@ class Renderer:
                 size = max(float(np.max(d.bounds[1] - d.bounds[0])) for d in update.removed + update.added)
                 near = tuple(tuple(float(c) for c in corner) for corner in update.touched_bounds(margin=near_reach * size))
         restart = bool(changed) and levels != frozenset()
-        plan = self.schedule.light_voxels(name, restart, s.bounce_interleave if spread else 1, self.grid.epoch, levels, scrolled,
-                                          resting and not scrolled and not draws_moved, near)
+        plan = self.schedule.light_voxels(name, restart=restart, interleave=s.bounce_interleave if spread else 1,
+                                          epoch=self.grid.epoch, level_count=self.grid.levels, levels=levels,
+                                          scrolled=scrolled, resting=resting and not scrolled and not draws_moved, near=near)
         lit = [item for item in self._run(plan, work) if isinstance(item, schedule.LightVoxels)]
         if lit and all(item.voxels.kind == "touched" for item in lit):
             stage.extended(inputs)  # the light of before, extended to the voxels a scroll took in
@@ -470,8 +472,8 @@ class Renderer:
                 self._run(self.schedule.scrolled(self.grid.epoch), work)
                 stage.extended(inputs)
                 return
-            self._run(self.schedule.inject("voxels" in changed, bool(changed - {"voxels"}), interleave, spread,
-                                           self.grid.epoch), work)
+            self._run(self.schedule.inject(voxels_changed="voxels" in changed, lights_changed=bool(changed - {"voxels"}),
+                                           interleave=interleave, spread=spread, epoch=self.grid.epoch), work)
             stage.ran(inputs)
 
     def _spreads_work(self, s):
@@ -488,7 +490,8 @@ class Renderer:
         restart = bool(stage.changed(inputs, self.track_changes))
         if restart:
             stage.ran(inputs)
-        self._run(self.schedule.bounce(restart, s.bounces, s.bounce_interleave, self.progressive, self.grid.epoch), work)
+        self._run(self.schedule.bounce(restart=restart, bounces=s.bounces, interleave=s.bounce_interleave,
+                                       progressive=self.progressive, epoch=self.grid.epoch), work)
 
     # -- the radiance schedule's work items -----------------------------------------------------
 
@@ -504,95 +507,60 @@ class Renderer:
         """Gather array `index` (None: the latest)."""
         return self.grid.gathered[self.schedule.latest if index is None else index]
 
-    def _voxel_segment(self, voxels):
-        """The VoxelSegment of a schedule.Voxels selection: every voxel from the covered list
-        (which a scroll keeps current without sorting the classes again), a class from the
-        class index."""
-        if voxels.kind == "touched":
-            return self.grid.touched.segment()
-        if voxels.kind == "every":
-            return self.grid.covered.segment()
-        return self.class_index.segment(voxels.class_index)
-
-    def _gather_segments(self, voxels):
-        """What the gather of a schedule.Voxels selection runs over: (the segment holding the
-        anchors to trace, the one holding the voxels to interpolate, those holding the ones
-        beneath a finer level by level): a class's parts, or the touched voxels three times
-        (the passes take their own among them)."""
-        if voxels.kind == "touched":
-            touched = self.grid.touched.segment()
-            return touched, touched, self._by_level(touched)
-        classes = self.class_index
-        return (classes.anchor_segment(voxels.class_index), classes.filled_segment(voxels.class_index),
-                classes.finer_segments(voxels.class_index))
-
-    def _by_level(self, segment):
-        """`segment` for each level above the finest, as GatherPass.fill takes the voxels
-        beneath a finer level (the pass takes those of the level among them)."""
-        return {level: [segment] for level in range(1, self.grid.levels)}
-
-    def _sky_segments(self, voxels):
-        """What the sky's light at a schedule.Voxels selection runs over: (the segment holding
-        the anchors to trace, the one holding the voxels to interpolate, those holding the
-        voxels beneath a finer level by level, the voxels to filter): for a class, its
-        anchors, then every voxel (whose anchors may lie in any class: once the last class is
-        traced every voxel holds what all the anchors brought), every class's voxels beneath a
-        finer level and every covered voxel; or the touched voxels four times. The passes take
-        their own among them."""
-        if voxels.kind == "touched":
-            touched = self.grid.touched.segment()
-            return touched, touched, self._by_level(touched), touched
-        classes = self.class_index
-        return classes.anchor_segment(voxels.class_index), classes.segment(), classes.finer_segments(), self.grid.covered.segment()
-
-    def _cell_segments(self, voxels):
-        """The level-1 cells of a schedule.Voxels selection, as (VoxelSegment, the level of its
-        entries): the covered cells, a class's cells, or the touched voxels themselves."""
-        if voxels.kind == "touched":
-            return [(self.grid.touched.segment(), 0)]
-        if voxels.kind == "class":
-            return [(segment, 1) for segment in self.class_index.cell_segments(voxels.class_index)]
-        return [(self.grid.cells.segment(1), 1)]  # every covered cell
-
     def _execute(self, item, work):
+        """Run one work item of the radiance schedule with the pass that does it (WORK_ITEMS);
+        returns what a MeasureTotals or ReadTotals measured, else None."""
+        return WORK_ITEMS[type(item)](self, item, work)
+
+    def _sort_classes(self, item, work):
+        self.class_index = self.gather.sort_classes(self.grid, item.interleave)
+
+    def _find_anchors(self, item, work):
+        self.gather.find_anchors(self.grid)
+
+    def _inject(self, item, work):
+        segment = voxel_segment(self.grid, self.class_index, item.voxels)
+        self.inject.run(self.grid, work.shadow_maps, work.emitters, work.environment, segment)
+
+    def _light_voxels(self, item, work):
         grid = self.grid
-        if isinstance(item, schedule.SortClasses):
-            self.class_index = self.gather.sort_classes(grid, item.interleave)
-        elif isinstance(item, schedule.FindAnchors):
-            self.gather.find_anchors(grid)
-        elif isinstance(item, schedule.Inject):
-            self.inject.run(grid, work.shadow_maps, work.emitters, work.environment, self._voxel_segment(item.voxels))
-        elif isinstance(item, schedule.LightVoxels) and item.source == "emitter_light":
-            self.emitter_light.run(grid, work.emitters, work.cone_uniforms, self._voxel_segment(item.voxels), item.levels)
-        elif isinstance(item, schedule.LightVoxels):
-            traced, filled, finer, filtered = self._sky_segments(item.voxels)
-            levels = range(grid.levels) if item.levels is None else item.levels
-            if item.voxels.kind == "touched":  # a scroll's: lit as the coarser level is, until the camera rests
-                self.sky_light.take_coarser(grid, traced, [level for level in levels if level < grid.levels - 1])
-                levels = [level for level in levels if level == grid.levels - 1]
-            if levels:
-                self.sky_light.run(grid, work.environment, work.cone_uniforms, traced, self.gather.anchors, levels, item.box)
-                self.gather.fill(grid, grid.traced_sky_irradiance, filled, finer)
-                self.sky_light.filter(grid, filtered, levels, item.box)
-        elif isinstance(item, schedule.ComposeFaces):
-            gathered = None if item.gathered is None else self._gathered(item.gathered)
-            for voxels in item.voxels:
-                self.faces.compose(grid, gathered, self._voxel_segment(voxels), voxels.levels)
-        elif isinstance(item, schedule.Mipmap):
-            self.faces.mipmap(grid, [segment for voxels in item.voxels for segment in self._cell_segments(voxels)], item.levels)
-        elif isinstance(item, schedule.Gather):
-            self.gather.run(grid, work.cone_uniforms, self._gathered(item.into), *self._gather_segments(item.voxels))
-        elif isinstance(item, schedule.ExtrapolateGather):
-            self.gather.extrapolate(grid, self._gathered(item.latest), self._gathered(item.older), item.gain)
-        elif isinstance(item, schedule.MeasureTotals):
-            return self.faces.totals(grid)
-        elif isinstance(item, schedule.RequestTotals):
-            self.faces.request_totals(grid)
-        elif isinstance(item, schedule.ReadTotals):
-            return self.faces.read_totals()
-        else:
-            raise TypeError(f"not a work item: {item!r}")
-        return None
+        if item.source == "emitter_light":
+            segment = voxel_segment(grid, self.class_index, item.voxels)
+            self.emitter_light.run(grid, work.emitters, work.cone_uniforms, segment, item.levels)
+            return
+        segments = sky_segments(grid, self.class_index, item.voxels)
+        levels = range(grid.levels) if item.levels is None else item.levels
+        self.sky_light.run(grid, work.environment, work.cone_uniforms, segments.traced, self.gather.anchors, levels, item.box)
+        self.gather.fill(grid, grid.traced_sky_irradiance, segments.filled, segments.finer)
+        self.sky_light.filter(grid, segments.filtered, levels, item.box)
+
+    def _take_coarser_sky_light(self, item, work):
+        self.sky_light.take_coarser(self.grid, voxel_segment(self.grid, self.class_index, item.voxels), sorted(item.levels))
+
+    def _compose_faces(self, item, work):
+        gathered = None if item.gathered is None else self._gathered(item.gathered)
+        for voxels in item.voxels:
+            self.faces.compose(self.grid, gathered, voxel_segment(self.grid, self.class_index, voxels), voxels.levels)
+
+    def _mipmap(self, item, work):
+        cells = [segment for voxels in item.voxels for segment in cell_segments(self.grid, self.class_index, voxels)]
+        self.faces.mipmap(self.grid, cells, item.levels)
+
+    def _gather(self, item, work):
+        segments = gather_segments(self.grid, self.class_index, item.voxels)
+        self.gather.run(self.grid, work.cone_uniforms, self._gathered(item.into), segments.traced, segments.filled, segments.finer)
+
+    def _extrapolate_gather(self, item, work):
+        self.gather.extrapolate(self.grid, self._gathered(item.latest), self._gathered(item.older), item.gain)
+
+    def _measure_totals(self, item, work):
+        return self.faces.totals(self.grid)
+
+    def _request_totals(self, item, work):
+        self.faces.request_totals(self.grid)
+
+    def _read_totals(self, item, work):
+        return self.faces.read_totals()
 
     @_current
     def render(self, scene, mode=None, **changes):
@@ -659,6 +627,23 @@ class Renderer:
 
     def __exit__(self, *exc):
         self.close()
+
+
+# The pass method that runs each kind of work item of the radiance schedule.
+WORK_ITEMS = {
+    schedule.SortClasses: Renderer._sort_classes,
+    schedule.FindAnchors: Renderer._find_anchors,
+    schedule.Inject: Renderer._inject,
+    schedule.LightVoxels: Renderer._light_voxels,
+    schedule.TakeCoarserSkyLight: Renderer._take_coarser_sky_light,
+    schedule.ComposeFaces: Renderer._compose_faces,
+    schedule.Mipmap: Renderer._mipmap,
+    schedule.Gather: Renderer._gather,
+    schedule.ExtrapolateGather: Renderer._extrapolate_gather,
+    schedule.MeasureTotals: Renderer._measure_totals,
+    schedule.RequestTotals: Renderer._request_totals,
+    schedule.ReadTotals: Renderer._read_totals,
+}
 
 
 def _settings(settings):

@@ -103,6 +103,16 @@ class LightVoxels:
 
 
 @dataclass(frozen=True)
+class TakeCoarserSkyLight:
+    """The sky's light at those of `voxels` (the touched ones a scroll took in) that lie in
+    `levels` (below the coarsest), taken from the next coarser level as it holds it at their
+    surface points (SkyLightPass.take_coarser), until their own cones are traced."""
+    voxels: Voxels
+    levels: frozenset
+    timer = "sky_light"
+
+
+@dataclass(frozen=True)
 class ComposeFaces:
     """Level 0 of the face views of each of `voxels` from their base radiance plus gather
     array `gathered` (None: before the first bounce)."""
@@ -278,17 +288,20 @@ class RadianceSchedule:
         waits for the camera to rest."""
         return self.settled and not any(rounds.pending or rounds.deferred for rounds in self.voxel_light_rounds.values())
 
-    def light_voxels(self, source, restart, interleave, epoch, levels=None, scrolled=frozenset(), resting=True, near=None):
-        """The light of `source` at the voxels, when its inputs changed (`restart`: spread over
-        `interleave` classes, over the voxels of `levels`, None: every level; where `near` is a
-        world box, over the voxels inside it, the others of those levels once the camera and
-        the draws rest), and for the classes still due. Where levels scrolled (`scrolled`), the voxels they took in (the
-        touched ones) are lit at once (the sky's light below the coarsest level as the next
-        coarser level holds it: SkyLightPass.take_coarser); their other voxels keep the light they had until the
-        camera rests (`resting`: it did not move this frame, and no level scrolled), from when
-        they are lit again over the classes. Its cones read the face views' coverage, so a
-        restart composes them first, with the gathers so far (the light they hold follows with
-        the bounces), and a scroll the ones it moved, unless the other source's plan did. Yields a LightVoxels item for the touched voxels and when a class is due."""
+    def light_voxels(self, source, *, restart, interleave, epoch, level_count, levels=None, scrolled=frozenset(),
+                     resting=True, near=None):
+        """The light of `source` at the voxels of a grid of `level_count` levels, when its inputs
+        changed (`restart`: spread over `interleave` classes, over the voxels of `levels`, None:
+        every level; where `near` is a world box, over the voxels inside it, the others of those
+        levels once the camera and the draws rest), and for the classes still due. Where levels
+        scrolled (`scrolled`), the voxels they took in (the touched ones) are lit at once: the
+        sky's light below the coarsest level as the next coarser level holds it
+        (TakeCoarserSkyLight), its own cones being traced once the camera rests. Their other
+        voxels keep the light they had until the camera rests (`resting`: it did not move this
+        frame, and no level scrolled), from when they are lit again over the classes. Its cones
+        read the face views' coverage, so a restart composes them first, with the gathers so
+        far (the light they hold follows with the bounces), and a scroll the ones it moved,
+        unless the other source's plan did."""
         rounds = self.voxel_light_rounds[source]
         if scrolled:
             rounds.deferred |= scrolled
@@ -304,13 +317,19 @@ class RadianceSchedule:
             yield from self._compose(self.stale_faces, self.latest)
         if scrolled:
             yield FindAnchors()
-            yield LightVoxels(source, TOUCHED_VOXELS)
+            if source == "sky_light":
+                coarsest = level_count - 1
+                if coarsest > 0:
+                    yield TakeCoarserSkyLight(TOUCHED_VOXELS, frozenset(range(coarsest)))
+                yield LightVoxels(source, TOUCHED_VOXELS, frozenset({coarsest}))
+            else:
+                yield LightVoxels(source, TOUCHED_VOXELS)
         chosen = rounds.next_class()
         if chosen is not None:
             yield from self._sort(epoch, rounds.interleave)
             yield LightVoxels(source, class_voxels(chosen), rounds.levels, rounds.box)
 
-    def inject(self, voxels_changed, lights_changed, interleave, spread, epoch):
+    def inject(self, *, voxels_changed, lights_changed, interleave, spread, epoch):
         """The base radiance after the voxels or the light reaching them changed. Spread
         (progressive frames with converging bounces, tracked): the voxels a voxelization
         touched now (every voxel, if the list changed more than once since the last
@@ -347,7 +366,7 @@ class RadianceSchedule:
         those levels are composed again before cones next read them."""
         self.stale_faces.append(Voxels("every", levels=frozenset(levels)))
 
-    def bounce(self, restart, bounces, interleave, progressive, epoch):
+    def bounce(self, *, restart, bounces, interleave, progressive, epoch):
         """The bounces: all of them when `restart` (the base radiance or the bounce settings
         changed), outside progressive frames; in progressive frames this frame's share."""
         if restart:
