@@ -11,6 +11,10 @@ import math
 
 import numpy as np
 
+# A module-level constant annotated with one of these goes into GLSL as a #define of that type
+# (glsl_header): written once, here.
+GLSL_INT, GLSL_UINT, GLSL_FLOAT = "int", "uint", "float"
+
 # Texture units (sampler bindings).
 TEXTURE_UNIT = {
     "GBUF_POSITION": 0,
@@ -29,7 +33,7 @@ TEXTURE_UNIT = {
 # The materials' textures are grouped by size, colour encoding and wrapping into this many 2D
 # texture arrays, bound once for every draw (engine/gpu/scene_buffers.py MaterialTextures; units 18..29:
 # unit 31 is moderngl's own).
-MATERIAL_TEXTURE_ARRAYS = 12
+MATERIAL_TEXTURE_ARRAYS: GLSL_INT = 12
 
 # Image units. Each program binds at most 8 images, at units 0..7.
 IMAGE_UNIT = {
@@ -153,13 +157,15 @@ GLSL_STRUCTS = {
 # An instance drawn from a draw list: its draw's index in the low DRAW_INDEX_BITS bits (a held
 # draw's, DRAW_HELD set), its view's from DRAW_VIEW_SHIFT.
 DRAW_INDEX_BITS = 24
-DRAW_VIEW_SHIFT = 24
-DRAW_HELD = 1 << 31
-NO_MATERIAL = 0xFFFFFFFF  # a held draw's material in the voxelizer: it is marked as if not cut out
+DRAW_VIEW_SHIFT: GLSL_INT = 24
+DRAW_HELD: GLSL_UINT = 1 << 31
+NO_MATERIAL: GLSL_UINT = 0xFFFFFFFF  # a held draw's material in the voxelizer: it is marked as if not cut out
 MAX_DRAW_VIEWS = 1 << (31 - DRAW_VIEW_SHIFT)  # 128
+DRAW_INDEX_MASK: GLSL_UINT = (1 << DRAW_INDEX_BITS) - 1
+DRAW_VIEW_MASK: GLSL_UINT = MAX_DRAW_VIEWS - 1
 MAX_DRAWS = 1 << DRAW_INDEX_BITS
-DRAW_TEST_FRUSTUM = 1
-DRAW_TEST_BOX = 2
+DRAW_TEST_FRUSTUM: GLSL_UINT = 1
+DRAW_TEST_BOX: GLSL_UINT = 2
 
 # Uniform block bindings (lights are read by every shaded pixel and voxel: uniform blocks are
 # the fastest constant storage).
@@ -169,20 +175,20 @@ UNIFORM_BLOCK = {
     "CAMERA": 2,  # the frame's camera (GLSL_STRUCTS["FrameCamera"]), written once a frame
 }
 
-MAX_LIGHTS = 16
-MAX_SHADOW_VIEWS = 6 * MAX_LIGHTS  # a point light casts shadows through six cube faces
+MAX_LIGHTS: GLSL_INT = 16
+MAX_SHADOW_VIEWS: GLSL_INT = 6 * MAX_LIGHTS  # a point light casts shadows through six cube faces
 
 LIGHT_TYPE = {"point": 0, "spot": 1, "directional": 2}
 
 # Fixed point of the voxel sums: albedo (<= 1), unit normals and the surface offset (<= 1
 # voxel) are stored as value * VOXEL_UNIT_SCALE; the signed sums have room for
 # VOXEL_MAX_FRAGMENTS fragments per voxel (VOXEL_MAX_FRAGMENTS * VOXEL_UNIT_SCALE < 2^31).
-VOXEL_UNIT_SCALE = 4096.0
-VOXEL_MAX_FRAGMENTS = 2 ** 31 // int(VOXEL_UNIT_SCALE) - 1
+VOXEL_UNIT_SCALE: GLSL_FLOAT = 4096.0
+VOXEL_MAX_FRAGMENTS: GLSL_UINT = 2 ** 31 // int(VOXEL_UNIT_SCALE) - 1
 # Emission radiance per fragment is clamped to the largest half float and stored as
 # value * VOXEL_EMISSION_SCALE in 32 bits (65504 * 65536 < 2^32), summed in 64 bits.
-VOXEL_EMISSION_SCALE = 65536.0
-VOXEL_MAX_EMISSION = 65504.0
+VOXEL_EMISSION_SCALE: GLSL_FLOAT = 65536.0
+VOXEL_MAX_EMISSION: GLSL_FLOAT = 65504.0
 
 # GL formats of the voxel volumes and the render targets.
 VOXEL_FORMAT = "f2"  # RGBA16F: HDR radiance without banding (field notes 9)
@@ -192,39 +198,39 @@ GL_IMAGE_FORMAT = {"rgba16f": 0x881A, "rgba32f": 0x8814, "r32ui": 0x8236}
 VOXEL_MEMORY_BUDGET = 4 * 2 ** 30
 # One-sided views of the voxel radiance that cones read, one per axis direction (+x, -x, ...),
 # stacked along z in one volume of n x n x 6n: a cone reads one view per axis with one sampler.
-VOXEL_FACES = 6
+VOXEL_FACES: GLSL_INT = 6
 
 GRID_SIZES = (16, 32, 64, 128, 256)
 # A grid holds 1..MAX_VOXEL_LEVELS levels of N^3 (a clipmap's nested cubes; lib/voxel.glsl),
 # stacked along z in voxel space: L N <= 4096 fits the packed z (VOXEL_PACK_BITS).
-MAX_VOXEL_LEVELS = 10
+MAX_VOXEL_LEVELS: GLSL_INT = 10
 # Lookups within this many voxels of a level's border (past the lookup's own reach) blend into
 # the next coarser level, so a clipmap's level borders draw no seams (lib/voxel.glsl level_share).
-LEVEL_BLEND_VOXELS = 2.0
+LEVEL_BLEND_VOXELS: GLSL_FLOAT = 2.0
 
 # Compute shader local sizes: passes over a list of voxels, and over a whole volume.
-LIST_GROUP = 64
-VOLUME_GROUP = 4
+LIST_GROUP: GLSL_INT = 64
+VOLUME_GROUP: GLSL_INT = 4
 # The progressive bounce updates 1 interleave class of voxels in K per frame, K <=
 # MAX_INTERLEAVE: a voxel's class is the position of its level-1 cell in the 2x2 block of
 # cells along its surface, then the cell's layer (glsl/lib/gather_anchors.glsl, voxel_class).
-MAX_INTERLEAVE = 8
+MAX_INTERLEAVE: GLSL_INT = 8
 # The covered-cell lists of the mip levels share one buffer, headed by a count per level.
-CELL_LIST_LEVELS = 16
+CELL_LIST_LEVELS: GLSL_INT = 16
 # Within a class the gather list runs block by block of CLASS_BLOCK^3 voxels, and within a
 # block by facing (the mean normal's dominant axis and sign, or none: CLASS_FACINGS), so that
 # the invocations running side by side trace neighbouring voxels along the same directions.
-CLASS_BLOCK = 16
-CLASS_FACINGS = 7
+CLASS_BLOCK: GLSL_INT = 16
+CLASS_FACINGS: GLSL_INT = 7
 # A class's three parts: the voxels that trace the gather (anchors), those that interpolate
 # it from them, and those beneath a finer level, which take it from the finer voxels tiling
 # them (glsl/lib/gather_anchors.glsl).
-CLASS_PARTS = 3
+CLASS_PARTS: GLSL_INT = 3
 # The rows a bucket scan writes at most (gather/scan_buckets.comp: every voxel, then per class
 # its voxels, its anchors, those that interpolate them, then per level those beneath a finer
 # level), and its workgroup's size.
-MAX_SEGMENT_ROWS = 1 + 3 * MAX_INTERLEAVE + MAX_INTERLEAVE * MAX_VOXEL_LEVELS
-SCAN_GROUP = 256
+MAX_SEGMENT_ROWS: GLSL_INT = 1 + 3 * MAX_INTERLEAVE + MAX_INTERLEAVE * MAX_VOXEL_LEVELS
+SCAN_GROUP: GLSL_INT = 256
 
 
 def cone_cosine_centroid_tilt(tilt, half_angle, samples=400):
@@ -272,22 +278,22 @@ def diffuse_cones():
 # The specular cones' lookups are at least 4 voxels wide (level 1): a narrow cone reading single
 # voxels crosses an oblique plane's voxel staircase in 1, 2 or 3 voxels depending on where it
 # meets a step, and draws the steps as stripes in glossy reflections.
-SPECULAR_CONE_MIN_DIAMETER = 4.0
+SPECULAR_CONE_MIN_DIAMETER: GLSL_FLOAT = 4.0
 # A specular cone counts the coverage of the cells it meets twice. Its lookups, a few voxels
 # wide, cross an oblique plane's staircase over one voxel or two depending on where they meet
 # a step: with the coverage counted once (one layer on average) the cone saw through where it
 # crossed one, and drew the turned face a gold box reflects as stripes (contrast 0.020, the
 # path tracer's 0.004); counted twice, the plane is opaque wherever it is crossed (0.002).
-SPECULAR_CONE_OPACITY = 2.0
+SPECULAR_CONE_OPACITY: GLSL_FLOAT = 2.0
 
 # The sky's light at a voxel: SKY_CONE_COUNT cones over its hemisphere, uniform in solid angle
 # (z = 1 - (j + u) / count, the golden angle apart in azimuth and turned by u'), each of the
 # solid angle 2 pi / count, weighted by its cosine; u and u' are the voxel's own (a hash of its
 # coordinates, glsl/sky_light/trace_sky_cones.comp), so neighbouring voxels sample the sky between each
 # other's cones, and SKY_FILTER_RADIUS averages them (glsl/sky_light/filter_sky_light.comp).
-SKY_CONE_COUNT = 32
-SKY_CONE_HALF_ANGLE = math.acos(1.0 - 1.0 / SKY_CONE_COUNT)
-SKY_FILTER_RADIUS = 3
+SKY_CONE_COUNT: GLSL_INT = 32
+SKY_CONE_HALF_ANGLE: GLSL_FLOAT = math.acos(1.0 - 1.0 / SKY_CONE_COUNT)
+SKY_FILTER_RADIUS: GLSL_INT = 3
 # While draws move, the sky's light is traced again at the voxels within this many times the
 # largest moved draw's size of where they were and are, the others once the draws rest: an occluder of size s at distance d hides at
 # most pi (s/2)^2 / d^2 of the sky's 2 pi, 1/128 at d = 4 s.
@@ -297,14 +303,14 @@ SKY_NEAR_REACH = 4.0
 # leaves through an opening) stays out of its lookups until the cone itself reaches it, where at
 # the footprint's own level the lookups take it in long before. (Measured against path-traced
 # skies through a ceiling opening and an open ceiling: docs/DESIGN.md, "Sky cones read finer".)
-SKY_CONE_LEVEL_OFFSET = 1.75
+SKY_CONE_LEVEL_OFFSET: GLSL_FLOAT = 1.75
 # The diffuse cones read 0.4 mip levels below their footprint's (lookups over 2^-0.4 of the
 # cone's diameter) and still step by the footprint: at the footprint's own level the walls
 # beside a cone cover it before it reaches what lies ahead, and light reflected from a bright
 # patch a few metres away (the pool of a lamp near the floor) reached the rest of a room 14 %
 # short at every grid size; 24 narrow cones read it in full (docs/DESIGN.md, "Diffuse cones
 # read finer").
-DIFFUSE_CONE_LEVEL_OFFSET = 0.4
+DIFFUSE_CONE_LEVEL_OFFSET: GLSL_FLOAT = 0.4
 
 
 # Enumerations the host sets as uniforms and the shaders switch on, by name: GROUP_NAME in GLSL
@@ -320,31 +326,31 @@ SHADER_ENUMS = {
 
 # Voxel coordinates packed into one uint for the voxel lists: x | y << 10 | z << 20 (N <= 1024;
 # z, which spans the levels, < 4096).
-VOXEL_PACK_BITS = 10
+VOXEL_PACK_BITS: GLSL_INT = 10
 # While an update runs, a touched voxel's word of the record index holds TOUCHED_FLAG and its
 # place on the touched list, or UNLISTED_PLACE where the list had no room left
 # (lib/voxel_slots.glsl).
-TOUCHED_FLAG = 1 << 31
-UNLISTED_PLACE = TOUCHED_FLAG - 1
+TOUCHED_FLAG: GLSL_UINT = 1 << 31
+UNLISTED_PLACE: GLSL_UINT = TOUCHED_FLAG - 1
 # A covered voxel's gather anchors (lib/gather_anchors.glsl): ANCHOR_SELF where it traces its own
 # gather, ANCHOR_FINER where it takes it from the finer level's voxels beneath it, ANCHOR_STALE
 # where a voxelization touched it; else a bit per anchor neighbour (0..25); and its facing
 # (0..CLASS_FACINGS - 1, 3 bits) from bit ANCHOR_FACING_SHIFT.
-ANCHOR_SELF = 1 << 26
-ANCHOR_STALE = 1 << 27
-ANCHOR_FINER = 1 << 28
-ANCHOR_NEIGHBOURS = (1 << 26) - 1
-ANCHOR_FACING_SHIFT = 29
-MIN_ANCHOR_WEIGHT = 0.2  # below this total weight of its anchors a voxel traces its own gather
+ANCHOR_SELF: GLSL_UINT = 1 << 26
+ANCHOR_STALE: GLSL_UINT = 1 << 27
+ANCHOR_FINER: GLSL_UINT = 1 << 28
+ANCHOR_NEIGHBOURS: GLSL_UINT = (1 << 26) - 1
+ANCHOR_FACING_SHIFT: GLSL_INT = 29
+MIN_ANCHOR_WEIGHT: GLSL_FLOAT = 0.2  # below this total weight of its anchors a voxel traces its own gather
 # How much a voxel stands for a surface of unit normal n: max(0, n . n_v / |n_v|)^FACING_EXPONENT
 # times the coherence |n_v| of its mean normal (lib/voxel.glsl: facing_weight).
-FACING_EXPONENT = 8.0
+FACING_EXPONENT: GLSL_FLOAT = 8.0
 # Roughness below this is read as this (lib/brdf.glsl, engine/core/specular_lobe.py): the Blinn-Phong
 # exponent 2 / r^4 - 2 stays finite.
-MIN_ROUGHNESS = 0.05
+MIN_ROUGHNESS: GLSL_FLOAT = 0.05
 # What a pixel of the cone-trace list still needs (lib/cone_pixels.glsl): bit flags.
-PIXEL_DIFFUSE_CONES = 1
-PIXEL_SPECULAR_CONE = 2
+PIXEL_DIFFUSE_CONES: GLSL_UINT = 1
+PIXEL_SPECULAR_CONE: GLSL_UINT = 2
 
 
 def struct_dtype(name):
@@ -352,6 +358,14 @@ def struct_dtype(name):
     kinds = {"vec4": ("<f4", 4), "uvec4": ("<u4", 4), "ivec4": ("<i4", 4), "mat4": ("<f4", 16)}
     return np.dtype([(member[1], kinds[member[0]][0], (*member[2:], kinds[member[0]][1]))
                      for member in GLSL_STRUCTS[name]])
+
+
+def _glsl_define(name, value, kind):
+    """A #define of an annotated constant: an int, a uint (hex, u) or a float (its shortest
+    decimal form)."""
+    if kind == GLSL_UINT:
+        return f"#define {name} {int(value):#x}u"
+    return f"#define {name} {float(value)!r}" if kind == GLSL_FLOAT else f"#define {name} {int(value)}"
 
 
 @functools.lru_cache(maxsize=None)
@@ -364,66 +378,20 @@ def glsl_header():
     lines += [f"#define SUM_{name} {index}" for index, name in enumerate(VOXEL_SUM_CHANNELS)]
     lines += [f"#define LIGHT_{name.upper()} {value}" for name, value in LIGHT_TYPE.items()]
     lines += [f"#define {group}_{name.upper()} {value}" for group, names in SHADER_ENUMS.items() for name, value in names.items()]
-    lines += [
-        f"#define VOXEL_SUM_CHANNELS {len(VOXEL_SUM_CHANNELS)}",
-        f"#define MAX_LIGHTS {MAX_LIGHTS}",
-        f"#define MAX_SHADOW_VIEWS {MAX_SHADOW_VIEWS}",
-        f"#define LIST_GROUP {LIST_GROUP}",
-        f"#define VOXEL_FACES {VOXEL_FACES}",
-        f"#define VOLUME_GROUP {VOLUME_GROUP}",
-        f"#define MAX_INTERLEAVE {MAX_INTERLEAVE}",
-        f"#define MAX_VOXEL_LEVELS {MAX_VOXEL_LEVELS}",
-        f"#define LEVEL_BLEND_VOXELS {LEVEL_BLEND_VOXELS:.1f}",
-        f"#define CLASS_BLOCK {CLASS_BLOCK}",
-        f"#define CLASS_FACINGS {CLASS_FACINGS}",
-        f"#define CLASS_PARTS {CLASS_PARTS}",
-        f"#define CELL_LIST_LEVELS {CELL_LIST_LEVELS}",
-        f"#define MAX_SEGMENT_ROWS {MAX_SEGMENT_ROWS}",
-        f"#define SCAN_GROUP {SCAN_GROUP}",
-        f"#define VOXEL_UNIT_SCALE {VOXEL_UNIT_SCALE:.1f}",
-        f"#define VOXEL_MAX_FRAGMENTS {VOXEL_MAX_FRAGMENTS}u",
-        f"#define VOXEL_EMISSION_SCALE {VOXEL_EMISSION_SCALE:.1f}",
-        f"#define VOXEL_MAX_EMISSION {VOXEL_MAX_EMISSION:.1f}",
-        "#define PI 3.14159265358979",
-        f"#define VOXEL_PACK_BITS {VOXEL_PACK_BITS}",
-        f"#define TOUCHED_FLAG {TOUCHED_FLAG:#x}u",
-        f"#define UNLISTED_PLACE {UNLISTED_PLACE:#x}u",
-        f"#define ANCHOR_SELF {ANCHOR_SELF:#x}u",
-        f"#define ANCHOR_STALE {ANCHOR_STALE:#x}u",
-        f"#define ANCHOR_NEIGHBOURS {ANCHOR_NEIGHBOURS:#x}u",
-        f"#define ANCHOR_FACING_SHIFT {ANCHOR_FACING_SHIFT}",
-        f"#define ANCHOR_FINER {ANCHOR_FINER:#x}u",
-        f"#define MIN_ANCHOR_WEIGHT {MIN_ANCHOR_WEIGHT}",
-        f"#define FACING_EXPONENT {FACING_EXPONENT:.1f}",
-        f"#define MIN_ROUGHNESS {MIN_ROUGHNESS}",
-        f"#define PIXEL_DIFFUSE_CONES {PIXEL_DIFFUSE_CONES}u",
-        f"#define PIXEL_SPECULAR_CONE {PIXEL_SPECULAR_CONE}u",
-        f"#define MATERIAL_TEXTURE_ARRAYS {MATERIAL_TEXTURE_ARRAYS}",
-        f"#define DRAW_INDEX_MASK {(1 << DRAW_INDEX_BITS) - 1:#x}u",
-        f"#define DRAW_VIEW_SHIFT {DRAW_VIEW_SHIFT}",
-        f"#define DRAW_VIEW_MASK {MAX_DRAW_VIEWS - 1:#x}u",
-        f"#define DRAW_HELD {DRAW_HELD:#x}u",
-        f"#define NO_MATERIAL {NO_MATERIAL:#x}u",
-        f"#define DRAW_TEST_FRUSTUM {DRAW_TEST_FRUSTUM}u",
-        f"#define DRAW_TEST_BOX {DRAW_TEST_BOX}u",
-    ]
+    lines.append(f"#define VOXEL_SUM_CHANNELS {len(VOXEL_SUM_CHANNELS)}")
+    lines.append(f"#define PI {math.pi!r}")
+    lines += [_glsl_define(name, globals()[name], kind) for name, kind in __annotations__.items()
+              if kind in (GLSL_INT, GLSL_UINT, GLSL_FLOAT)]
     for name, members in GLSL_STRUCTS.items():
         lines.append(f"struct {name} {{ " + " ".join(f"{kind} {field}" + "".join(f"[{n}]" for n in count) + ";"
                                                     for kind, field, *count in members) + " };")
     directions, weights, half_angle = diffuse_cones()
     lines.append(f"#define DIFFUSE_CONE_COUNT {len(weights)}")
     lines.append(f"#define DIFFUSE_CONE_HALF_ANGLE {half_angle:.9f}")
-    lines.append(f"#define DIFFUSE_CONE_LEVEL_OFFSET {DIFFUSE_CONE_LEVEL_OFFSET:.2f}")
     dirs = ", ".join(f"vec3({d[0]:.9f}, {d[1]:.9f}, {d[2]:.9f})" for d in directions)
     lines.append(f"const vec3 DIFFUSE_CONE_DIRECTIONS[{len(weights)}] = vec3[]({dirs});")
     ws = ", ".join(f"{w:.9f}" for w in weights)
     lines.append(f"const float DIFFUSE_CONE_WEIGHTS[{len(weights)}] = float[]({ws});")
-    lines.append(f"#define SKY_CONE_COUNT {SKY_CONE_COUNT}")
-    lines.append(f"#define SKY_CONE_HALF_ANGLE {SKY_CONE_HALF_ANGLE:.9f}")
-    lines.append(f"#define SKY_CONE_LEVEL_OFFSET {SKY_CONE_LEVEL_OFFSET:.2f}")
-    lines.append(f"#define SKY_FILTER_RADIUS {SKY_FILTER_RADIUS}")
-    lines.append(f"#define SPECULAR_CONE_MIN_DIAMETER {SPECULAR_CONE_MIN_DIAMETER:.1f}")
-    lines.append(f"#define SPECULAR_CONE_OPACITY {SPECULAR_CONE_OPACITY:.1f}")
     from .specular_lobe import glsl_tables  # it reads MIN_ROUGHNESS from here
     lines += glsl_tables()
     return "\n".join(lines) + "\n"

@@ -1,4 +1,5 @@
-"""A colour render target and the fullscreen-triangle draw that the screen-space passes share."""
+"""A colour render target and the fullscreen-triangle draw that the screen-space passes share,
+and the full-screen pass they are made from."""
 import numpy as np
 
 from ..gpu.bindings import program_used
@@ -51,3 +52,29 @@ class ScreenTarget:
             vao.release()
         self._vertex_arrays.clear()
         self._release_texture()
+
+
+class FullScreenPass:
+    """A pass that runs one fragment shader (FRAGMENT_SHADER, reading READS) over every pixel of
+    a target of its own (of TARGET_DTYPE); a subclass's render binds what it reads, sets its
+    uniforms and returns draw()."""
+    FRAGMENT_SHADER = None
+    READS = ()
+    TARGET_DTYPE = "f4"
+
+    def __init__(self, ctx, programs, size):
+        self.program = programs.program(vertex_shader="lib/fullscreen.vert", fragment_shader=self.FRAGMENT_SHADER,
+                                        reads=self.READS)
+        self.target = ScreenTarget(ctx, size, dtype=self.TARGET_DTYPE)
+
+    def resize(self, size):
+        self.target.resize(size)
+
+    def draw(self):
+        """Run the program over the target; returns the target."""
+        self.target.draw(self.program)
+        return self.target
+
+    def release(self):
+        self.target.release()
+        self.program.release()

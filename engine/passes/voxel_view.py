@@ -2,7 +2,7 @@
 the base radiance (emission + injected direct light), the mean normals or the albedo."""
 from ..core.constants import SHADER_ENUMS
 from ..gpu.bindings import bind_texture
-from .target import ScreenTarget
+from .target import FullScreenPass
 
 # What each voxel view shows (voxel_view/march_voxels.frag's SHOW_*).
 SHOW = {"voxels": SHADER_ENUMS["SHOW"]["radiance"], "voxel-normals": SHADER_ENUMS["SHOW"]["normal"],
@@ -14,14 +14,9 @@ def shown_values(grid, view):
     return {"voxels": grid.base, "voxel-normals": grid.normal, "voxel-albedo": grid.albedo}[view]
 
 
-class VoxelViewPass:
-    def __init__(self, ctx, programs, size):
-        self.program = programs.program(vertex_shader="lib/fullscreen.vert", fragment_shader="voxel_view/march_voxels.frag",
-                                        reads=("TEX_VOXEL_INSPECT", "UBO_CAMERA"))
-        self.target = ScreenTarget(ctx, size)
-
-    def resize(self, size):
-        self.target.resize(size)
+class VoxelViewPass(FullScreenPass):
+    FRAGMENT_SHADER = "voxel_view/march_voxels.frag"
+    READS = ("TEX_VOXEL_INSPECT", "UBO_CAMERA")
 
     def render(self, grid, view, mip, level, camera):
         volume = grid.dense(shown_values(grid, view))  # an inspection volume, with its hardware mip chain
@@ -29,9 +24,4 @@ class VoxelViewPass:
         camera.bind()
         self.program.set(**grid.uniforms(), show=SHOW[view], mip=float(mip), shown_level=level,
                          viewport_size=tuple(float(x) for x in self.target.size))
-        self.target.draw(self.program)
-        return self.target
-
-    def release(self):
-        self.target.release()
-        self.program.release()
+        return self.draw()
