@@ -7,7 +7,7 @@ import pytest
 
 import engine
 from engine.core import constants
-from engine.gpu.shaders import GLSL_ROOT, preprocess
+from engine.gpu.shaders import GLSL_ROOT, ProgramLibrary, preprocess
 
 
 @pytest.fixture
@@ -79,6 +79,21 @@ def test_a_program_that_reads_a_resource_its_pass_does_not_declare_is_refused(gl
     with pytest.raises(engine.ShaderError) as error:
         engine.Renderer(16, 16, glsl_root=glsl_copy)
     assert str(error.value) == "glsl/inject/inject_direct_light.comp: error: uses TEX_VOXEL_FACES, which its pass does not declare"
+
+
+def test_a_dispatch_binds_exactly_what_its_program_declares():
+    """A dispatch takes its resources by binding name in one mapping, checked against what its
+    pass declared for the program: one it does not declare, or one it declares and is not
+    given, is refused by name before anything is bound or dispatched."""
+    with engine.Renderer(16, 16) as r, r.ctx:
+        handle = ProgramLibrary(r.ctx).compute("voxel_grid/size_segment.comp", reads=("SSBO_COUNTED",), writes=("SSBO_SEGMENTS",))
+        counted, segments = r.ctx.buffer(data=bytes(64)), r.ctx.buffer(data=bytes(64))
+        handle.run(1, SSBO_COUNTED=counted, SSBO_SEGMENTS=segments)
+        with pytest.raises(ValueError, match=r"bound \[\] it does not declare, not bound \['SSBO_SEGMENTS'\]"):
+            handle.run(1, SSBO_COUNTED=counted)
+        with pytest.raises(ValueError, match=r"bound \['SSBO_READBACK'\] it does not declare, not bound \[\]"):
+            handle.run(1, SSBO_COUNTED=counted, SSBO_SEGMENTS=segments, SSBO_READBACK=counted)
+        handle.release()
 
 
 def test_compile_error_names_the_included_file_and_line(glsl_copy):

@@ -8,7 +8,6 @@ import numpy as np
 
 from ..core import transforms
 from ..core.constants import struct_dtype
-from ..gpu.bindings import bind_uniform_block
 from ..gpu.functions import write_buffer
 
 NEAR_PLANE = 0.01
@@ -37,9 +36,9 @@ class FrameCamera:
         record["forward"][0, :3] = self.forward
         return record
 
-    def bind(self):
-        """The camera's uniform block, for a program that reads glsl/lib/camera.glsl."""
-        bind_uniform_block(self.buffer.buffer, "CAMERA")
+    def resources(self):
+        """The camera's uniform block, as a program that reads glsl/lib/camera.glsl binds it."""
+        return {"UBO_CAMERA": self.buffer.buffer}
 
 
 class CameraBlock:

@@ -11,8 +11,12 @@ GL code outside the engine (the viewer's GUI, a caller's own drawing) may bind w
 between: the renderer forgets the record (`forget_bindings`) when a frame starts.
 
 A record holds the objects it saw bound, so an object is never mistaken for a new one made in
-its place; a buffer deleted while bound unbinds, and a new one at its name is a new object."""
+its place; a buffer deleted while bound unbinds, and a new one at its name is a new object.
+
+A dispatch or a draw binds its resources by binding name in one mapping (`bind_resources`,
+through ProgramHandle.bind, which checks it against what the program declares)."""
 import weakref
+from dataclasses import dataclass
 
 from ..core.constants import IMAGE_UNIT, STORAGE_BINDING, TEXTURE_UNIT, UNIFORM_BLOCK
 from .functions import GL_DISPATCH_INDIRECT_BUFFER, gl_functions
@@ -43,11 +47,11 @@ def forget_bindings(ctx):
     _record(ctx).clear()
 
 
-def bind_storage(buffer, name, offset=0, size=-1):
-    """`buffer` (or its range) at the storage binding STORAGE_BINDING[name]."""
+def bind_storage(buffer, name):
+    """`buffer` at the storage binding STORAGE_BINDING[name]."""
     binding = STORAGE_BINDING[name]
-    if not _bound(buffer.ctx, ("ssbo", binding), (buffer, offset, size)):
-        buffer.bind_to_storage_buffer(binding, offset=offset, size=size)
+    if not _bound(buffer.ctx, ("ssbo", binding), (buffer,)):
+        buffer.bind_to_storage_buffer(binding)
 
 
 def bind_uniform_block(buffer, name):
@@ -86,3 +90,36 @@ def bind_dispatch_indirect(buffer):
     """`buffer` as the buffer indirect dispatches read their sizes from."""
     if not _bound(buffer.ctx, ("dispatch indirect",), (buffer,)):
         gl_functions(buffer.ctx).glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, buffer.glo)
+
+
+@dataclass(frozen=True)
+class Image:
+    """A level of a texture as an image unit binds it: with its access and format."""
+    texture: object
+    level: int = 0
+    read: bool = False
+    write: bool = True
+    format: int = 0
+
+
+def bind_resources(resources):
+    """Bind each resource at the binding its name gives: "SSBO_X" or "UBO_X" a buffer, "TEX_X" a
+    texture (or a sequence of them, at consecutive units from X's), "IMG_X" an Image. None
+    binds nothing: a resource the program does not read this time."""
+    for binding, resource in resources.items():
+        if resource is None:
+            continue
+        kind, name = binding.split("_", 1)
+        if kind == "SSBO":
+            bind_storage(resource, name)
+        elif kind == "UBO":
+            bind_uniform_block(resource, name)
+        elif kind == "TEX":
+            if isinstance(resource, (list, tuple)):
+                for index, texture in enumerate(resource):
+                    bind_texture(texture, TEXTURE_UNIT[name] + index)
+            else:
+                bind_texture(resource, name)
+        else:
+            bind_image(resource.texture, name, read=resource.read, write=resource.write, level=resource.level,
+                       format=resource.format)

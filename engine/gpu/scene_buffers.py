@@ -19,11 +19,10 @@ import math
 
 import numpy as np
 
-from ..core.constants import MATERIAL_TEXTURE_ARRAYS, MAX_DRAWS, SHADER_ENUMS, TEXTURE_UNIT, struct_dtype
+from ..core.constants import MATERIAL_TEXTURE_ARRAYS, MAX_DRAWS, SHADER_ENUMS, struct_dtype
 from ..core.errors import VctError
 from ..scene.emitters import frame_emitters
 from ..scene.model import IDENTITY_UV, TEXTURE_FIELDS
-from .bindings import bind_storage, bind_texture
 from .functions import (GL_LINEAR, GL_LINEAR_MIPMAP_LINEAR, GL_RGBA, GL_RGBA8, GL_SRGB8_ALPHA8, GL_TEXTURE_2D_ARRAY,
                         GL_TEXTURE_MAG_FILTER, GL_TEXTURE_MIN_FILTER, GL_TEXTURE_WRAP_S, GL_TEXTURE_WRAP_T,
                         GL_UNPACK_ALIGNMENT, GL_UNSIGNED_BYTE, WRAP_MODES, gl_functions, write_buffer)
@@ -144,12 +143,10 @@ class MaterialTextures:
     def slot(self, texture):
         return NO_TEXTURE if texture is None else self.slots[id(texture)][1]
 
-    def bind(self):
-        """Every array at its unit of TEXTURE_UNIT["MATERIAL_TEXTURES"] on (the units past them
-        are never sampled: no material names them)."""
-        first = TEXTURE_UNIT["MATERIAL_TEXTURES"]
-        for index, array in enumerate(self.arrays):
-            bind_texture(array, first + index)
+    def resources(self):
+        """Every array, at the units from TEXTURE_UNIT["MATERIAL_TEXTURES"] on (the units past
+        them are never sampled: no material names them)."""
+        return {"TEX_MATERIAL_TEXTURES": tuple(self.arrays)}
 
     def memory_bytes(self):
         return sum(array.memory_bytes() for array in self.arrays)
@@ -390,11 +387,10 @@ class SceneBuffers:
         if changed:
             self.layout += 1
 
-    def bind(self):
-        """What a program drawing the scene reads: the draws, the materials and their textures."""
-        bind_storage(self.draws, "DRAWS")
-        bind_storage(self.materials, "MATERIALS")
-        self.textures.bind()
+    def records(self):
+        """What a program drawing the scene reads of it besides the textures: the draws and the
+        materials."""
+        return {"SSBO_DRAWS": self.draws, "SSBO_MATERIALS": self.materials}
 
     def memory_bytes(self):
         return self.pool.memory_bytes() + self.draws.size + self.materials.size
@@ -485,15 +481,18 @@ class EnvironmentMap:
         self.texture.filter = (self.ctx.LINEAR_MIPMAP_LINEAR, self.ctx.LINEAR)
         self.texture.repeat_x, self.texture.repeat_y = True, False
 
-    def bind(self, handle):
-        """Bind the map and set the uniforms of glsl/lib/environment.glsl."""
+    def resources(self):
+        """The map, as glsl/lib/environment.glsl reads it."""
+        return {"TEX_ENVIRONMENT": self.texture}
+
+    def uniforms(self):
+        """The uniforms of glsl/lib/environment.glsl."""
         environment = self.environment
-        bind_texture(self.texture, "ENVIRONMENT")
         rotation = environment.rotation() if environment is not None else np.eye(3)
-        handle.set(environment_present=environment is not None,
-                   environment_scale=float(environment.scale) if environment is not None else 0.0,
-                   environment_rotation=tuple(np.asarray(rotation, "f4").T.reshape(-1)),
-                   environment_texel_angle=2.0 * math.pi / self.texture.width)
+        return dict(environment_present=environment is not None,
+                    environment_scale=float(environment.scale) if environment is not None else 0.0,
+                    environment_rotation=tuple(np.asarray(rotation, "f4").T.reshape(-1)),
+                    environment_texel_angle=2.0 * math.pi / self.texture.width)
 
     def release(self):
         if self.texture is not None:
@@ -518,10 +517,12 @@ class EmitterBuffers:
         self.patches = self.ctx.buffer(emitters.patches.tobytes() or bytes(emitters.patches.dtype.itemsize))
         self.count = emitters.count
 
-    def bind(self, handle):
-        bind_storage(self.triangles, "EMITTER_TRIANGLES")
-        bind_storage(self.patches, "EMITTER_PATCHES")
-        handle.set(emitter_patch_count=self.count)
+    def resources(self):
+        """The emissive triangles and their patches, as glsl/lib/emitters.glsl reads them."""
+        return {"SSBO_EMITTER_TRIANGLES": self.triangles, "SSBO_EMITTER_PATCHES": self.patches}
+
+    def uniforms(self):
+        return dict(emitter_patch_count=self.count)
 
     def release(self):
         for buffer in (self.triangles, self.patches):

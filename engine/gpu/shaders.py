@@ -15,7 +15,7 @@ from ..core import constants
 from ..core.errors import ShaderError
 from ..core.limits import MAX_INCLUDE_DEPTH, MAX_SHADER_BYTES
 from ..formats.input_files import os_problem, read_regular_file
-from .bindings import bind_dispatch_indirect, use_program
+from .bindings import bind_dispatch_indirect, bind_resources, use_program
 from .functions import gl_functions
 
 # An installed wheel carries the shaders as engine/glsl/; the source tree (and so an editable
@@ -344,13 +344,27 @@ class ProgramHandle:
                 _write_uniform(self.program, self.program[name], value)
             held[name] = value
 
-    def run(self, x=1, y=1, z=1):
-        """Dispatch the compute program over x * y * z workgroups."""
+    def bind(self, resources):
+        """Bind what a dispatch or draw of the program reads and writes, by binding name
+        ({"SSBO_VOXEL_BASE": buffer, ...}: gpu.bindings.bind_resources): exactly the resources
+        its pass declares, so nothing it reads is left as another pass bound it and nothing is
+        bound that it does not declare."""
+        given, declared = set(resources), set(self.reads) | set(self.writes)
+        if given != declared:
+            raise ValueError(f"{', '.join(self.stages.values())}: bound {sorted(given - declared)} it does not declare, "
+                             f"not bound {sorted(declared - given)}")
+        bind_resources(resources)
+
+    def run(self, x=1, y=1, z=1, **resources):
+        """Dispatch the compute program over x * y * z workgroups, its `resources` bound (bind)."""
+        self.bind(resources)
         use_program(self.program)
         gl_functions(self.program.ctx).glDispatchCompute(x, y, z)
 
-    def run_indirect(self, buffer, offset=0):
-        """Dispatch the compute program over the workgroup counts at byte `offset` of `buffer`."""
+    def run_indirect(self, buffer, offset=0, **resources):
+        """Dispatch the compute program over the workgroup counts at byte `offset` of `buffer`,
+        its `resources` bound (bind)."""
+        self.bind(resources)
         use_program(self.program)
         bind_dispatch_indirect(buffer)
         gl_functions(self.program.ctx).glDispatchComputeIndirect(offset)

@@ -9,7 +9,7 @@ anchor stood for."""
 import numpy as np
 
 from ..core.constants import GL_IMAGE_FORMAT, SHADER_ENUMS
-from ..gpu.bindings import bind_image, bind_storage, bind_texture
+from ..gpu.bindings import Image
 from ..gpu.functions import write_buffer
 from ..voxels.grid import VoxelGrid
 from .gbuffer import GBuffer
@@ -63,39 +63,42 @@ class ConeTracePass:
         gpu.scene_buffers.EmitterBuffers; `environment`: gpu.scene_buffers.EnvironmentMap;
         `terms`: settings.ImageTerms (which of direct, diffuse, specular, or AO)."""
         program = self.programs[emitters.count > 0, environment.environment is not None]
-        gbuffer.use()
-        emitters.bind(program)
         for handle in (program, *self.traced_programs, self.shared_program):
-            environment.bind(handle)
-        grid.use_surface()
-        grid.use_faces()
-        bind_storage(gathered, "VOXEL_GATHERED")
-        bind_texture(direct.texture, "DIRECT_LIGHT")
+            handle.set(**environment.uniforms())
         grid_uniforms = dict(grid.uniforms(), voxel_emitters=emitters.count > 0)
-        program.set(**grid_uniforms, **cone_uniforms, output_kind=SHADER_ENUMS["OUTPUT"]["ao" if terms.ao else "radiance"], include_direct=terms.direct,
-                         include_diffuse=terms.diffuse, include_specular=terms.specular, ao_distance=float(ao_distance),
-                         pixel_angle=float(camera.pixel_angle))
-        camera.bind()
+        program.set(**grid_uniforms, **cone_uniforms, **emitters.uniforms(),
+                    output_kind=SHADER_ENUMS["OUTPUT"]["ao" if terms.ao else "radiance"], include_direct=terms.direct,
+                    include_diffuse=terms.diffuse, include_specular=terms.specular, ao_distance=float(ao_distance),
+                    pixel_angle=float(camera.pixel_angle))
         for pixel_list in (self.cone_pixels, self.shared_pixels, self.unshared_pixels):
             write_buffer(pixel_list, np.array([0, 1, 1, 0], dtype="u4").tobytes())  # no group, no pixel yet
-        for name, pixel_list in (("CONE_PIXELS", self.cone_pixels), ("SHARED_PIXELS", self.shared_pixels),
-                                 ("UNSHARED_PIXELS", self.unshared_pixels)):
-            bind_storage(pixel_list, name)
-        for name, anchor_image in (("SPECULAR_IN", self.specular_in), ("DIFFUSE_IN", self.diffuse_in)):
-            bind_image(anchor_image, name, read=True, write=True, format=GL_IMAGE_FORMAT["rgba32f"])
-        self.target.draw(program)
+        rgba32f = GL_IMAGE_FORMAT["rgba32f"]
+        # What every program of the pass reads: the G-buffer, the camera, the voxels cones read.
+        common = {**gbuffer.resources(), **camera.resources(), **grid.cones()}
+        pixels = dict(SSBO_CONE_PIXELS=self.cone_pixels, SSBO_SHARED_PIXELS=self.shared_pixels,
+                      SSBO_UNSHARED_PIXELS=self.unshared_pixels)
+        anchors = dict(IMG_DIFFUSE_IN=Image(self.diffuse_in, read=True, write=True, format=rgba32f),
+                       IMG_SPECULAR_IN=Image(self.specular_in, read=True, write=True, format=rgba32f))
+        self.target.draw(program, {**common, **pixels, "IMG_DIFFUSE_IN": anchors["IMG_DIFFUSE_IN"],
+                                   "TEX_DIRECT_LIGHT": direct.texture, "SSBO_VOXEL_GATHERED": gathered,
+                                   "SSBO_VOXEL_EMITTER_IRRADIANCE": grid.emitter_irradiance,
+                                   "SSBO_VOXEL_SKY_IRRADIANCE": grid.sky_irradiance, **environment.resources(),
+                                   **emitters.resources()})
         if terms.diffuse or terms.specular:
             self.ctx.memory_barrier(self.ctx.SHADER_STORAGE_BARRIER_BIT | self.ctx.COMMAND_BARRIER_BIT
                                     | self.ctx.SHADER_IMAGE_ACCESS_BARRIER_BIT)
-            bind_image(self.target.texture, "IMAGE_OUT", read=True, write=True, format=GL_IMAGE_FORMAT["rgba32f"])
+            image_out = Image(self.target.texture, read=True, write=True, format=rgba32f)
             barrier = (self.ctx.SHADER_IMAGE_ACCESS_BARRIER_BIT | self.ctx.TEXTURE_FETCH_BARRIER_BIT
                        | self.ctx.SHADER_STORAGE_BARRIER_BIT | self.ctx.COMMAND_BARRIER_BIT)
             cone_program, unshared_program = self.traced_programs
+            traced = {**common, **pixels, **anchors, "IMG_IMAGE_OUT": image_out, "TEX_VOXEL_CONE_EMISSION": grid.cone_emission,
+                      **environment.resources()}
+            shared = {**common, **pixels, **anchors, "IMG_IMAGE_OUT": image_out}
             # The anchors first, then the pixels between them, then those no anchor stood for.
-            for handle, pixel_list in ((cone_program, self.cone_pixels), (self.shared_program, self.shared_pixels),
-                                       (unshared_program, self.unshared_pixels)):
+            for handle, pixel_list, resources in ((cone_program, self.cone_pixels, traced), (self.shared_program, self.shared_pixels, shared),
+                                                  (unshared_program, self.unshared_pixels, traced)):
                 handle.set(**grid_uniforms, **cone_uniforms)
-                handle.run_indirect(pixel_list)
+                handle.run_indirect(pixel_list, **resources)
                 self.ctx.memory_barrier(barrier)
         return self.target
 

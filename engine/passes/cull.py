@@ -17,7 +17,7 @@ import numpy as np
 
 from ..core.constants import LIST_GROUP, MAX_DRAW_VIEWS, struct_dtype
 from ..core.errors import VctError
-from ..gpu.bindings import bind_storage, program_used
+from ..gpu.bindings import program_used
 from ..gpu.functions import write_buffer
 from ..gpu.scene_buffers import VERTEX_ATTRIBUTES
 
@@ -136,10 +136,12 @@ class DrawList:
         self._vertex_arrays[handle] = (program, pool.version, self.instances, vao)
         return vao
 
-    def draw(self, bucket, handle, buffers):
-        """Draw a bucket's commands with `handle` (one multi-draw-indirect); nothing where it has none."""
+    def draw(self, bucket, handle, buffers, resources):
+        """Draw a bucket's commands with `handle` and its `resources` (ProgramHandle.bind; one
+        multi-draw-indirect); nothing where it has none."""
         first, count = self.bucket_ranges[bucket]
         if count:
+            handle.bind(resources)
             self.vertex_array(handle, buffers).render_indirect(self.commands, moderngl.TRIANGLES, count=count, first=first)
             program_used(handle.program)
             buffers.draw_calls += 1
@@ -167,19 +169,16 @@ class CullPass:
         draw_list.build(buffers)
         draw_list.write_views(views)
         draw_list.ensure_instances(draw_list.capacity * len(views))
-        bind_storage(draw_list.table, "COMMAND_TABLE")
-        bind_storage(draw_list.commands, "DRAW_COMMANDS")
         self.reset.set(view_count=len(views))
-        self.reset.run(max(1, math.ceil(draw_list.command_count / LIST_GROUP)))
+        self.reset.run(max(1, math.ceil(draw_list.command_count / LIST_GROUP)), SSBO_COMMAND_TABLE=draw_list.table,
+                       SSBO_DRAW_COMMANDS=draw_list.commands)
         self.ctx.memory_barrier(self.ctx.SHADER_STORAGE_BARRIER_BIT)
         if draw_list.item_count and len(views):
-            bind_storage(buffers.draws, "DRAWS")
-            bind_storage(held_draws if held_draws is not None else buffers.draws, "HELD_DRAWS")
-            bind_storage(draw_list.views, "DRAW_VIEWS")
-            bind_storage(draw_list.items, "DRAW_ITEMS")
-            bind_storage(buffers.pool.cluster_buffer, "CLUSTERS")
-            bind_storage(draw_list.instances, "DRAW_INSTANCES")
-            self.cull.run(math.ceil(max(int(v["items"][1]) for v in views) / LIST_GROUP), len(views))
+            self.cull.run(math.ceil(max(int(v["items"][1]) for v in views) / LIST_GROUP), len(views),
+                          SSBO_DRAWS=buffers.draws, SSBO_HELD_DRAWS=held_draws if held_draws is not None else buffers.draws,
+                          SSBO_DRAW_VIEWS=draw_list.views, SSBO_DRAW_ITEMS=draw_list.items,
+                          SSBO_CLUSTERS=buffers.pool.cluster_buffer, SSBO_DRAW_COMMANDS=draw_list.commands,
+                          SSBO_DRAW_INSTANCES=draw_list.instances)
         self.ctx.memory_barrier(self.ctx.COMMAND_BARRIER_BIT | self.ctx.VERTEX_ATTRIB_ARRAY_BARRIER_BIT
                                 | self.ctx.SHADER_STORAGE_BARRIER_BIT)
 

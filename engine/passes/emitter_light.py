@@ -3,7 +3,6 @@ triangle at its surface point (Lambert's polygon formula), shadowed by one cone 
 through the face views (which must hold the grid's current coverage), and the fraction of it
 that arrives, which the image interpolates per pixel. Runs over a segment of the grid's class
 list when the voxels or the emitters change; light injection adds it to the base radiance."""
-from ..gpu.bindings import bind_storage
 from ..voxels.grid import VoxelGrid
 
 
@@ -18,13 +17,9 @@ class EmitterLightPass:
         """`emitters`: scene_buffers.EmitterBuffers; `segment`: a VoxelSegment of the class list,
         lit where they lie in `levels` (None: every level). Writes and returns
         grid.emitter_irradiance, at those voxels."""
-        grid.use_surface()
-        grid.use_faces()
-        bind_storage(segment.buffer, "VOXEL_LIST")
-        emitters.bind(self.program)
-        bind_storage(grid.emitter_irradiance, "VOXEL_EMITTER_IRRADIANCE")
-        self.program.set(**grid.uniforms(), **cone_uniforms, lit_levels=grid.level_mask(levels))
-        grid.dispatch(self.program, segment)
+        self.program.set(**grid.uniforms(), **cone_uniforms, **emitters.uniforms(), lit_levels=grid.level_mask(levels))
+        grid.dispatch(self.program, segment, SSBO_VOXEL_LIST=segment.buffer, **grid.cones(), **emitters.resources(),
+                      SSBO_VOXEL_EMITTER_IRRADIANCE=grid.emitter_irradiance)
         return grid.emitter_irradiance
 
     def release(self):

@@ -5,7 +5,6 @@ level only."""
 import numpy as np
 
 from ..core.constants import VOXEL_FACES
-from ..gpu.bindings import bind_storage
 from ..voxels.grid import VoxelGrid
 
 
@@ -25,14 +24,9 @@ class FaceViewsPass:
         base radiance plus rho times `gathered` (an array of the grid, or None before the
         first bounce), for the voxels of `segment` (a VoxelSegment) that lie in `levels`
         (None: every level). Returns grid.reflected."""
-        grid.use_surface()
-        bind_storage(grid.base, "VOXEL_BASE")
-        if gathered is not None:
-            bind_storage(gathered, "VOXEL_GATHERED")
-        bind_storage(grid.reflected, "VOXEL_REFLECTED")
-        bind_storage(segment.buffer, "VOXEL_LIST")
         self.compose_program.set(**grid.uniforms(), include_gathered=gathered is not None, composed_levels=grid.level_mask(levels))
-        grid.dispatch(self.compose_program, segment)
+        grid.dispatch(self.compose_program, segment, SSBO_VOXEL_LIST=segment.buffer, **grid.surface(), SSBO_VOXEL_BASE=grid.base,
+                      SSBO_VOXEL_GATHERED=gathered, SSBO_VOXEL_REFLECTED=grid.reflected)
         return grid.reflected
 
     def mipmap(self, grid, level_one=None, levels=None):
@@ -42,24 +36,20 @@ class FaceViewsPass:
         voxelization touched, which it zeroed; None: every covered cell), the coarser levels
         over every covered cell; of the grid levels `levels` only (None: every level).
         Returns the face views."""
-        grid.use_faces()
         uniforms = grid.uniforms()
         level_one = level_one or [(grid.cells.segment(1), 1)]
         for level in range(1, grid.mip_count):
-            grid.bind_faces(level)
             for segment, entry_level in level_one if level == 1 else [(grid.cells.segment(level), level)]:
-                bind_storage(segment.buffer, "CELLS")
                 self.mipmap_program.set(**uniforms, level=level, entry_level=entry_level, mipmapped_levels=grid.level_mask(levels))
-                grid.dispatch(self.mipmap_program, segment)
+                grid.dispatch(self.mipmap_program, segment, SSBO_CELLS=segment.buffer, **grid.cones(),
+                              IMG_FACES_OUT=grid.faces_out(level))
         return grid.faces
 
     def request_totals(self, grid):
         """Compute the mean premultiplied radiance (rgb) of the face views over the grid,
         summed over the six faces (from the 1^3 levels), into a buffer read_totals reads."""
-        grid.use_faces()
-        bind_storage(self.totals_buffer, "READBACK")
         self.totals_program.set(top_level=grid.mip_count - 2)  # the face views hold levels 1 and up
-        self.totals_program.run(1)
+        self.totals_program.run(1, TEX_VOXEL_FACES=grid.faces, SSBO_READBACK=self.totals_buffer)
         self.ctx.memory_barrier(self.ctx.SHADER_STORAGE_BARRIER_BIT)
 
     def read_totals(self):

@@ -11,7 +11,6 @@ extrapolation."""
 import numpy as np
 
 from ..core.constants import CLASS_BLOCK, CLASS_FACINGS, CLASS_PARTS, MAX_INTERLEAVE, MAX_SEGMENT_ROWS
-from ..gpu.bindings import bind_storage
 from ..gpu.functions import write_buffer
 from ..voxels.clipmap import with_coarser_levels
 from ..voxels.grid import GridStorage, VoxelGrid
@@ -86,19 +85,16 @@ class GatherPass:
         self._ensure_storage(grid)
         buckets = class_buckets(grid)
         total = interleave * CLASS_PARTS * buckets
-        grid.use_surface()
         self.find_anchors(grid)
-        grid.covered.bind("COVERED")
         write_buffer(self.class_buckets, bytes(4 * total))
-        bind_storage(self.class_buckets, "CLASS_BUCKETS")
-        bind_storage(self.class_list, "CLASS_LIST")
         write_buffer(self.cell_class_bits, bytes(self.cell_class_bits.size))
-        bind_storage(self.cell_class_bits, "CELL_CLASS_BITS")
+        sort = dict(SSBO_COVERED=grid.covered.buffer, SSBO_GATHER_ANCHORS=self.anchors, **grid.surface(),
+                    SSBO_CLASS_BUCKETS=self.class_buckets, SSBO_CLASS_LIST=self.class_list, SSBO_CELL_CLASS_BITS=self.cell_class_bits)
         self.sort_classes_program.set(**grid.uniforms(), interleave=interleave, scatter=False)
-        grid.dispatch(self.sort_classes_program, grid.covered.segment())
+        grid.dispatch(self.sort_classes_program, grid.covered.segment(), **sort)
         self._scan(grid, total, self.voxel_rows, ClassIndex.voxel_row_buckets(interleave, grid.levels, buckets))
         self.sort_classes_program.set(scatter=True)
-        grid.dispatch(self.sort_classes_program, grid.covered.segment())
+        grid.dispatch(self.sort_classes_program, grid.covered.segment(), **sort)
         self._sort_cells(grid, interleave)
         return ClassIndex(interleave=interleave, levels=grid.levels, voxel_list=self.class_list, voxel_rows=self.voxel_rows,
                           cell_list=self.cells_by_class, cell_rows=self.cell_rows)
@@ -109,23 +105,21 @@ class GatherPass:
         self.cell_rows per class, then the mixed cells'."""
         buckets = interleave + 1
         write_buffer(self.class_buckets, bytes(4 * buckets))
-        grid.cells.bind()
-        bind_storage(self.cells_by_class, "CELLS_BY_CLASS")
+        sort = dict(SSBO_CELLS=grid.cells.buffer, SSBO_CELL_CLASS_BITS=self.cell_class_bits, SSBO_CLASS_BUCKETS=self.class_buckets,
+                    SSBO_CELLS_BY_CLASS=self.cells_by_class)
         self.sort_cells_program.set(**grid.uniforms(), first=grid.cells.first[1], interleave=interleave, scatter=False)
-        grid.dispatch(self.sort_cells_program, grid.cells.segment(1))
+        grid.dispatch(self.sort_cells_program, grid.cells.segment(1), **sort)
         self._scan(grid, buckets, self.cell_rows, [(c, c + 1) for c in range(buckets)])
         self.sort_cells_program.set(scatter=True)
-        grid.dispatch(self.sort_cells_program, grid.cells.segment(1))
+        grid.dispatch(self.sort_cells_program, grid.cells.segment(1), **sort)
 
     def _scan(self, grid, bucket_count, table, row_buckets):
         """Each of the first `bucket_count` buckets' counts becomes its first entry, and row r
         of `table` the segment of buckets row_buckets[r] = (first, end)."""
-        bind_storage(self.class_buckets, "CLASS_BUCKETS")
-        table.bind()
         rows = np.zeros((MAX_SEGMENT_ROWS, 2), "u4")
         rows[:len(row_buckets)] = row_buckets
         self.scan_program.set(bucket_count=bucket_count, row_count=len(row_buckets), row_buckets=rows.tobytes())
-        self.scan_program.run(1)
+        self.scan_program.run(1, SSBO_CLASS_BUCKETS=self.class_buckets, SSBO_SEGMENTS=table.buffer)
         grid.barrier()
 
     def find_anchors(self, grid):
@@ -137,24 +131,20 @@ class GatherPass:
         self._ensure_storage(grid)
         if self.anchors_epoch is grid.epoch:
             return
-        grid.use_surface()
-        bind_storage(self.anchors, "GATHER_ANCHORS")
         follows = grid.epoch.follows(self.anchors_epoch)
         scrolled = grid.epoch.scrolled_levels if follows else None
         every_voxel = not follows or scrolled is not None
         voxels = grid.covered.segment()
-        self.stale.bind("STALE_VOXELS")
+        marked = dict(**grid.surface(), SSBO_GATHER_ANCHORS=self.anchors, SSBO_STALE_VOXELS=self.stale.buffer)
         if not every_voxel:
-            grid.touched.bind("TOUCHED")
             self.stale.clear()
             self.mark_stale_program.set(**grid.uniforms())
-            grid.dispatch(self.mark_stale_program, grid.touched.segment())
+            grid.dispatch(self.mark_stale_program, grid.touched.segment(), SSBO_TOUCHED=grid.touched.buffer, **marked)
             grid.size_list(self.stale)
             voxels = self.stale.segment()
-        grid.covered.bind("COVERED")
         found_levels = grid.level_mask() if scrolled is None else grid.level_mask(with_coarser_levels(scrolled, grid.levels))
         self.find_anchors_program.set(**grid.uniforms(), every_voxel=every_voxel, found_levels=found_levels)
-        grid.dispatch(self.find_anchors_program, voxels)
+        grid.dispatch(self.find_anchors_program, voxels, SSBO_COVERED=grid.covered.buffer, **marked)
         self.anchors_epoch = grid.epoch
 
     def run(self, grid, cone_uniforms, out, anchors, filled, finer):
@@ -162,13 +152,9 @@ class GatherPass:
         anchors, of the class index, or the touched voxels) into array `out`, then the others
         from them (`fill`). Every level's anchors in one dispatch: on a GPU a dispatch a level
         waits for each level's longest cones in turn. Returns `out`."""
-        grid.use_surface()
-        grid.use_faces()
-        bind_storage(self.anchors, "GATHER_ANCHORS")
-        bind_storage(out, "GATHERED_OUT")
         self.trace_program.set(**grid.uniforms(), **cone_uniforms)
-        bind_storage(anchors.buffer, "CLASS_LIST")
-        grid.dispatch(self.trace_program, anchors)
+        grid.dispatch(self.trace_program, anchors, SSBO_CLASS_LIST=anchors.buffer, SSBO_GATHER_ANCHORS=self.anchors, **grid.cones(),
+                      SSBO_GATHERED_OUT=out)
         return self.fill(grid, out, filled, finer)
 
     def fill(self, grid, values, filled, finer):
@@ -178,27 +164,20 @@ class GatherPass:
         the finer voxels' mean, level after level: `finer` maps each level above the finest to
         the segments holding them (a class's, every class's, or the touched voxels again).
         Returns `values`."""
-        grid.use_surface()
-        bind_storage(values, "GATHERED_OUT")
-        bind_storage(self.anchors, "GATHER_ANCHORS")
-        bind_storage(filled.buffer, "CLASS_LIST")
+        filling = dict(SSBO_GATHER_ANCHORS=self.anchors, **grid.surface(), SSBO_GATHERED_OUT=values)
         self.fill_program.set(**grid.uniforms())
-        grid.dispatch(self.fill_program, filled)
+        grid.dispatch(self.fill_program, filled, SSBO_CLASS_LIST=filled.buffer, **filling)
         for level in range(1, grid.levels):
             self.take_finer_program.set(**grid.uniforms(), level=level)
             for segment in finer[level]:
-                bind_storage(segment.buffer, "CLASS_LIST")
-                grid.dispatch(self.take_finer_program, segment)
+                grid.dispatch(self.take_finer_program, segment, SSBO_CLASS_LIST=segment.buffer, **filling)
         return values
 
     def extrapolate(self, grid, latest, older, gain):
         """older <- latest + (latest - older) * gain, per covered voxel; returns `older`."""
-        grid.records.bind()
-        bind_storage(latest, "VOXEL_GATHERED")
-        bind_storage(older, "GATHERED_OUT")
-        grid.covered.bind("COVERED")
         self.extrapolate_program.set(**grid.uniforms(), gain=tuple(float(g) for g in gain))
-        grid.dispatch(self.extrapolate_program, grid.covered.segment())
+        grid.dispatch(self.extrapolate_program, grid.covered.segment(), SSBO_COVERED=grid.covered.buffer,
+                      SSBO_VOXEL_RECORD=grid.records.index, SSBO_VOXEL_GATHERED=latest, SSBO_GATHERED_OUT=older)
         return older
 
     def release(self):

@@ -5,13 +5,12 @@ GBuffer the screen passes read."""
 import numpy as np
 
 from ..core.constants import DRAW_TEST_FRUSTUM, HDR_FORMAT
-from ..gpu.bindings import bind_texture
 from ..gpu.scene_buffers import DRAW_FLAGS
 from .cull import DrawList, view_records
 
 
 class GBuffer:
-    """The G-buffer targets; `use()` binds them where glsl/lib/gbuffer.glsl reads them."""
+    """The G-buffer targets, which the screen passes read (glsl/lib/gbuffer.glsl)."""
 
     UNITS = ("GBUF_POSITION", "GBUF_NORMAL", "GBUF_ALBEDO", "GBUF_EMISSION")
     READS = tuple(f"TEX_{unit}" for unit in UNITS)  # what a program reading all of them declares
@@ -25,9 +24,10 @@ class GBuffer:
         self.depth = ctx.depth_texture(size)
         self.framebuffer = ctx.framebuffer(color_attachments=self.textures, depth_attachment=self.depth)
 
-    def use(self):
-        for name, texture in zip(self.UNITS, self.textures):
-            bind_texture(texture, name)
+    def resources(self, *units):
+        """The targets of `units` (default: all of them) by binding name, as a program reading
+        them binds them."""
+        return {f"TEX_{name}": texture for name, texture in zip(self.UNITS, self.textures) if name in (units or self.UNITS)}
 
     def release(self):
         for resource in [self.framebuffer, self.depth, *self.textures]:
@@ -81,8 +81,7 @@ class GBufferPass:
         self.ctx.viewport = (0, 0, *gbuffer.size)
         gbuffer.framebuffer.clear(0.0, 0.0, 0.0, 0.0, depth=1.0)
         self.ctx.enable_only(self.ctx.DEPTH_TEST)
-        buffers.bind()
-        camera.bind()
+        resources = {**buffers.records(), **buffers.textures.resources(), **camera.resources()}
         for bucket, (mapped, extras, culling) in enumerate(self.buckets):
             if not self.draw_list.bucket_ranges[bucket][1]:
                 continue
@@ -90,7 +89,7 @@ class GBufferPass:
             if culling != "none":
                 self.ctx.front_face = culling
                 self.ctx.enable(self.ctx.CULL_FACE)
-            self.draw_list.draw(bucket, program, buffers)
+            self.draw_list.draw(bucket, program, buffers, resources)
             if culling != "none":
                 self.ctx.disable(self.ctx.CULL_FACE)
                 self.ctx.front_face = "ccw"

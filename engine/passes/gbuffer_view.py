@@ -8,7 +8,5 @@ class GBufferViewPass(FullScreenPass):
     READS = ("TEX_GBUF_POSITION", "TEX_GBUF_NORMAL", "TEX_GBUF_ALBEDO", "UBO_CAMERA")
 
     def render(self, gbuffer, view, camera):
-        gbuffer.use()
-        camera.bind()
         self.program.set(view=SHADER_ENUMS["VIEW"][view], far_plane=float(camera.far))
-        return self.draw()
+        return self.draw(**gbuffer.resources("GBUF_POSITION", "GBUF_NORMAL", "GBUF_ALBEDO"), **camera.resources())

@@ -2,7 +2,6 @@
 its surface receives from every light (with the shadow maps), evaluated per voxel at its
 surface point, and from the emitters (passes/emitter_light.py). Runs when lights, shadows,
 the emitters' light or the voxels change, over a segment of a voxel list."""
-from ..gpu.bindings import bind_storage
 from ..voxels.grid import VoxelGrid
 
 
@@ -17,12 +16,11 @@ class InjectPass:
         """Writes grid.base for the voxels of `segment` (a VoxelSegment), adding the emitters'
         and the sky's irradiance at the voxels where the scene has them (`emitters`:
         scene_buffers.EmitterBuffers, `environment`: scene_buffers.EnvironmentMap)."""
-        grid.use_surface()
-        bind_storage(segment.buffer, "VOXEL_LIST")
-        shadow_maps.bind(self.program)
-        bind_storage(grid.base, "VOXEL_BASE")
-        self.program.set(**grid.uniforms(), voxel_emitters=emitters.count > 0, voxel_sky=environment.environment is not None)
-        grid.dispatch(self.program, segment)
+        self.program.set(**grid.uniforms(), **shadow_maps.uniforms(), voxel_emitters=emitters.count > 0,
+                         voxel_sky=environment.environment is not None)
+        grid.dispatch(self.program, segment, SSBO_VOXEL_LIST=segment.buffer, **grid.surface(),
+                      SSBO_VOXEL_EMITTER_IRRADIANCE=grid.emitter_irradiance, SSBO_VOXEL_SKY_IRRADIANCE=grid.sky_irradiance,
+                      **shadow_maps.resources(), SSBO_VOXEL_BASE=grid.base)
         return grid.base
 
     def release(self):

@@ -10,7 +10,5 @@ class LightingPass(FullScreenPass):
 
     def render(self, gbuffer, shadow_maps, camera):
         """`camera`: frame.camera.FrameCamera."""
-        gbuffer.use()
-        shadow_maps.bind(self.program)
-        camera.bind()
-        return self.draw()
+        self.program.set(**shadow_maps.uniforms())
+        return self.draw(**gbuffer.resources(), **shadow_maps.resources(), **camera.resources())

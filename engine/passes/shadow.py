@@ -10,7 +10,6 @@ import numpy as np
 from ..core import transforms
 from ..core.constants import DRAW_TEST_FRUSTUM, LIGHT_TYPE, MAX_LIGHTS, MAX_SHADOW_VIEWS, struct_dtype
 from ..core.errors import VctError
-from ..gpu.bindings import bind_storage, bind_texture, bind_uniform_block
 from ..gpu.functions import gl_functions, write_buffer
 from ..gpu.scene_buffers import DRAW_FLAGS
 from .cull import DrawList, view_records
@@ -58,12 +57,13 @@ class ShadowMaps:
     def tile_origin(self, index):
         return (index % self.columns) * self.tile_size, (index // self.columns) * self.tile_size
 
-    def bind(self, handle):
-        """Bind the atlas and buffers, and set the light uniforms of a program that reads them."""
-        bind_texture(self.atlas, "SHADOW_ATLAS")
-        bind_uniform_block(self.light_buffer, "LIGHTS")
-        bind_uniform_block(self.view_buffer, "SHADOW_VIEWS")
-        handle.set(light_count=self.light_count, shadow_normal_offset=NORMAL_OFFSET_TEXELS)
+    def resources(self):
+        """The atlas and the lights' buffers, as a program evaluating lights binds them."""
+        return {"TEX_SHADOW_ATLAS": self.atlas, "UBO_LIGHTS": self.light_buffer, "UBO_SHADOW_VIEWS": self.view_buffer}
+
+    def uniforms(self):
+        """The light uniforms of glsl/lib/lights.glsl."""
+        return dict(light_count=self.light_count, shadow_normal_offset=NORMAL_OFFSET_TEXELS)
 
     def _release_atlas(self):
         for resource in (self.framebuffer, self.atlas):
@@ -202,10 +202,9 @@ class ShadowPass:
                 self.ctx.viewport = (0, 0, atlas_w, atlas_h)
                 for plane in GL_CLIP_DISTANCES:
                     self.ctx.enable_direct(plane)
-            buffers.bind()
-            bind_storage(self.draw_list.views, "DRAW_VIEWS")
-            for bucket, program in enumerate((self.depth_program, self.cut_out_program)):
-                self.draw_list.draw(bucket, program, buffers)
+            depth_reads = {**buffers.records(), "SSBO_DRAW_VIEWS": self.draw_list.views}
+            self.draw_list.draw(0, self.depth_program, buffers, depth_reads)
+            self.draw_list.draw(1, self.cut_out_program, buffers, {**depth_reads, **buffers.textures.resources()})
             if not self.viewport_index:
                 for plane in GL_CLIP_DISTANCES:
                     self.ctx.disable_direct(plane)

@@ -10,7 +10,6 @@ the base radiance and the image interpolates per pixel. The voxels a scrolled cl
 in may take theirs from the next coarser level instead (take_coarser), until the camera rests."""
 import numpy as np
 
-from ..gpu.bindings import bind_storage
 from ..voxels.grid import VoxelGrid
 
 
@@ -32,14 +31,10 @@ class SkyLightPass:
         anchor words, GatherPass.anchors) are lit where they lie in `levels` (None: every
         level) and their centres in the world box `box` ((lo, hi); None: anywhere). Writes and
         returns grid.traced_sky_irradiance, at those voxels."""
-        grid.use_surface()
-        grid.use_faces()
-        bind_storage(segment.buffer, "VOXEL_LIST")
-        bind_storage(anchors, "GATHER_ANCHORS")
-        environment.bind(self.program)
-        bind_storage(grid.traced_sky_irradiance, "VOXEL_TRACED_SKY_IRRADIANCE")
-        self.program.set(**grid.uniforms(), **cone_uniforms, lit_levels=grid.level_mask(levels), **_box_uniforms(box))
-        grid.dispatch(self.program, segment)
+        self.program.set(**grid.uniforms(), **cone_uniforms, **environment.uniforms(), lit_levels=grid.level_mask(levels),
+                         **_box_uniforms(box))
+        grid.dispatch(self.program, segment, SSBO_VOXEL_LIST=segment.buffer, SSBO_GATHER_ANCHORS=anchors, **grid.cones(),
+                      **environment.resources(), SSBO_VOXEL_TRACED_SKY_IRRADIANCE=grid.traced_sky_irradiance)
         return grid.traced_sky_irradiance
 
     def filter(self, grid, segment, levels=None, box=None):
@@ -48,12 +43,9 @@ class SkyLightPass:
         filter reads its own level only) and within the filter's reach of the world box `box`
         (the voxels lit in it; None: anywhere) from grid.traced_sky_irradiance around each
         (written and returned)."""
-        grid.use_surface()
-        bind_storage(grid.traced_sky_irradiance, "VOXEL_TRACED_SKY_IRRADIANCE")
-        bind_storage(grid.sky_irradiance, "VOXEL_SKY_IRRADIANCE")
-        bind_storage(segment.buffer, "VOXEL_LIST")
         self.filter_program.set(**grid.uniforms(), lit_levels=grid.level_mask(levels), **_box_uniforms(box))
-        grid.dispatch(self.filter_program, segment)
+        grid.dispatch(self.filter_program, segment, SSBO_VOXEL_LIST=segment.buffer, **grid.surface(),
+                      SSBO_VOXEL_TRACED_SKY_IRRADIANCE=grid.traced_sky_irradiance, SSBO_VOXEL_SKY_IRRADIANCE=grid.sky_irradiance)
         return grid.sky_irradiance
 
     def take_coarser(self, grid, segment, levels):
@@ -61,12 +53,9 @@ class SkyLightPass:
         `levels` (each finer than the coarsest), from the next coarser level's
         grid.sky_irradiance around them: a lookup in place of their cones. Writes it as their
         grid.traced_sky_irradiance and grid.sky_irradiance; returns the latter."""
-        grid.use_surface()
-        bind_storage(grid.traced_sky_irradiance, "VOXEL_TRACED_SKY_IRRADIANCE")
-        bind_storage(grid.sky_irradiance, "VOXEL_SKY_IRRADIANCE")
-        bind_storage(segment.buffer, "VOXEL_LIST")
         self.coarser_program.set(**grid.uniforms(), lit_levels=grid.level_mask(levels))
-        grid.dispatch(self.coarser_program, segment)
+        grid.dispatch(self.coarser_program, segment, SSBO_VOXEL_LIST=segment.buffer, **grid.surface(),
+                      SSBO_VOXEL_TRACED_SKY_IRRADIANCE=grid.traced_sky_irradiance, SSBO_VOXEL_SKY_IRRADIANCE=grid.sky_irradiance)
         return grid.sky_irradiance
 
     def release(self):

@@ -20,8 +20,10 @@ class ScreenTarget:
         self.texture.filter = (self.ctx.NEAREST, self.ctx.NEAREST)
         self.framebuffer = self.ctx.framebuffer(color_attachments=[self.texture])
 
-    def draw(self, handle):
-        """Run `handle`'s fragment shader over every pixel of the target."""
+    def draw(self, handle, resources):
+        """Run `handle`'s fragment shader over every pixel of the target, with its `resources`
+        bound (ProgramHandle.bind)."""
+        handle.bind(resources)
         program = handle.program
         vao = self._vertex_arrays.get(handle)
         if vao is None or vao[0] is not program:
@@ -56,8 +58,8 @@ class ScreenTarget:
 
 class FullScreenPass:
     """A pass that runs one fragment shader (FRAGMENT_SHADER, reading READS) over every pixel of
-    a target of its own (of TARGET_DTYPE); a subclass's render binds what it reads, sets its
-    uniforms and returns draw()."""
+    a target of its own (of TARGET_DTYPE); a subclass's render sets its uniforms and returns
+    draw(what it reads)."""
     FRAGMENT_SHADER = None
     READS = ()
     TARGET_DTYPE = "f4"
@@ -70,9 +72,10 @@ class FullScreenPass:
     def resize(self, size):
         self.target.resize(size)
 
-    def draw(self):
-        """Run the program over the target; returns the target."""
-        self.target.draw(self.program)
+    def draw(self, **resources):
+        """Run the program over the target with its `resources` (READS, by binding name);
+        returns the target."""
+        self.target.draw(self.program, resources)
         return self.target
 
     def release(self):

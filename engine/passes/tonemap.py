@@ -1,6 +1,5 @@
 """Tone mapping: exposure, a tone curve and sRGB encoding into an 8-bit target."""
 from ..core.constants import SHADER_ENUMS
-from ..gpu.bindings import bind_texture
 from .target import FullScreenPass
 
 
@@ -10,6 +9,5 @@ class TonemapPass(FullScreenPass):
     TARGET_DTYPE = "f1"
 
     def render(self, hdr_texture, exposure, tonemap, encode_srgb=True):
-        bind_texture(hdr_texture, "HDR_INPUT")
         self.program.set(exposure=float(exposure), tonemap=SHADER_ENUMS["TONEMAP"][tonemap], encode_srgb=bool(encode_srgb))
-        return self.draw()
+        return self.draw(TEX_HDR_INPUT=hdr_texture)

@@ -1,7 +1,6 @@
 """Voxel views: one level of the grid ray-marched from the camera at one mip level, as blocks:
 the base radiance (emission + injected direct light), the mean normals or the albedo."""
 from ..core.constants import SHADER_ENUMS
-from ..gpu.bindings import bind_texture
 from .target import FullScreenPass
 
 # What each voxel view shows (voxel_view/march_voxels.frag's SHOW_*).
@@ -20,8 +19,6 @@ class VoxelViewPass(FullScreenPass):
 
     def render(self, grid, view, mip, level, camera):
         volume = grid.dense(shown_values(grid, view))  # an inspection volume, with its hardware mip chain
-        bind_texture(volume, "VOXEL_INSPECT")
-        camera.bind()
         self.program.set(**grid.uniforms(), show=SHOW[view], mip=float(mip), shown_level=level,
                          viewport_size=tuple(float(x) for x in self.target.size))
-        return self.draw()
+        return self.draw(TEX_VOXEL_INSPECT=volume, **camera.resources())

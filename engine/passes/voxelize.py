@@ -23,11 +23,10 @@ import numpy as np
 
 from ..core.constants import (DRAW_HELD, DRAW_TEST_BOX, DRAW_VIEW_SHIFT, LIST_GROUP, NO_MATERIAL, SHADER_ENUMS, VOXEL_FACES,
                               VOXEL_SUM_CHANNELS)
-from ..gpu.bindings import bind_storage
 from ..gpu.scene_buffers import DRAW_FLAGS, draw_records
 from ..scene.changes import VoxelUpdate
 from ..voxels.clipmap import entered_slabs
-from ..voxels.grid import GridStorage, VoxelGrid, bind_volume, sum_room
+from ..voxels.grid import GridStorage, VoxelGrid, sum_room, volume_image
 from ..voxels.room import CoveredBound
 from .cull import DrawList, buffer_holding, view_records
 
@@ -92,10 +91,11 @@ class VoxelizePass:
         self.framebuffer = ctx.empty_framebuffer((n, n))
         self._scratch.hold((n, grid.levels, grid.touched_room), [self.sums, self.front_keys, self.touched_records, self.framebuffer])
 
-    def _bind_scratch(self, grid):
-        for name, buffer in (("VOXEL_SUMS", self.sums), ("FRONT_KEYS", self.front_keys), ("TOUCHED_RECORDS", self.touched_records)):
-            bind_storage(buffer, name)
-        grid.records.bind()
+    def _touching(self, grid):
+        """What the passes that flag voxels as touched write: the touched list and the record
+        index words the touched voxels had."""
+        return dict(SSBO_TOUCHED=grid.touched.buffer, SSBO_VOXEL_RECORD=grid.records.index,
+                    SSBO_TOUCHED_RECORDS=self.touched_records)
 
     def update(self, grid, update, buffers, bounds):
         """Apply a changes.VoxelUpdate to the grid, drawing the scene's draws (SceneBuffers);
@@ -133,16 +133,13 @@ class VoxelizePass:
             volumes.append((grid.cone_emission, 1, 2))  # its level 1: the coarser ones are its hardware mips
         for volume, views, mips in volumes:
             for mip in range(1, mips):
-                bind_volume(volume, "FACES_OUT", level=mip - 1)
-                bind_storage(cells.segment(mip).buffer, "CELLS")
                 self.clear_cells.set(**grid.uniforms(), level=mip, entry_level=mip, views=views, cleared_levels=mask)
-                grid.dispatch(self.clear_cells, cells.segment(mip))
-        grid.records.bind()
-        grid.covered.bind("COVERED")
+                grid.dispatch(self.clear_cells, cells.segment(mip), SSBO_CELLS=cells.segment(mip).buffer,
+                              IMG_FACES_OUT=volume_image(volume, mip - 1))
         self.scroll_level.set(**grid.uniforms(), scrolled_level=level, level_shift=tuple(int(s) for s in shift))
         for lifting in (True, False):
             self.scroll_level.set(lifting=lifting)
-            grid.dispatch(self.scroll_level, grid.covered.segment())
+            grid.dispatch(self.scroll_level, grid.covered.segment(), SSBO_COVERED=grid.covered.buffer, **grid.records.resources())
 
     def _apply(self, grid, update, buffers, bounds, touched=None):
         """The update: flag and list the voxels to rebuild, then chunk after chunk of them sum
@@ -151,13 +148,10 @@ class VoxelizePass:
         self._ensure_scratch(grid)
         grid.touched.clear()
         grid.newly_covered.clear()
-        self._bind_scratch(grid)
-        grid.touched.bind("TOUCHED")
         rebuilt = frozenset(range(grid.levels)) if update.full else update.rebuilt_levels()
         if rebuilt:
-            grid.covered.bind("COVERED")
             self.mark_covered.set(**grid.uniforms(), marked_levels=grid.level_mask(rebuilt))
-            grid.dispatch(self.mark_covered, grid.covered.segment())
+            grid.dispatch(self.mark_covered, grid.covered.segment(), SSBO_COVERED=grid.covered.buffer, **self._touching(grid))
         jobs = _level_jobs(grid, update, rebuilt, bounds)
         marking = [job for job in jobs if job.marked == "every draw"]
         moving = [job for job in jobs if job.marked == "moved draws"]
@@ -222,7 +216,7 @@ class VoxelizePass:
         lo, hi = (np.asarray(corner, int) for corner in voxels)
         size = hi - lo
         self.mark_box.set(**grid.uniforms(), marked_level=level, box_min=tuple(int(c) for c in lo), box_size=tuple(int(c) for c in size))
-        self.mark_box.run(-(-int(np.prod(size)) // LIST_GROUP))
+        self.mark_box.run(-(-int(np.prod(size)) // LIST_GROUP), **self._touching(grid))
         grid.barrier()
 
     @contextmanager
@@ -245,53 +239,47 @@ class VoxelizePass:
         """Rasterize a draw list in one of the fragment stages, into the sums of the chunk of the
         touched list from `chunk_first`: each instance into its job's level and voxels (the
         parts of the draws inside the job's world box, which the list was culled by)."""
-        buffers.bind()
-        bind_storage(held_draws if held_draws is not None else buffers.draws, "HELD_DRAWS")
-        bind_storage(draw_list.views, "DRAW_VIEWS")
+        resources = {**buffers.records(), **buffers.textures.resources(), **self._touching(grid),
+                     "SSBO_HELD_DRAWS": held_draws if held_draws is not None else buffers.draws,
+                     "SSBO_DRAW_VIEWS": draw_list.views, "SSBO_VOXEL_SUMS": self.sums, "SSBO_FRONT_KEYS": self.front_keys}
         for bucket, program in enumerate(self.programs):
             if draw_list.bucket_ranges[bucket][1]:
                 program.set(**grid.uniforms(), stage=SHADER_ENUMS["VOXELIZE"][stage], chunk_first=chunk_first)
-                draw_list.draw(bucket, program, buffers)
+                draw_list.draw(bucket, program, buffers, resources)
         self.ctx.memory_barrier(self.ctx.SHADER_STORAGE_BARRIER_BIT | self.ctx.SHADER_IMAGE_ACCESS_BARRIER_BIT)
 
     def _resolve(self, grid, chunk_first):
         """Resolve the sums of the chunk of touched voxels from `chunk_first` into the voxels'
         records: those emptied give theirs back, then the covered ones take theirs."""
-        grid.covered.bind("COVERED")
-        grid.newly_covered.bind("NEWLY_COVERED")
-        grid.records.bind()
-        for name, values in (("VOXEL_ALBEDO", grid.albedo), ("VOXEL_NORMAL", grid.normal), ("VOXEL_EMISSION", grid.emission)):
-            bind_storage(values, name)
+        resources = {**self._touching(grid), **grid.surface(), "SSBO_RECORD_POOL": grid.records.pool, "SSBO_VOXEL_SUMS": self.sums,
+                     "SSBO_FRONT_KEYS": self.front_keys, "SSBO_COVERED": grid.covered.buffer,
+                     "SSBO_NEWLY_COVERED": grid.newly_covered.buffer}
         self.resolve.set(**grid.uniforms(), chunk_first=chunk_first)
         for freeing in (True, False):
             self.resolve.set(freeing=freeing)
-            grid.dispatch(self.resolve, grid.touched.segment())
+            grid.dispatch(self.resolve, grid.touched.segment(), **resources)
 
     def fill_cone_emission(self, grid, touched=False):
         """Level 1 of the grid's cone emission volume from the voxels' emission: over every
         covered cell (a volume made zero), or over the cells of the voxels the last
         voxelization touched."""
-        grid.use_surface()
         segment = grid.touched.segment() if touched else grid.cells.segment(1)
-        bind_storage(segment.buffer, "CELLS")
-        bind_volume(grid.cone_emission, "CONE_EMISSION_OUT")
         self.fill_emission.set(**grid.uniforms(), entry_level=0 if touched else 1)
-        grid.dispatch(self.fill_emission, segment)
+        grid.dispatch(self.fill_emission, segment, SSBO_CELLS=segment.buffer, **grid.surface(),
+                      IMG_CONE_EMISSION_OUT=volume_image(grid.cone_emission))
 
     def _relist_covered(self, grid, full, scrolled_levels):
         """The light at the records the resolve gave zeroed; the covered list (a voxel per
         record, which the resolve wrote) sized, its new epoch marked with the levels a scroll
         alone changed (Epoch.scrolled_levels), and the cells of every level listed again."""
         grid.size_list(grid.newly_covered)
-        for name, values in (("VOXEL_BASE", grid.base), ("VOXEL_GATHERED", grid.gathered[0]), ("GATHERED_OUT", grid.gathered[1]),
-                             ("VOXEL_REFLECTED", grid.reflected),
-                             ("VOXEL_EMITTER_IRRADIANCE", grid.emitter_irradiance), ("VOXEL_SKY_IRRADIANCE", grid.sky_irradiance),
-                             ("VOXEL_TRACED_SKY_IRRADIANCE", grid.traced_sky_irradiance)):
-            if values is not None:
-                bind_storage(values, name)
         self.clear_new_records.set(**grid.uniforms(), voxel_emitters=grid.emitter_irradiance is not None,
                                    voxel_sky=grid.sky_irradiance is not None)
-        grid.dispatch(self.clear_new_records, grid.newly_covered.segment())
+        grid.dispatch(self.clear_new_records, grid.newly_covered.segment(), SSBO_NEWLY_COVERED=grid.newly_covered.buffer,
+                      SSBO_VOXEL_RECORD=grid.records.index, SSBO_VOXEL_BASE=grid.base, SSBO_VOXEL_GATHERED=grid.gathered[0],
+                      SSBO_GATHERED_OUT=grid.gathered[1], SSBO_VOXEL_REFLECTED=grid.reflected,
+                      SSBO_VOXEL_EMITTER_IRRADIANCE=grid.emitter_irradiance, SSBO_VOXEL_SKY_IRRADIANCE=grid.sky_irradiance,
+                      SSBO_VOXEL_TRACED_SKY_IRRADIANCE=grid.traced_sky_irradiance)
         grid.covered_changed(scrolled_levels)
         self._relist_cells(grid, full, zeroed=scrolled_levels is not None)
 
@@ -302,18 +290,14 @@ class VoxelizePass:
         cells the covered voxels now reach, every level in one pass."""
         uniforms, cells = grid.uniforms(), grid.cells
         for level in range(1, grid.mip_count) if not zeroed else ():
-            grid.bind_faces(level)
             segment = cells.segment(level) if full else grid.touched.segment()
-            bind_storage(segment.buffer, "CELLS")
             self.clear_cells.set(**uniforms, level=level, entry_level=level if full else 0, views=VOXEL_FACES,
                                  cleared_levels=grid.level_mask())
-            grid.dispatch(self.clear_cells, segment)
-        cells.bind()
+            grid.dispatch(self.clear_cells, segment, SSBO_CELLS=segment.buffer, IMG_FACES_OUT=grid.faces_out(level))
         generation = cells.restart()
-        grid.covered.bind("COVERED")
-        cells.bind_stamps()
         self.list_cells.set(**uniforms, top_level=grid.mip_count - 1, level_first=cells.first_words(), generation=generation)
-        grid.dispatch(self.list_cells, grid.covered.segment())
+        grid.dispatch(self.list_cells, grid.covered.segment(), SSBO_COVERED=grid.covered.buffer, SSBO_CELLS=cells.buffer,
+                      SSBO_CELL_STAMPS=cells.stamps)
         grid.size_cells()
 
     def memory_bytes(self):

@@ -45,7 +45,7 @@ import numpy as np
 from ..core.constants import (GL_IMAGE_FORMAT, GRID_SIZES, LIST_GROUP, MAX_VOXEL_LEVELS,
                               VOLUME_GROUP, VOXEL_FACES, VOXEL_FORMAT, VOXEL_MEMORY_BUDGET, VOXEL_PACK_BITS, VOXEL_SUM_CHANNELS)
 from ..core.errors import VctError
-from ..gpu.bindings import bind_image, bind_storage, bind_texture
+from ..gpu.bindings import Image
 from .lists import SEGMENT, CellLists, Epoch, VoxelList
 from .records import VALUE_BYTES, VoxelRecords
 from .room import ListBound
@@ -286,12 +286,9 @@ class VoxelGrid:
             self._inspection = self._volume(mipmapped=True)
         volume = self._inspection
         volume.write(bytes(TEXEL_BYTES * self.voxel_count))
-        self.records.bind()
-        bind_storage(values, "INSPECT_VALUES")
-        self.covered.bind("COVERED")
-        bind_volume(volume, "INSPECT_OUT")
         self.scatter_program.set(**self.uniforms())
-        self.dispatch(self.scatter_program, self.covered.segment())
+        self.dispatch(self.scatter_program, self.covered.segment(), SSBO_COVERED=self.covered.buffer,
+                      SSBO_VOXEL_RECORD=self.records.index, SSBO_INSPECT_VALUES=values, IMG_INSPECT_OUT=volume_image(volume))
         return self.viewable(volume) if mips else volume
 
     def _keep(self, resource):
@@ -377,23 +374,15 @@ class VoxelGrid:
                                         voxel_max_mip=float(self.mip_count - 1)))
         return self._uniforms[1]
 
-    def use_surface(self):
-        """The voxels' records, their resolved surface and the emitters' and the sky's light at
-        them (where the scene has them)."""
-        self.records.bind()
-        for name, values in (("VOXEL_ALBEDO", self.albedo), ("VOXEL_NORMAL", self.normal), ("VOXEL_EMISSION", self.emission),
-                             ("VOXEL_EMITTER_IRRADIANCE", self.emitter_irradiance), ("VOXEL_SKY_IRRADIANCE", self.sky_irradiance)):
-            if values is not None:
-                bind_storage(values, name)
+    def surface(self):
+        """What a program reading the voxels' surface binds (SURFACE_READS: their records and
+        resolved surface)."""
+        return dict(zip(self.SURFACE_READS, (self.records.index, self.albedo, self.normal, self.emission)))
 
-    def use_faces(self):
-        """What cones read: the voxels' records with their surface and reflected light
-        (level 0), the face views and the emission volume (level 1 up)."""
-        self.use_surface()
-        bind_storage(self.reflected, "VOXEL_REFLECTED")
-        bind_texture(self.faces, "VOXEL_FACES")
-        if self.cone_emission is not None:
-            bind_texture(self.cone_emission, "VOXEL_CONE_EMISSION")
+    def cones(self):
+        """What a program tracing cones binds (CONE_READS): the surface and reflected light of
+        the voxels (level 0) and the face views (level 1 up)."""
+        return dict(zip(self.CONE_READS, (*self.surface().values(), self.reflected, self.faces)))
 
     def covered_changed(self, scrolled_levels=None):
         """After a voxelization wrote the covered list: its segment row from its count, and a
@@ -406,38 +395,36 @@ class VoxelGrid:
         surfaces emit."""
         self.cone_emission.build_mipmaps()
 
-    def bind_faces(self, level):
-        """Mip level `level` (1 up) of the face views, to write."""
-        bind_volume(self.faces, "FACES_OUT", level=level - 1)
+    def faces_out(self, level):
+        """Mip level `level` (1 up) of the face views, to write (as IMG_FACES_OUT)."""
+        return volume_image(self.faces, level - 1)
 
     def read_faces(self, level):
         """Mip level `level` (1 up) of the face views, as read_level reads a volume."""
         return self.read_level(self.faces, level - 1)
 
-    def dispatch(self, handle, segment):
-        """Run a compute program once per entry of a list segment (a VoxelSegment: its row
-        bound as the program's `segment`, the dispatch's size read by the GPU from the row),
-        then make its writes visible to the texture fetches, image loads, buffer reads and
-        indirect dispatches that follow."""
-        segment.table.bind()
+    def dispatch(self, handle, segment, **resources):
+        """Run a compute program once per entry of a list segment (a VoxelSegment: its table
+        bound as SSBO_SEGMENTS where the program reads it and its row as the program's
+        `segment`, the dispatch's size read by the GPU from the row) with its other `resources`
+        (ProgramHandle.bind), then make its writes visible to the texture fetches, image
+        loads, buffer reads and indirect dispatches that follow."""
+        if "SSBO_SEGMENTS" in handle.reads:  # not where the program reads its list's count from the list
+            resources["SSBO_SEGMENTS"] = segment.table.buffer
         handle.set(segment=segment.row)
-        handle.run_indirect(segment.table.buffer, SEGMENT.itemsize * segment.row)
+        handle.run_indirect(segment.table.buffer, SEGMENT.itemsize * segment.row, **resources)
         self.barrier()
 
     def size_list(self, voxel_list):
         """The segment row of a voxel list (every entry) from its count, after a pass appended."""
-        bind_storage(voxel_list.buffer, "COUNTED")
-        voxel_list.table.bind()
-        self.size_program.run(1)
+        self.size_program.run(1, SSBO_COUNTED=voxel_list.buffer, SSBO_SEGMENTS=voxel_list.table.buffer)
         self.barrier()
 
     def size_cells(self):
         """The segment rows of every level's covered cells from their counts, after they are
         listed."""
-        bind_storage(self.cells.buffer, "COUNTED")
-        self.cells.table.bind()
         self.size_cells_program.set(top_level=self.mip_count - 1, level_first=self.cells.first_words())
-        self.size_cells_program.run(1)
+        self.size_cells_program.run(1, SSBO_COUNTED=self.cells.buffer, SSBO_SEGMENTS=self.cells.table.buffer)
         self.barrier()
 
     def barrier(self):
@@ -460,10 +447,9 @@ class VoxelGrid:
             return np.frombuffer(volume.read(), dtype="f2").reshape(shape).astype("f4")
         buffer = self.ctx.buffer(reserve=width * height * depth * 16)
         try:
-            bind_texture(volume, "VOXEL_INSPECT")
             self.read_program.set(level=level)
-            bind_storage(buffer, "READBACK")
-            self.read_program.run(*(math.ceil(side / VOLUME_GROUP) for side in (width, height, depth)))
+            self.read_program.run(*(math.ceil(side / VOLUME_GROUP) for side in (width, height, depth)),
+                                  TEX_VOXEL_INSPECT=volume, SSBO_READBACK=buffer)
             self.ctx.memory_barrier(self.ctx.SHADER_STORAGE_BARRIER_BIT)
             return np.frombuffer(buffer.read(), dtype="f4").reshape(shape).copy()
         finally:
@@ -524,6 +510,6 @@ def pack_voxels(coords):
     return coords[:, 0] | (coords[:, 1] << VOXEL_PACK_BITS) | (coords[:, 2] << (2 * VOXEL_PACK_BITS))
 
 
-def bind_volume(volume, name, level=0, read=False):
-    """A level of an RGBA16F volume at the image unit `name`, to write (and read, if `read`)."""
-    bind_image(volume, name, read=read, write=True, level=level, format=GL_IMAGE_FORMAT["rgba16f"])
+def volume_image(volume, level=0, read=False):
+    """A level of an RGBA16F volume as an image unit binds it, to write (and read, if `read`)."""
+    return Image(volume, level, read=read, write=True, format=GL_IMAGE_FORMAT["rgba16f"])

@@ -14,7 +14,6 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..core.constants import CELL_LIST_LEVELS, CLASS_PARTS, LIST_GROUP, struct_dtype
-from ..gpu.bindings import bind_storage
 from ..gpu.functions import write_buffer
 
 SEGMENT = struct_dtype("ListSegment")
@@ -28,9 +27,6 @@ class SegmentTable:
     def __init__(self, ctx, rows):
         self.buffer = ctx.buffer(data=bytes(SEGMENT.itemsize * rows))
         self.rows = rows
-
-    def bind(self):
-        bind_storage(self.buffer, "SEGMENTS")
 
     def write(self, row, first, count):
         """Set a row from the host (a list it filled itself)."""
@@ -168,9 +164,6 @@ class VoxelList:
         """Every entry, as a VoxelSegment (they follow the count)."""
         return VoxelSegment(self.buffer, self.table, 0)
 
-    def bind(self, binding):
-        bind_storage(self.buffer, binding)
-
     def release(self):
         self.buffer.release()
         self.table.release()
@@ -209,12 +202,6 @@ class CellLists:
         write_buffer(self.buffer, bytes(4 * CELL_LIST_LEVELS))
         self.generation += 1
         return self.generation
-
-    def bind(self):
-        bind_storage(self.buffer, "CELLS")
-
-    def bind_stamps(self):
-        bind_storage(self.stamps, "CELL_STAMPS")
 
     def release(self):
         for resource in (self.buffer, self.stamps, self.table):

@@ -12,8 +12,6 @@ record, and so its values, while it stays covered. The pool has room for as many
 the grid's lists have for covered voxels."""
 import numpy as np
 
-from ..gpu.bindings import bind_storage
-
 VALUE_BYTES = 8  # an RGBA16F value
 POOL_HEADER = 2  # the stack's height, the records asked for in vain
 
@@ -37,9 +35,9 @@ class VoxelRecords:
         """An array of values, one per record, zero."""
         return self.ctx.buffer(data=bytes(VALUE_BYTES * self.room))
 
-    def bind(self):
-        bind_storage(self.index, "VOXEL_RECORD")
-        bind_storage(self.pool, "RECORD_POOL")
+    def resources(self):
+        """The index and the pool, as a program that hands out or frees records binds them."""
+        return {"SSBO_VOXEL_RECORD": self.index, "SSBO_RECORD_POOL": self.pool}
 
     def hold(self, coords):
         """Give the voxels at `coords` (k, 3: x, y, z) records 0..k-1, in order, as a grid
