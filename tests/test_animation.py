@@ -121,7 +121,7 @@ def test_animations_loop_over_the_longest_and_play_one_by_name():
 
 
 def test_a_scene_file_plays_the_animations_of_the_gltf_it_loads(tmp_path):
-    path = animated_gltf(tmp_path / "a.glb", [("Card", "translation", [0, 1], [[0, 0, 0], [1, 0, 0]], "LINEAR")])
+    animated_gltf(tmp_path / "a.glb", [("Card", "translation", [0, 1], [[0, 0, 0], [1, 0, 0]], "LINEAR")])
     scene_file = tmp_path / "s.json"
     scene_file.write_text(json.dumps({"objects": [{"name": "Card File", "type": "mesh", "file": "a.glb", "translation": [0, 1, 0]}],
                                       "lights": [{"type": "point", "position": [0, 2, 3], "intensity": [1, 1, 1]}],

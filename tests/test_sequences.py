@@ -12,7 +12,6 @@ so far complete and no partial file; malformed sequence options are one line, ex
 written.
 """
 import json
-import os
 import signal
 import subprocess
 import sys
@@ -187,6 +186,6 @@ def test_bench_times_animated_frames_for_a_scene_with_animations(tmp_path):
     # The host's time of a frame (issuing its work) apart from the GPU's (its passes'), per kind.
     assert all(0 < row["host_ms"] and 0 < row["gpu_ms"] and sum(row["passes"].values()) == pytest.approx(row["gpu_ms"], rel=0.5)
                for row in rows)
-    plain = vct("bench", SCENES / "cornell_box.json", "--width", "32", "--height", "32", "--grids", "16", "--frames", "1",
-                "--warmup", "0", "--json", tmp_path / "c.json")
+    vct("bench", SCENES / "cornell_box.json", "--width", "32", "--height", "32", "--grids", "16", "--frames", "1",
+        "--warmup", "0", "--json", tmp_path / "c.json")
     assert "animated" not in {row["frame"] for row in json.loads((tmp_path / "c.json").read_text())}
