@@ -3,7 +3,7 @@ Lambertian, albedo 0.8), the images and textures of one file, each made once, an
 made from a file's vertex data: face, flat and smooth (area-weighted) normals, tangents from
 texture coordinates (Lengyel's per-triangle derivatives, summed per vertex), and a checked
 surface mesh (vertex data finite and within +-MAX_MAGNITUDE, zero-area triangles and unused
-vertices dropped). Used by engine/formats/mesh_files.py (OBJ+MTL, PLY, STL, OFF), engine/formats/gltf_files.py
+vertices dropped). Used by engine/formats/mesh_files.py (OBJ+MTL, PLY, STL, OFF), engine/formats/gltf/
 (glTF) and engine/formats/scene_api.py (meshes built in code).
 """
 import hashlib

@@ -1,6 +1,6 @@
 """Mesh files -> scene-graph nodes with meshes, materials and textures (plain Python/numpy, no GL).
 
-- glTF 2.0 (.gltf with its buffers and images, or .glb): read by engine/formats/gltf_files.py (its
+- glTF 2.0 (.gltf with its buffers and images, or .glb): read by engine/formats/gltf/ (its
   node hierarchy, meshes, materials, textures, cameras, KHR_lights_punctual lights and
   animations; its docstring says how).
 - OBJ + MTL: one node per material (usemtl) group, named after its material. MTL, per
@@ -37,7 +37,7 @@ import numpy as np
 from ..core.errors import SceneError
 from ..core.limits import check_material
 from ..scene.model import Material, Node
-from .gltf_files import GltfFile
+from .gltf import GltfFile
 from .input_files import InputFiles, os_problem
 from .mesh_building import FileTextures, default_material, surface_mesh, warn_dropped
 

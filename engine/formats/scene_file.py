@@ -3,7 +3,7 @@
 A JSON file is checked against the scene format's schema (engine/formats/scene_schema.py: fields,
 types, ranges, defaults) and then for what a schema cannot say (materials named but not
 defined, degenerate quads, world transforms, the files it names). A glTF file is read by
-engine/formats/gltf_files.py with its cameras and KHR_lights_punctual lights; its nodes are held to the
+engine/formats/gltf/ with its cameras and KHR_lights_punctual lights; its nodes are held to the
 same limits. The camera: the JSON file's, else the first camera of its mesh files (depth
 first), else one framing the scene's bounds (with a warning); `camera=NAME` picks a camera node
 by name instead. A JSON file's mesh files bring their lights unless it lists lights itself.

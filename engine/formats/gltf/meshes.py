@@ -1,0 +1,101 @@
+"""A glTF file's meshes: each primitive's triangles and vertex attributes."""
+import numpy as np
+
+from ...scene.model import TEXTURE_FIELDS, Mesh
+from ..mesh_building import face_normals, flat_normals, generate_tangents
+from .container import FLOAT, INDEX_TYPES
+
+NORMALIZED_UV_TYPES = (5121, 5123)
+MODE_NAMES = {0: "POINTS", 1: "LINES", 2: "LINE_LOOP", 3: "LINE_STRIP"}
+
+
+class MeshReader:
+    """Part of GltfFile: meshes, each primitive made once."""
+
+    def mesh(self, index):
+        """[(Mesh, Material)] for the primitives of meshes[index] that hold a triangle of some
+        area, made once."""
+        if index not in self.meshes:
+            field = f"meshes[{index}]"
+            primitives = self.json.get(self.element("meshes", index), "primitives", field, kind=list)
+            if not primitives:
+                self.fail(f"{field}.primitives", "must not be empty")
+            parts = [self.primitive(f"{field}.primitives[{k}]", p) for k, p in enumerate(primitives)]
+            self.meshes[index] = [part for part in parts if part is not None]
+        return self.meshes[index]
+
+    def primitive(self, field, spec):
+        """(Mesh, Material) of a primitive, its zero-area triangles dropped (they draw nothing and
+        have no normal); None where none is left."""
+        if not isinstance(spec, dict):
+            self.fail(field, "must be an object")
+        mode = int(self.json.number(spec, "mode", field, 4, whole=True, minimum=0, maximum=6))
+        if mode in MODE_NAMES:
+            self.fail(f"{field}.mode", f"{mode} ({MODE_NAMES[mode]}): only triangles are drawn (modes 4, 5, 6)")
+        attributes = self.json.get(spec, "attributes", field, kind=dict)
+        where = f"{field}.attributes"
+        positions = self.accessor(attributes, "POSITION", where, ("VEC3",), FLOAT)
+        optional = {"NORMAL": (("VEC3",), FLOAT), "TEXCOORD_0": (("VEC2",), FLOAT + NORMALIZED_UV_TYPES),
+                    "TEXCOORD_1": (("VEC2",), FLOAT + NORMALIZED_UV_TYPES), "TANGENT": (("VEC4",), FLOAT),
+                    "COLOR_0": (("VEC3", "VEC4"), FLOAT + NORMALIZED_UV_TYPES)}
+        found = {}
+        for key, (types, components) in optional.items():
+            if key in attributes:
+                found[key] = self.accessor(attributes, key, where, types, components)
+                if len(found[key]) != len(positions):
+                    self.fail(f"{where}.{key}", f"has {len(found[key])} elements, POSITION {len(positions)}")
+        if "indices" in spec:
+            indices = self.accessor(spec, "indices", field, ("SCALAR",), INDEX_TYPES, as_float=False)[:, 0].astype(np.uint32)
+            if indices.max() >= len(positions):
+                self.fail(f"{field}.indices", f"refers to vertex {int(indices.max())}, the primitive has {len(positions)}")
+        else:
+            indices = np.arange(len(positions), dtype=np.uint32)
+        triangles = self.triangles(indices, mode, field)
+        triangles = triangles[np.linalg.norm(face_normals(positions, triangles), axis=1) > 0]
+        material = self.override or self.primitive_material(spec, field)
+        normals, tangents = found.get("NORMAL"), found.get("TANGENT")
+        texcoords, texcoords1 = found.get("TEXCOORD_0"), found.get("TEXCOORD_1")
+        colors = found["COLOR_0"][:, :3] if "COLOR_0" in found else None
+        if normals is not None:
+            normals = self.unit_normals(normals, f"{where}.NORMAL", attributes["NORMAL"])
+        for texture_field in (f for f in TEXTURE_FIELDS if getattr(material, f) is not None):
+            uv_set = material.uv_sets.get(texture_field, 0)
+            if (texcoords, texcoords1)[uv_set] is None:
+                self.fail(field, f'material "{material.name}" has textures on TEXCOORD_{uv_set} but the primitive has no '
+                                 f"TEXCOORD_{uv_set}")
+        if normals is None:
+            positions, normals, triangles, texcoords, tangents, colors, texcoords1 = flat_normals(
+                positions, triangles, texcoords, tangents, colors, texcoords1)
+        if material.normal_texture is not None and tangents is None:
+            normal_uv = (texcoords, texcoords1)[material.uv_sets.get("normal_texture", 0)]
+            tangents = generate_tangents(positions, normals, normal_uv, triangles)
+        if len(triangles) == 0:
+            return None
+        return Mesh(positions, normals, triangles, texcoords, tangents, colors, texcoords1), material
+
+    def unit_normals(self, normals, field, index):
+        """The normals scaled to unit length (glTF requires unit normals; some files are off
+        by rounding); a normal of (nearly) zero length gives no direction and is refused."""
+        lengths = np.linalg.norm(normals.astype(np.float64), axis=1)
+        if np.any(lengths < 1e-6):
+            element = int(np.argmax(lengths < 1e-6))
+            self.fail(f"accessors[{index}]", f"({field}) element {element} is {normals[element].tolist()}: "
+                                             "a normal must have unit length")
+        return (normals / lengths[:, None]).astype(np.float32)
+
+    def triangles(self, indices, mode, field):
+        if mode == 4:
+            if len(indices) % 3:
+                self.fail(field, f"{len(indices)} indices do not make whole triangles")
+            triangles = indices.reshape(-1, 3)
+        elif mode == 5:  # strip: every other triangle swaps two corners to keep the winding
+            k = np.arange(max(len(indices) - 2, 0))
+            odd = k % 2 == 1
+            triangles = np.stack([indices[k + odd], indices[k + 1 - odd], indices[k + 2]], axis=1)
+        else:  # fan
+            k = np.arange(1, max(len(indices) - 1, 1))
+            triangles = np.stack([np.full(len(k), indices[0]), indices[k], indices[k + 1]], axis=1)
+        if len(triangles) == 0:
+            self.fail(field, "holds no triangles")
+        return np.ascontiguousarray(triangles, dtype=np.uint32)
+
