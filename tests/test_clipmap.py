@@ -364,6 +364,21 @@ def test_bench_reports_a_clipmaps_levels_voxels_and_memory_for_every_frame_kind(
     assert "64^3 x 2" in result.stdout
 
 
+def test_bench_times_a_scene_files_clipmap_once_at_its_own_resolution(tmp_path):
+    """A scene file's clipmap keeps its resolution whatever `--grids` asks: the bench names the
+    levels it timed (16^3 x 2), once, not the grids asked for."""
+    data = json.loads((SCENES / "cornell_box.json").read_text())
+    data["voxel_region"] = {"clipmap": {"levels": 2, "resolution": 16, "voxel_size": 0.05}}
+    scene = tmp_path / "clipmapped.json"
+    scene.write_text(json.dumps(data))
+    result = vct("bench", scene, "--grids", "16,32", "--frames", "1", "--warmup", "0", "--width", "16", "--height", "16",
+                 "--quiet", "--json", tmp_path / "bench.json")
+    assert result.returncode == 0, result.stderr
+    records = json.loads((tmp_path / "bench.json").read_text())
+    assert {(r["grid"], r["levels"]) for r in records} == {(16, 2)} and len(records) == 4
+    assert "16^3 x 2" in result.stdout and "32^3" not in result.stdout
+
+
 def test_a_flying_camera_in_a_clipmap_lights_the_slabs_it_takes_in_and_restarts_no_bounce(small):
     """Progressive frames under a sky once the radiance settled, the camera flying along x:
     a frame that scrolls a level traces the light of the voxels it took in alone, and keeps

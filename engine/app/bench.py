@@ -202,16 +202,21 @@ def time_frames(scene, renderer, settings, kind, frames, warmup):
 
 def benchmark(scene, renderer, settings, grids, frames, warmup, kinds=FRAME_KINDS, reference=None):
     """Records {"scene", "grid", "frame", "width", "height", "total_ms", "passes", ...} for every
-    grid and frame kind."""
-    rows = []
+    grid and frame kind; "grid" is the resolution the renderer's levels took (a scene file's
+    clipmap keeps its own whatever grid is asked: its grids are timed once)."""
+    rows, timed = [], set()
     kinds = [kind for kind in kinds if kind != "animated" or scene.animations()]
     uses_voxels = MODE_TABLE[settings.mode].uses_voxels(scene_emits(scene))
     for grid in grids if uses_voxels else [settings.grid]:
         s = settings.replace(grid=grid)
         renderer.progressive = True
         settle(scene, renderer, s)
+        held = (renderer.grid.n, renderer.grid.levels) if uses_voxels else None
+        if held in timed:
+            continue
+        timed.add(held)
         for kind in kinds:
-            record = {"scene": scene.name, "grid": grid if uses_voxels else None, "width": renderer.size[0],
+            record = {"scene": scene.name, "grid": renderer.grid.n if uses_voxels else None, "width": renderer.size[0],
                       "height": renderer.size[1], **time_frames(scene, renderer, s, kind, frames, warmup)}
             settle(scene, renderer, s)  # back to the settled scene for the next kind
             voxel_bytes = renderer.voxel_memory_bytes() if uses_voxels else 0
