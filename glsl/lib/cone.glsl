@@ -109,8 +109,8 @@ vec4 faces_at_level_zero(vec3 uvw, int level, FaceWeights f, float front_share, 
 // by a cone with the given face weights. The faces the cone looks into read `mip` (two levels
 // blended where it is fractional), the back faces, which take the small shares of the rays that
 // diverge sideways, the nearest level: a blended lookup reads twice the texels, and the back
-// faces' jumps between levels do not show. (The front faces read at the nearest level too make
-// coarse grids read bright: docs/PERFORMANCE.md.) The dominant axis's back face takes rays
+// faces' jumps between levels do not show (front faces read at the nearest level too made
+// coarse grids read bright against the path tracer). The dominant axis's back face takes rays
 // only in cones wider than 35.3 degrees (face_weights): `wide` ones.
 vec4 sample_faces(vec3 uvw, int level, float mip, FaceWeights f, bool wide) {
     float nearest = round(mip);
