@@ -17,8 +17,8 @@ import pytest
 
 import engine
 from engine import SceneError, VctWarning
-from engine.scene.animation import Sampler
 from engine.core.transforms import rotate_euler_deg
+from engine.scene.animation import Sampler
 from test_cli import assert_one_line_error, vct  # tests/ is on sys.path under pytest
 from test_mesh_files import Gltf
 

@@ -8,11 +8,11 @@ import numpy as np
 import pytest
 
 import engine
-from engine.voxels.clipmap import default_clipmap, level_regions, level_shift, level_snap_voxels, moved_levels
-from engine.core.constants import FACING_EXPONENT, VOXEL_PACK_BITS
-from engine.voxels.clipmap import entered_slabs
+from engine.core.constants import FACING_EXPONENT
 from engine.core.errors import SceneError
 from engine.scene.model import Clipmap, VoxelRegion
+from engine.voxels.clipmap import default_clipmap, entered_slabs, level_regions, level_shift, level_snap_voxels, moved_levels
+from engine.voxels.grid import unpack_voxels
 from conftest import REFERENCE, SCENES, reference_file, rel_mae
 from test_cli import assert_one_line_error, vct
 from test_tracking import SCREEN_PASSES
@@ -225,11 +225,8 @@ def test_a_level_that_moves_scrolls_and_holds_the_voxels_a_new_grid_there_holds(
         for lo, hi in entered_slabs(shift, 32):
             in_slabs[32 * level + lo[2]:32 * level + hi[2], lo[1]:hi[1], lo[0]:hi[0]] = True
     with small.ctx:
-        listed = np.frombuffer(small.grid.touched.buffer.read(), np.uint32)
-    touched = listed[1:1 + listed[0]]
-    mask = (1 << VOXEL_PACK_BITS) - 1
-    x, y, z = touched & mask, (touched >> VOXEL_PACK_BITS) & mask, touched >> (2 * VOXEL_PACK_BITS)
-    assert len(touched) > 0 and in_slabs[z, y, x].all()  # the slabs' voxels, no others
+        x, y, z = unpack_voxels(small.grid.touched.read_entries()).T
+    assert len(x) > 0 and in_slabs[z, y, x].all()  # the slabs' voxels, no others
     with engine.Renderer(64, 64) as fresh:
         expected = fresh.render(cornell, mode="gi")
         for name in ("albedo", "normal", "radiance"):

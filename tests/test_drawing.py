@@ -6,9 +6,9 @@ import pytest
 
 import engine
 from engine.core import transforms
-from engine.scene.model import Camera, Light, Material, Node, Scene, Texture, box_mesh, quad_mesh
-from engine.gpu.scene_buffers import texture_groups
 from engine.core.constants import MATERIAL_TEXTURE_ARRAYS
+from engine.gpu.scene_buffers import texture_groups
+from engine.scene.model import Camera, Light, Material, Node, Scene, Texture, box_mesh, quad_mesh
 
 
 def field_of_boxes(count, materials=4):

@@ -22,8 +22,8 @@ from PIL import Image
 
 from engine import SceneError, load_scene
 from engine.core.limits import MAX_IMAGE_SIDE as MAX_TEXTURE_SIZE
-from engine.formats.mesh_files import load_mesh_file
 from engine.core.transforms import compose, transform_points
+from engine.formats.mesh_files import load_mesh_file
 from test_cli import assert_one_line_error, vct  # tests/ is on sys.path under pytest
 
 ROOT = Path(__file__).resolve().parent.parent

@@ -3,16 +3,16 @@ whose inputs are known, checked against the formula it implements."""
 import numpy as np
 import pytest
 
+from engine.frame.settings import RenderSettings
 from engine.gpu.context import create_headless_context
+from engine.gpu.scene_buffers import EmitterBuffers, EnvironmentMap, SceneBuffers
+from engine.gpu.shaders import ProgramLibrary
 from engine.passes.cull import CullPass
 from engine.passes.faces import FaceViewsPass
 from engine.passes.gather import GatherPass
 from engine.passes.inject import InjectPass
 from engine.passes.shadow import ShadowPass
 from engine.scene.model import Light, VoxelRegion
-from engine.gpu.scene_buffers import EmitterBuffers, EnvironmentMap, SceneBuffers
-from engine.frame.settings import RenderSettings
-from engine.gpu.shaders import ProgramLibrary
 from engine.voxels.grid import VoxelGrid
 
 N = 16

@@ -20,8 +20,8 @@ import pytest
 
 from conftest import REFERENCE, REQUIRE_REFERENCES, reference_file  # tests/ is on sys.path under pytest
 from engine import SceneError, VctWarning, load_scene
-from engine.formats.scene_schema import SCHEMA, default, reference_text, schema_text
 from engine.core.transforms import transform_points
+from engine.formats.scene_schema import SCHEMA, default, reference_text, schema_text
 
 ROOT = Path(__file__).resolve().parent.parent
 CORNELL = ROOT / "scenes" / "cornell_box.json"

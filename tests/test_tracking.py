@@ -8,7 +8,7 @@ import engine
 from conftest import SCENES, rel_mae
 from engine.app.bench import FramePath, settle
 from engine.scene.emitters import is_emissive
-from engine.core.constants import VOXEL_PACK_BITS
+from engine.voxels.grid import unpack_voxels
 
 SCREEN_PASSES = ["gbuffer", "lighting", "cone_trace"]
 BOUNCE_PASSES = {"gather", "faces", "mipmap"}
@@ -23,12 +23,10 @@ def settle_viewer(renderer, scene):
 
 
 def list_voxels(voxel_list):
-    """The x, y and z coordinates of a VoxelList's entries (they follow its count; the covered
-    list's free records, NO_VOXEL, left out)."""
-    entries = np.frombuffer(voxel_list.buffer.read(4 * (1 + voxel_list.read_count())), dtype="u4")[1:]
-    entries = entries[entries != 0xFFFFFFFF]
-    mask = (1 << VOXEL_PACK_BITS) - 1
-    return entries & mask, (entries >> VOXEL_PACK_BITS) & mask, entries >> (2 * VOXEL_PACK_BITS)
+    """The x, y and z coordinates of a VoxelList's entries (the covered list's free records,
+    NO_VOXEL, left out)."""
+    entries = voxel_list.read_entries()
+    return unpack_voxels(entries[entries != 0xFFFFFFFF]).T
 
 
 def edits():
@@ -118,9 +116,9 @@ def test_gather_anchors_found_again_around_a_moved_object_equal_anchors_found_an
         for r in (tracked, fresh):
             with r.ctx:
                 x, y, z = list_voxels(r.grid.covered)
-                record = np.frombuffer(r.grid.records.index.read(), dtype="u4")[x + 32 * (y + 32 * z)] - 1
+                record = r.grid.records.read_index()[x + 32 * (y + 32 * z)] - 1
                 records.append((r.grid.touched.read_count(), r.grid.covered.read_count(), set(zip(x, y, z)),
-                                dict(zip(zip(x, y, z), np.frombuffer(r.gather.anchors.read(), dtype="u4")[record]))))
+                                dict(zip(zip(x, y, z), r.gather.read_anchors()[record]))))
     (touched, covered, voxels, found_again), (_, _, fresh_voxels, found_anew) = records
     assert 0 < touched < covered  # a partial voxelization
     assert voxels == fresh_voxels and found_again == found_anew

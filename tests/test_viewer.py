@@ -18,13 +18,13 @@ import pytest
 from PIL import Image
 
 import engine
-from engine.core.errors import VctError
 from engine.app.viewer import inspector
 from engine.app.viewer import layout
 from engine.app.viewer.camera import FlyCamera
 from engine.app.viewer.hot_reload import ShaderWatcher
 from engine.app.viewer.playback import Playback
 from engine.app.viewer.stats import FrameStats, reused, work_line
+from engine.core.errors import VctError
 
 ROOT = Path(__file__).resolve().parent.parent
 SCENE = ROOT / "scenes" / "cornell_box.json"

@@ -5,6 +5,7 @@ import pytest
 
 import engine
 from engine.voxels import grid as voxel_grid
+from engine.voxels.grid import unpack_voxels
 from conftest import SCENES
 
 
@@ -293,12 +294,10 @@ def check_records(renderer):
     """The record invariants of the renderer's grid (see the test above)."""
     with renderer.ctx:
         grid = renderer.grid
-        index = np.frombuffer(grid.records.index.read(), "u4")
-        pool = np.frombuffer(grid.records.pool.read(), "i4")
-        covered = np.frombuffer(grid.covered.buffer.read(4 * (1 + grid.covered.read_count())), "u4")[1:]
+        index, pool, covered = grid.records.read_index(), grid.records.read_pool(), grid.covered.read_entries()
     records = np.flatnonzero(covered != 0xFFFFFFFF)  # the covered list holds the voxel of each record
     covered = covered[records]
-    x, y, z = (covered & 1023, (covered >> 10) & 1023, covered >> 20)
+    x, y, z = unpack_voxels(covered).T
     held = index[x + grid.n * (y + grid.n * z)]
     assert np.array_equal(held - 1, records) and np.count_nonzero(index) == len(covered)
     free_count, short = pool[0], pool[1]

@@ -88,10 +88,10 @@ ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
 import engine  # noqa: E402
-from engine.core import transforms  # noqa: E402
 from engine.app.cli import OneLineErrorParser, positive_int  # noqa: E402
-from engine.scene.emitters import srgb_to_linear  # noqa: E402
+from engine.core import transforms  # noqa: E402
 from engine.core.progress import progress, set_quiet  # noqa: E402
+from engine.scene.emitters import srgb_to_linear  # noqa: E402
 
 TOOL_VERSION = 3  # 1: Lambertian only; 2: specular layer, textures, alpha masks, meta/png/halves; 3: glTF's layers
 MIN_ROUGHNESS = 0.05  # glsl/lib/brdf.glsl clamps the roughness the same way

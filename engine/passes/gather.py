@@ -76,6 +76,11 @@ class GatherPass:
         """GPU bytes of the per-voxel storage for the grid's size."""
         return self._storage.memory_bytes()
 
+    def read_anchors(self):
+        """Per record, its voxel's anchor word (lib/gather_anchors.glsl): a read back, for
+        inspection."""
+        return np.frombuffer(self.anchors.read(), "u4").copy()
+
     def sort_classes(self, grid, interleave):
         """Sort the covered voxels into `interleave` classes, each its anchors, the voxels that
         interpolate them, then those beneath a finer level, grouped by block and facing,

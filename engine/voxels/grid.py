@@ -510,6 +510,13 @@ def pack_voxels(coords):
     return coords[:, 0] | (coords[:, 1] << VOXEL_PACK_BITS) | (coords[:, 2] << (2 * VOXEL_PACK_BITS))
 
 
+def unpack_voxels(entries):
+    """Packed voxel coordinates (pack_voxels) as (k, 3) x, y, z."""
+    entries = np.asarray(entries, np.uint32)
+    mask = (1 << VOXEL_PACK_BITS) - 1
+    return np.stack([entries & mask, (entries >> VOXEL_PACK_BITS) & mask, entries >> (2 * VOXEL_PACK_BITS)], axis=-1)
+
+
 def volume_image(volume, level=0, read=False):
     """A level of an RGBA16F volume as an image unit binds it, to write (and read, if `read`)."""
     return Image(volume, level, read=read, write=True, format=GL_IMAGE_FORMAT["rgba16f"])

@@ -160,6 +160,11 @@ class VoxelList:
         """The number of entries: a read back from the GPU, for inspection."""
         return int(np.frombuffer(self.buffer.read(4), dtype="u4")[0])
 
+    def read_entries(self):
+        """The entries (packed voxels, uint32; the covered list's free records NO_VOXEL): a read
+        back from the GPU, for inspection."""
+        return np.frombuffer(self.buffer.read(4 * (1 + self.read_count())), dtype="u4")[1:].copy()
+
     def segment(self):
         """Every entry, as a VoxelSegment (they follow the count)."""
         return VoxelSegment(self.buffer, self.table, 0)

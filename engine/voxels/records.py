@@ -49,6 +49,15 @@ class VoxelRecords:
         self.index.write(index.tobytes())
         self.pool.write(pool_words(self.room, len(x)).tobytes())
 
+    def read_index(self):
+        """Per voxel of every level, its record + 1 (0: none): a read back, for inspection."""
+        return np.frombuffer(self.index.read(), "u4").copy()
+
+    def read_pool(self):
+        """The pool's words (height, records asked for in vain, the free records): a read back,
+        for inspection."""
+        return np.frombuffer(self.pool.read(), "i4").copy()
+
     def read_counts(self):
         """How many records voxels hold, and how many the last voxelizations asked the pool for
         in vain (a read back)."""
