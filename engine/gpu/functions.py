@@ -1,7 +1,8 @@
 """The few OpenGL 4.5 entry points moderngl does not wrap, called through ctypes: texture arrays
 of a given internal format (sRGB arrays: moderngl's texture_array has no internal format) and
 their parameters, bound with one call a unit; the viewports of a viewport array; buffer writes
-without a bind (glNamedBufferSubData); uniforms
+without a bind (glNamedBufferSubData); a region of a depth texture cleared in one call
+(glClearTexSubImage); uniforms
 written to a program without binding it (glProgramUniform*), and compute dispatches that bind
 the program and the indirect buffer only where they are not bound already (engine/gpu/shaders.py).
 
@@ -43,6 +44,7 @@ PROTOTYPES = {
     "glViewportArrayv": (None, _u, _i, ctypes.POINTER(ctypes.c_float)),
     "glUseProgram": (None, _u),
     "glNamedBufferSubData": (None, _u, ctypes.c_ssize_t, ctypes.c_ssize_t, _p),
+    "glClearTexSubImage": (None, _u, _i, _i, _i, _i, _i, _i, _i, _u, _u, _p),
     "glPushDebugGroup": (None, _u, _u, _i, ctypes.c_char_p),
     "glPopDebugGroup": (None,),
     "glBindBuffer": (None, _u, _u),
@@ -52,6 +54,8 @@ PROTOTYPES = {
     **{f"glProgramUniformMatrix{n}fv": (None, _u, _i, _i, ctypes.c_ubyte, _p) for n in (3, 4)},
 }
 GL_DISPATCH_INDIRECT_BUFFER = 0x90EE
+GL_DEPTH_COMPONENT = 0x1902
+GL_FLOAT = 0x1406
 GL_DEBUG_SOURCE_APPLICATION = 0x824A
 
 
@@ -79,6 +83,14 @@ def write_buffer(buffer, data, offset=0):
     not bound for it)."""
     data = bytes(data)
     gl_functions(buffer.ctx).glNamedBufferSubData(buffer.glo, offset, len(data), data)
+
+
+def clear_depth(texture, rect, depth=1.0):
+    """Set a rectangle (x, y, width, height) of a depth texture's level 0 to `depth` with one
+    call, without a framebuffer (glClearTexSubImage)."""
+    value = ctypes.c_float(depth)
+    gl_functions(texture.ctx).glClearTexSubImage(texture.glo, 0, *rect[:2], 0, *rect[2:], 1, GL_DEPTH_COMPONENT, GL_FLOAT,
+                                                 ctypes.byref(value))
 
 
 _FUNCTIONS = weakref.WeakKeyDictionary()

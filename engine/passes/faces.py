@@ -40,7 +40,7 @@ class FaceViewsPass:
         level_one = level_one or [(grid.cells.segment(1), 1)]
         for level in range(1, grid.mip_count):
             for segment, entry_level in level_one if level == 1 else [(grid.cells.segment(level), level)]:
-                self.mipmap_program.set(**uniforms, level=level, entry_level=entry_level, mipmapped_levels=grid.level_mask(levels))
+                self.mipmap_program.set(**uniforms, voxel_entries=entry_level == 0, mipmapped_levels=grid.level_mask(levels))
                 grid.dispatch(self.mipmap_program, segment, SSBO_CELLS=segment.buffer, **grid.cones(),
                               IMG_FACES_OUT=grid.faces_out(level))
         return grid.faces

@@ -10,7 +10,7 @@ import numpy as np
 from ..core import transforms
 from ..core.constants import DRAW_TEST_FRUSTUM, LIGHT_TYPE, MAX_LIGHTS, MAX_SHADOW_VIEWS, struct_dtype
 from ..core.errors import VctError
-from ..gpu.functions import gl_functions, write_buffer
+from ..gpu.functions import clear_depth, gl_functions, write_buffer
 from ..gpu.scene_buffers import DRAW_FLAGS
 from .cull import DrawList, view_records
 
@@ -177,12 +177,12 @@ class ShadowPass:
         the batch (one batch, the whole atlas, without viewport indices)."""
         maps, tile = self.maps, self.maps.tile_size
         atlas_w, atlas_h = maps.atlas.size
-        maps.framebuffer.use()
         if whole_atlas:
+            maps.framebuffer.use()
             maps.framebuffer.clear(depth=1.0)
         else:
             for _, (x, y) in tiles:
-                maps.framebuffer.clear(depth=1.0, viewport=(x, y, tile, tile))
+                clear_depth(maps.atlas, (x, y, tile, tile))
         self.draw_list.build(buffers)
         for start in range(0, len(tiles), self.batch):
             batch = tiles[start:start + self.batch]

@@ -133,7 +133,7 @@ class VoxelizePass:
             volumes.append((grid.cone_emission, 1, 2))  # its level 1: the coarser ones are its hardware mips
         for volume, views, mips in volumes:
             for mip in range(1, mips):
-                self.clear_cells.set(**grid.uniforms(), level=mip, entry_level=mip, views=views, cleared_levels=mask)
+                self.clear_cells.set(**grid.uniforms(), voxel_entries=False, views=views, cleared_levels=mask)
                 grid.dispatch(self.clear_cells, cells.segment(mip), SSBO_CELLS=cells.segment(mip).buffer,
                               IMG_FACES_OUT=volume_image(volume, mip - 1))
         self.scroll_level.set(**grid.uniforms(), scrolled_level=level, level_shift=tuple(int(s) for s in shift))
@@ -264,7 +264,7 @@ class VoxelizePass:
         covered cell (a volume made zero), or over the cells of the voxels the last
         voxelization touched."""
         segment = grid.touched.segment() if touched else grid.cells.segment(1)
-        self.fill_emission.set(**grid.uniforms(), entry_level=0 if touched else 1)
+        self.fill_emission.set(**grid.uniforms(), voxel_entries=touched)
         grid.dispatch(self.fill_emission, segment, SSBO_CELLS=segment.buffer, **grid.surface(),
                       IMG_CONE_EMISSION_OUT=volume_image(grid.cone_emission))
 
@@ -291,8 +291,7 @@ class VoxelizePass:
         uniforms, cells = grid.uniforms(), grid.cells
         for level in range(1, grid.mip_count) if not zeroed else ():
             segment = cells.segment(level) if full else grid.touched.segment()
-            self.clear_cells.set(**uniforms, level=level, entry_level=level if full else 0, views=VOXEL_FACES,
-                                 cleared_levels=grid.level_mask())
+            self.clear_cells.set(**uniforms, voxel_entries=not full, views=VOXEL_FACES, cleared_levels=grid.level_mask())
             grid.dispatch(self.clear_cells, segment, SSBO_CELLS=segment.buffer, IMG_FACES_OUT=grid.faces_out(level))
         generation = cells.restart()
         self.list_cells.set(**uniforms, top_level=grid.mip_count - 1, level_first=cells.first_words(), generation=generation)

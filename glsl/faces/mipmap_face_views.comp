@@ -1,7 +1,7 @@
 #version 450 core
 // One mip level of the face views, over the cells that hold the entries of a list segment: the
 // level's covered cells (all of them, or at level 1 those of one interleave class:
-// gather/sort_class_cells.comp), or the voxels a voxelization touched (`entry_level` 0): each
+// gather/sort_class_cells.comp), or the voxels a voxelization touched (`voxel_entries`): each
 // cell is the mean of its 8 children one level finer (a box filter, as glGenerateMipmap), so a
 // level-m cell holds the mean premultiplied radiance and coverage of the 2^m voxels along each
 // side. At level 1 the children are voxels, seen as cones see level 0 (lib/cone.glsl
@@ -12,11 +12,11 @@
 
 layout(local_size_x = LIST_GROUP) in;
 layout(binding = IMG_FACES_OUT, rgba16f) uniform writeonly image3D faces_out;
-uniform int level;
 uniform uint mipmapped_levels;  // bit k: grid level k's cells are made again, the others keep theirs
 
 void main() {
     if (gl_GlobalInvocationID.x >= segment_count()) return;
+    int level = image_level(imageSize(faces_out));  // the level written (1 up)
     ivec3 cell = segment_cell(gl_GlobalInvocationID.x, level);
     int side = voxel_grid >> level;
     if ((mipmapped_levels & (1u << (cell.z / side))) == 0u) return;

@@ -5,9 +5,15 @@
 #include "lib/list_segment.glsl"
 
 layout(std430, binding = SSBO_CELLS) readonly buffer Cells { uint cells[]; };
-uniform int entry_level;  // the level of the list's entries: that of the cells, or 0 for voxels
+uniform bool voxel_entries;  // the list's entries are voxels, else cells of the level the pass runs at
 
 // The cell at `level` that holds entry k of the segment (k < segment_count()).
 ivec3 segment_cell(uint k, int level) {
-    return unpack_voxel(cells[segment_first() + k]) >> (level - entry_level);
+    return unpack_voxel(cells[segment_first() + k]) >> (voxel_entries ? level : 0);
+}
+
+// The mip level of the grid that `image`, a mip level of a volume of the stacked levels, holds:
+// its side is voxel_grid >> level.
+int image_level(ivec3 image_size) {
+    return findMSB(voxel_grid) - findMSB(image_size.x);
 }

@@ -1,8 +1,8 @@
 #version 450 core
 // The emission volume the specular cones read (grid.cone_emission: mip level 1 and coarser of
 // the voxels' emission; the cones read no finer), its level 1 over the cells that hold the
-// entries of a list segment: every covered cell (`entry_level` 1, a volume made for a grid
-// that already holds voxels) or the voxels a voxelization touched (0). Each cell is the mean
+// entries of a list segment: every covered cell (a volume made for a grid that already holds
+// voxels) or the voxels a voxelization touched (`voxel_entries`). Each cell is the mean
 // of its 8 voxels' emission (rgb) and coverage (a; 1 where covered), as a mip level of a volume
 // of the voxels would hold; glGenerateMipmap builds the coarser levels.
 #include "lib/voxel_surface.glsl"
