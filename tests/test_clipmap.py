@@ -389,9 +389,9 @@ def test_a_flying_camera_in_a_clipmap_lights_the_slabs_it_takes_in_and_restarts_
         for _ in range(400):
             scene.camera.position, scene.camera.look_at = eye, eye + [0.0, 0.0, -1.9]
             small.render(scene)
-            if small.schedule.idle:
+            if small.idle:
                 break
-        assert small.schedule.idle
+        assert small.idle
         scrolls, between = 0, []
         for step in range(1, 13):  # 2 cm a frame: level 0 (4 voxels of 5 cm a lattice step) scrolls every 10
             position = eye + [0.02 * step, 0.0, 0.0]
@@ -399,7 +399,7 @@ def test_a_flying_camera_in_a_clipmap_lights_the_slabs_it_takes_in_and_restarts_
             small.render(scene)
             if "voxelize" in small.passes_ran:
                 scrolls += 1
-                assert small.schedule.settled
+                assert small.settled
             else:
                 between.append(list(small.passes_ran))
         assert scrolls >= 1 and between and all(ran == SCREEN_PASSES for ran in between)

@@ -118,15 +118,15 @@ def test_progressive_frames_after_an_object_moved_converge_without_class_pattern
         settings = renderer.settings.replace(grid=64)
         for _ in range(200):
             renderer.render_frame(scene, settings)
-            if renderer.schedule.settled:
+            if renderer.settled:
                 break
         box = scene.root.find("Short Box")
         box.translation = box.translation + [0.1, 0.0, 0.0]
         frames = []
-        while not renderer.schedule.settled and len(frames) < 40:
+        while not renderer.settled and len(frames) < 40:
             renderer.render_frame(scene, settings)
             frames.append(renderer.tonemapped().astype(np.float64).mean(axis=-1))
-    assert renderer.schedule.settled, f"not settled after {len(frames)} frames"
+    assert renderer.settled, f"not settled after {len(frames)} frames"
     for frame in frames:
         deviation = frame - frames[-1]
         pattern = deviation - uniform_filter(deviation, 5)

@@ -18,7 +18,7 @@ def settle_viewer(renderer, scene):
     """Progressive frames (the viewer) at grid 32 until the bounces settle; the last image."""
     renderer.progressive = True
     settle(scene, renderer, renderer.settings.replace(grid=32))
-    assert renderer.schedule.settled
+    assert renderer.settled
     return renderer.radiance()
 
 
@@ -243,7 +243,7 @@ def test_a_new_interleave_while_a_light_move_is_injected_relights_every_voxel():
         r.render(scene, grid=32)
         settings = r.settings.replace(grid=32, bounce_interleave=3)
         settle(scene, r, settings)
-        assert r.schedule.settled
+        assert r.settled
         image = r.radiance()
     with engine.Renderer(64, 64) as fresh:
         fresh.progressive = True

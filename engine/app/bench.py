@@ -131,7 +131,7 @@ def settle(scene, renderer, settings):
     done: RadianceSchedule.idle)."""
     for _ in range(SETTLE_FRAMES):
         renderer.render_frame(scene, settings)
-        if renderer.schedule.idle:
+        if renderer.idle:
             return
 
 

@@ -212,6 +212,18 @@ class Renderer:
     def bounce_iterations(self):
         return self.schedule.iterations
 
+    @property
+    def settled(self):
+        """Whether the bounces have settled: progressive frames (the viewer) add none."""
+        return self.schedule.settled
+
+    @property
+    def idle(self):
+        """Whether no radiance work is due: the bounces settled, and no round of the emitters'
+        or the sky's light at the voxels runs or waits for the camera to rest. A frame then
+        runs what its changes need alone (the screen passes where only the camera moves)."""
+        return self.schedule.idle
+
     # -- frame ---------------------------------------------------------------------------
 
     @contextmanager
