@@ -14,6 +14,7 @@ from engine.passes.inject import InjectPass
 from engine.passes.shadow import ShadowPass
 from engine.scene.model import Light, VoxelRegion
 from engine.voxels.grid import VoxelGrid
+from engine.voxels.inspection import VoxelInspection
 
 N = 16
 REGION = VoxelRegion(np.zeros(3), 1.6)  # 10 cm voxels over [-0.8, 0.8]^3
@@ -26,7 +27,7 @@ def gl():
         programs = ProgramLibrary(ctx)
         passes = dict(grid=VoxelGrid(ctx, programs), buffers=SceneBuffers(ctx), cull=CullPass(ctx, programs), emitters=EmitterBuffers(ctx),
                       environment=EnvironmentMap(ctx), inject=InjectPass(ctx, programs), faces=FaceViewsPass(ctx, programs),
-                      gather=GatherPass(ctx, programs))
+                      gather=GatherPass(ctx, programs), inspection=VoxelInspection(ctx, programs))
         passes["shadow"] = ShadowPass(ctx, programs, passes["cull"], 64)
         passes["grid"].ensure(N, (REGION,))
         yield passes
@@ -61,7 +62,7 @@ def test_a_voxel_lit_by_a_point_light_reflects_albedo_over_pi_times_its_irradian
     grid.load(albedo, normal)
     light_position = centre(7, 5, 8) + 0.6 * np.array([np.sin(np.pi / 3), np.cos(np.pi / 3), 0.0])
     maps = lights(gl, Light("point", np.full(3, 3.0), position=light_position, cast_shadows=False))
-    base = grid.read_level(gl["inject"].run(grid, maps, gl["emitters"], gl["environment"], every_voxel(gl)))
+    base = gl["inspection"].read_level(grid, gl["inject"].run(grid, maps, gl["emitters"], gl["environment"], every_voxel(gl)))
     expected = 0.5 / np.pi * 3.0 * np.cos(np.pi / 3) / 0.6 ** 2
     assert base[8, 5, 7, :3] == pytest.approx(np.full(3, expected), rel=2e-3)
     base[8, 5, 7] = 0.0
@@ -83,7 +84,7 @@ def test_a_mip_cell_is_the_mean_of_its_eight_children(gl):
     gl["faces"].mipmap(grid)
     radiance = 0.8 / np.pi * 2.0
     for level, fraction in ((1, 3 / 8), (2, 3 / 64)):
-        views = grid.read_faces(level).reshape(6, N >> level, N >> level, N >> level, 4)
+        views = gl["inspection"].read_faces(grid, level).reshape(6, N >> level, N >> level, N >> level, 4)
         cell = 4 >> level
         assert views[0, cell, cell, cell] == pytest.approx([fraction * radiance] * 3 + [fraction], rel=2e-3)
         views[0, cell, cell, cell] = 0.0
@@ -104,7 +105,7 @@ def test_a_voxel_facing_a_wide_lit_wall_gathers_the_walls_radiance(gl):
     gl["faces"].compose(grid, None, every_voxel(gl))
     gl["faces"].mipmap(grid)
     classes = gl["gather"].sort_classes(grid, 1)
-    gathered = grid.read_level(gl["gather"].run(grid, RenderSettings().cone_uniforms(), grid.gathered[0],
+    gathered = gl["inspection"].read_level(grid, gl["gather"].run(grid, RenderSettings().cone_uniforms(), grid.gathered[0],
                                                 classes.anchor_segment(0), classes.filled_segment(0), classes.finer_segments(0)))
     assert gathered[5, 8, 8, :3] == pytest.approx(np.full(3, 3.0 / np.pi), rel=0.01)
 
@@ -126,11 +127,11 @@ def test_mips_rebuilt_over_one_interleave_class_equal_mips_rebuilt_everywhere(gl
         gl["faces"].compose(grid, None, segment)
         if intensity == 2.0:
             gl["faces"].mipmap(grid)
-            before = grid.read_faces(1)
+            before = gl["inspection"].read_faces(grid, 1)
     gl["faces"].mipmap(grid, [(segment, 1) for segment in classes.cell_segments(1)])
-    partial = [grid.read_faces(level) for level in range(1, grid.mip_count)]
+    partial = [gl["inspection"].read_faces(grid, level) for level in range(1, grid.mip_count)]
     gl["faces"].mipmap(grid)
-    full = [grid.read_faces(level) for level in range(1, grid.mip_count)]
+    full = [gl["inspection"].read_faces(grid, level) for level in range(1, grid.mip_count)]
     assert not np.array_equal(partial[0], before)
     for level, (a, b) in enumerate(zip(partial, full), start=1):
         assert np.array_equal(a, b), f"level {level} differs"
@@ -158,6 +159,6 @@ def test_voxels_between_anchors_take_a_gather_that_varies_linearly_along_the_wal
     anchors[side_anchors] = (10.0, 10.0, 10.0, 1.0)
     values = grid.gathered[0]
     grid.write_values(values, anchors)
-    filled = grid.read_level(gl["gather"].fill(grid, values, classes.filled_segment(0), classes.finer_segments(0)))
+    filled = gl["inspection"].read_level(grid, gl["gather"].fill(grid, values, classes.filled_segment(0), classes.finer_segments(0)))
     inner = (z == 5) & (x >= 3) & (y >= 3) & (x < 13) & (y < 13)
     assert np.allclose(filled[inner][:, :3], linear[inner], rtol=2e-3)

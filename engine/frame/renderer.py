@@ -43,6 +43,7 @@ from ..scene.model import Scene
 from ..scene.table import SceneTable
 from ..voxels.clipmap import frame_levels, level_shift, moved_levels, scrolled_regions, with_coarser_levels
 from ..voxels.grid import VoxelGrid
+from ..voxels.inspection import VoxelInspection
 from . import schedule
 from .camera import CameraBlock, frame_camera
 from .segments import cell_segments, gather_segments, sky_segments, voxel_segment
@@ -107,12 +108,13 @@ class Renderer:
         self.camera_block = CameraBlock(self.ctx)
         self.table = SceneTable()
         self.scene_buffers = SceneBuffers(self.ctx)
-        self.grid = None
+        self.grid = self.inspection = None
         self.emitters = EmitterBuffers(self.ctx)
         self.environment = EnvironmentMap(self.ctx)
         self._passes = []
         try:
             self.grid = VoxelGrid(self.ctx, self.programs)
+            self.inspection = VoxelInspection(self.ctx, self.programs)  # the voxels read back
             with self._creating_targets(self.size):
                 self._create_passes()
         except Exception:
@@ -190,7 +192,7 @@ class Renderer:
         if not isinstance(level, numbers.Integral) or isinstance(level, bool) or not 0 <= level <= top:
             raise VctError(f"must be a whole number in 0..{top} for grid {self.grid.n}, got {level!r}", field="level")
         values = self._gathered() if name == "gathered" else shown_values(self.grid, VOXEL_VOLUMES[name])
-        return self.grid.read_level(values, level)
+        return self.inspection.read_level(self.grid, values, level)
 
     @_current
     def reload_shaders(self):
@@ -206,7 +208,8 @@ class Renderer:
 
     def voxel_memory_bytes(self):
         """GPU bytes of the voxel grid and of the passes' storage sized by it."""
-        return self.grid.memory_bytes() + self.voxelize.memory_bytes() + self.gather.memory_bytes()
+        return (self.grid.memory_bytes() + self.voxelize.memory_bytes() + self.gather.memory_bytes()
+                + self.inspection.memory_bytes(self.grid))
 
     @property
     def bounce_iterations(self):
@@ -298,7 +301,8 @@ class Renderer:
             self._bounces(s, work)
         if s.shown.stage == "voxel_view":
             with self.timed("voxel_view"):
-                return self.voxel_view.render(self.grid, s.mode, s.voxel_mip, self._shown_level(s), camera)
+                volume = self.inspection.dense(self.grid, shown_values(self.grid, s.mode))
+                return self.voxel_view.render(self.grid, volume, s.mode, s.voxel_mip, self._shown_level(s), camera)
         with self.timed("cone_trace"):
             return self.cone_trace.render(gbuffer, direct, self.grid, gathered=self._gathered(), emitters=emitters,
                                           environment=environment, cone_uniforms=s.cone_uniforms(), camera=camera,
@@ -623,8 +627,9 @@ class Renderer:
             for render_pass in reversed(self._passes):
                 render_pass.release()
             self._passes = []
-            if self.grid is not None:
-                self.grid.release()
+            for voxels in (self.inspection, self.grid):
+                if voxels is not None:
+                    voxels.release()
             self.emitters.release()
             self.environment.release()
             self.scene_buffers.release()

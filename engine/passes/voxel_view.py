@@ -17,8 +17,9 @@ class VoxelViewPass(FullScreenPass):
     FRAGMENT_SHADER = "voxel_view/march_voxels.frag"
     READS = ("TEX_VOXEL_INSPECT", "UBO_CAMERA")
 
-    def render(self, grid, view, mip, level, camera):
-        volume = grid.dense(shown_values(grid, view))  # an inspection volume, with its hardware mip chain
+    def render(self, grid, volume, view, mip, level, camera):
+        """Ray-march `volume`, the values `view` shows as a dense volume of `grid` with its
+        hardware mip chain (engine/voxels/inspection.py), at mip `mip` of grid level `level`."""
         self.program.set(**grid.uniforms(), show=SHOW[view], mip=float(mip), shown_level=level,
                          viewport_size=tuple(float(x) for x in self.target.size))
         return self.draw(TEX_VOXEL_INSPECT=volume, **camera.resources())

@@ -25,8 +25,8 @@ several voxels: level 0 is the voxels' own records, their reflected light and me
 the six one-sided face views, stacked along z in one volume `faces` ((n/2) x (n/2) x 6L(n/2) at
 mip level 1, view f at z in [f L n/2, (f + 1) L n/2)), and, where surfaces emit, `cone_emission`
 (emission, a: coverage): the emission the specular cones see ((n/2) x (n/2) x L(n/2) and
-coarser: the cones that read it are at least 4 voxels wide). The voxel views and `read_level`
-see an array as a volume made from it (`dense`).
+coarser: the cones that read it are at least 4 voxels wide). engine/voxels/inspection.py reads
+them back, and an array as a volume made from it.
 
 Lists (lists.py): `covered` (the voxel of each record handed out, or NO_VOXEL at a free
 one: lib/covered_voxels.glsl), `touched` (by the last voxelization), `newly_covered` (the
@@ -37,13 +37,11 @@ grew. A voxelization that needs more room makes the grid anew with more (`list_c
 `grow_lists`). Scratch storage of one pass (the voxelizer's sums, the gather's anchors and
 class lists) belongs to that pass.
 """
-import math
-
 import moderngl
 import numpy as np
 
-from ..core.constants import (GL_IMAGE_FORMAT, GRID_SIZES, LIST_GROUP, MAX_VOXEL_LEVELS,
-                              VOLUME_GROUP, VOXEL_FACES, VOXEL_FORMAT, VOXEL_MEMORY_BUDGET, VOXEL_PACK_BITS, VOXEL_SUM_CHANNELS)
+from ..core.constants import (GL_IMAGE_FORMAT, GRID_SIZES, LIST_GROUP, MAX_VOXEL_LEVELS, VOXEL_FACES, VOXEL_FORMAT,
+                              VOXEL_MEMORY_BUDGET, VOXEL_PACK_BITS, VOXEL_SUM_CHANNELS)
 from ..core.errors import VctError
 from ..gpu.bindings import Image
 from .lists import SEGMENT, CellLists, Epoch, VoxelList
@@ -130,10 +128,6 @@ class VoxelGrid:
         self.list_room = 0
         self._resources = []
         self.epoch = Epoch()  # of the covered list: a new one whenever it changes (covered_changed)
-        self.read_program = programs.compute("voxel_grid/read_level.comp", reads=("TEX_VOXEL_INSPECT",),
-                                             writes=("SSBO_READBACK",))
-        self.scatter_program = programs.compute("voxel_grid/scatter_values.comp", reads=("SSBO_COVERED", "SSBO_VOXEL_RECORD",
-                                                "SSBO_INSPECT_VALUES"), writes=("IMG_INSPECT_OUT",))
         self.size_program = programs.compute("voxel_grid/size_segment.comp", reads=("SSBO_COUNTED",), writes=("SSBO_SEGMENTS",))
         self.size_cells_program = programs.compute("voxel_grid/size_cell_segments.comp", reads=("SSBO_COUNTED",),
                                                    writes=("SSBO_SEGMENTS",))
@@ -177,7 +171,6 @@ class VoxelGrid:
         ctx = self.ctx
         self.n, self.list_room = n, room
         self._mipmapped = set()  # the volumes whose mip chain is allocated
-        self._inspection = None  # the volume `dense` makes
         self.records = self._keep(VoxelRecords(ctx, n, self.levels, room))
         self.albedo, self.normal, self.emission, self.base, self.reflected = (self._values() for _ in range(5))
         self.gathered = [self._values() for _ in range(2)]
@@ -277,19 +270,6 @@ class VoxelGrid:
         volume.filter = (self.ctx.LINEAR_MIPMAP_LINEAR, self.ctx.LINEAR)
         self._mipmapped.add(volume)
         return volume
-
-    def dense(self, values, mips=True):
-        """An array of values as a volume of the stacked levels, n x n x L n (zero where no surface covers a voxel), with its
-        hardware mip chain built where `mips`, for the voxel views and Renderer.voxels: one
-        volume, made again at each call."""
-        if self._inspection is None:
-            self._inspection = self._volume(mipmapped=True)
-        volume = self._inspection
-        volume.write(bytes(TEXEL_BYTES * self.voxel_count))
-        self.scatter_program.set(**self.uniforms())
-        self.dispatch(self.scatter_program, self.covered.segment(), SSBO_COVERED=self.covered.buffer,
-                      SSBO_VOXEL_RECORD=self.records.index, SSBO_INSPECT_VALUES=values, IMG_INSPECT_OUT=volume_image(volume))
-        return self.viewable(volume) if mips else volume
 
     def _keep(self, resource):
         self._resources.append(resource)
@@ -399,10 +379,6 @@ class VoxelGrid:
         """Mip level `level` (1 up) of the face views, to write (as IMG_FACES_OUT)."""
         return volume_image(self.faces, level - 1)
 
-    def read_faces(self, level):
-        """Mip level `level` (1 up) of the face views, as read_level reads a volume."""
-        return self.read_level(self.faces, level - 1)
-
     def dispatch(self, handle, segment, **resources):
         """Run a compute program once per entry of a list segment (a VoxelSegment: its table
         bound as SSBO_SEGMENTS where the program reads it and its row as the program's
@@ -433,28 +409,6 @@ class VoxelGrid:
                                 | self.ctx.SHADER_STORAGE_BARRIER_BIT | self.ctx.TEXTURE_UPDATE_BARRIER_BIT
                                 | self.ctx.COMMAND_BARRIER_BIT)
 
-    # -- inspection --------------------------------------------------------------------------
-
-    def read_level(self, volume, level=0):
-        """One mip level of a volume (or of an array of values, made `dense`) as float32
-        (depth, n, n, 4), indexed [z, y, x] (the levels one after the other along z, and the
-        face views' depth holds their six stacks of levels one after the other)."""
-        if isinstance(volume, moderngl.Buffer):
-            volume = self.dense(volume, mips=level > 0)
-        width, height, depth = (max(1, side >> level) for side in volume.size)
-        shape = (depth, height, width, 4)
-        if level == 0:
-            return np.frombuffer(volume.read(), dtype="f2").reshape(shape).astype("f4")
-        buffer = self.ctx.buffer(reserve=width * height * depth * 16)
-        try:
-            self.read_program.set(level=level)
-            self.read_program.run(*(math.ceil(side / VOLUME_GROUP) for side in (width, height, depth)),
-                                  TEX_VOXEL_INSPECT=volume, SSBO_READBACK=buffer)
-            self.ctx.memory_barrier(self.ctx.SHADER_STORAGE_BARRIER_BIT)
-            return np.frombuffer(buffer.read(), dtype="f4").reshape(shape).copy()
-        finally:
-            buffer.release()
-
     def _release_resources(self):
         for resource in reversed(self._resources):
             resource.release()
@@ -464,8 +418,6 @@ class VoxelGrid:
         self._release_resources()
         self.n = 0
         self.regions = ()
-        self.read_program.release()
-        self.scatter_program.release()
         self.size_program.release()
         self.size_cells_program.release()
 

@@ -1,0 +1,86 @@
+"""The voxels read back, for the voxel views, Renderer.voxels and tests: an array of values per
+record as a dense volume of the stacked levels (with its hardware mip chain), and a mip level
+of any volume as numpy. A read back waits for the GPU: inspection only, never in a frame the
+viewer renders for its image."""
+import math
+
+import moderngl
+import numpy as np
+
+from ..core.constants import GL_IMAGE_FORMAT, VOLUME_GROUP, VOXEL_FORMAT
+from ..gpu.bindings import Image
+from .grid import MIP_CHAIN, TEXEL_BYTES
+
+
+class VoxelInspection:
+    def __init__(self, ctx, programs):
+        self.ctx = ctx
+        self.read_program = programs.compute("voxel_grid/read_level.comp", reads=("TEX_VOXEL_INSPECT",),
+                                             writes=("SSBO_READBACK",))
+        self.scatter_program = programs.compute("voxel_grid/scatter_values.comp", reads=("SSBO_COVERED", "SSBO_VOXEL_RECORD",
+                                                "SSBO_INSPECT_VALUES"), writes=("IMG_INSPECT_OUT",))
+        self.volume = None  # the dense volume, of one grid size: (n, levels) in `self.size_of`
+        self.size_of = None
+
+    def dense(self, grid, values, mips=True):
+        """An array of values of `grid` as a volume of its stacked levels, n x n x L n (zero
+        where no surface covers a voxel), with its hardware mip chain built where `mips`: one
+        volume, made again at each call."""
+        n, depth = grid.n, grid.levels * grid.n
+        if self.size_of != (n, grid.levels):
+            self._release_volume()
+            self.volume = self.ctx.texture3d((n, n, depth), 4, dtype=VOXEL_FORMAT)
+            self.volume.repeat_x = self.volume.repeat_y = self.volume.repeat_z = False
+            self.size_of = (n, grid.levels)
+        volume = self.volume
+        volume.write(bytes(TEXEL_BYTES * grid.voxel_count))
+        self.scatter_program.set(**grid.uniforms())
+        grid.dispatch(self.scatter_program, grid.covered.segment(), SSBO_COVERED=grid.covered.buffer,
+                      SSBO_VOXEL_RECORD=grid.records.index, SSBO_INSPECT_VALUES=values,
+                      IMG_INSPECT_OUT=Image(volume, format=GL_IMAGE_FORMAT["rgba16f"]))
+        if mips:
+            volume.build_mipmaps()
+            volume.filter = (self.ctx.LINEAR_MIPMAP_LINEAR, self.ctx.LINEAR)
+        else:
+            volume.filter = (self.ctx.LINEAR, self.ctx.LINEAR)
+        return volume
+
+    def read_level(self, grid, volume, level=0):
+        """One mip level of a volume of `grid` (or of an array of its values, made `dense`) as
+        float32 (depth, n, n, 4), indexed [z, y, x] (the levels one after the other along z,
+        and the face views' depth holds their six stacks of levels one after the other)."""
+        if isinstance(volume, moderngl.Buffer):
+            volume = self.dense(grid, volume, mips=level > 0)
+        width, height, depth = (max(1, side >> level) for side in volume.size)
+        shape = (depth, height, width, 4)
+        if level == 0:
+            return np.frombuffer(volume.read(), dtype="f2").reshape(shape).astype("f4")
+        buffer = self.ctx.buffer(reserve=width * height * depth * 16)
+        try:
+            self.read_program.set(level=level)
+            self.read_program.run(*(math.ceil(side / VOLUME_GROUP) for side in (width, height, depth)),
+                                  TEX_VOXEL_INSPECT=volume, SSBO_READBACK=buffer)
+            self.ctx.memory_barrier(self.ctx.SHADER_STORAGE_BARRIER_BIT)
+            return np.frombuffer(buffer.read(), dtype="f4").reshape(shape).copy()
+        finally:
+            buffer.release()
+
+    def read_faces(self, grid, level):
+        """Mip level `level` (1 up) of `grid`'s face views, as read_level reads a volume."""
+        return self.read_level(grid, grid.faces, level - 1)
+
+    def memory_bytes(self, grid):
+        """GPU bytes of the dense volume, where it is of `grid`'s size (with its mip chain)."""
+        if self.volume is None or self.size_of != (grid.n, grid.levels):
+            return 0
+        return int(np.prod(self.volume.size) * TEXEL_BYTES * MIP_CHAIN)
+
+    def _release_volume(self):
+        if self.volume is not None:
+            self.volume.release()
+        self.volume = self.size_of = None
+
+    def release(self):
+        self._release_volume()
+        self.read_program.release()
+        self.scatter_program.release()
