@@ -5,7 +5,7 @@ import pytest
 
 from engine.frame.settings import RenderSettings
 from engine.gpu.context import create_headless_context
-from engine.gpu.scene_buffers import EmitterBuffers, EnvironmentMap, SceneBuffers
+from engine.gpu.scene_buffers import SceneBuffers
 from engine.gpu.shaders import ProgramLibrary
 from engine.passes.cull import CullPass
 from engine.passes.faces import FaceViewsPass
@@ -25,8 +25,8 @@ def gl():
     ctx = create_headless_context()
     with ctx:
         programs = ProgramLibrary(ctx)
-        passes = dict(grid=VoxelGrid(ctx, programs), buffers=SceneBuffers(ctx), cull=CullPass(ctx, programs), emitters=EmitterBuffers(ctx),
-                      environment=EnvironmentMap(ctx), inject=InjectPass(ctx, programs), faces=FaceViewsPass(ctx, programs),
+        passes = dict(grid=VoxelGrid(ctx, programs), buffers=SceneBuffers(ctx), cull=CullPass(ctx, programs),
+                      inject=InjectPass(ctx, programs), faces=FaceViewsPass(ctx, programs),
                       gather=GatherPass(ctx, programs), inspection=VoxelInspection(ctx, programs))
         passes["shadow"] = ShadowPass(ctx, programs, passes["cull"], 64)
         passes["grid"].ensure(N, (REGION,))
@@ -62,7 +62,7 @@ def test_a_voxel_lit_by_a_point_light_reflects_albedo_over_pi_times_its_irradian
     grid.load(albedo, normal)
     light_position = centre(7, 5, 8) + 0.6 * np.array([np.sin(np.pi / 3), np.cos(np.pi / 3), 0.0])
     maps = lights(gl, Light("point", np.full(3, 3.0), position=light_position, cast_shadows=False))
-    base = gl["inspection"].read_level(grid, gl["inject"].run(grid, maps, gl["emitters"], gl["environment"], every_voxel(gl)))
+    base = gl["inspection"].read_level(grid, gl["inject"].run(grid, maps, every_voxel(gl)))
     expected = 0.5 / np.pi * 3.0 * np.cos(np.pi / 3) / 0.6 ** 2
     assert base[8, 5, 7, :3] == pytest.approx(np.full(3, expected), rel=2e-3)
     base[8, 5, 7] = 0.0
@@ -79,8 +79,8 @@ def test_a_mip_cell_is_the_mean_of_its_eight_children(gl):
         albedo[z, y, x], normal[z, y, x] = 0.8, (1.0, 0.0, 0.0)
     grid.load(albedo, normal)
     maps = lights(gl, Light("directional", np.full(3, 2.0), direction=np.array([-1.0, 0.0, 0.0]), cast_shadows=False))
-    gl["inject"].run(grid, maps, gl["emitters"], gl["environment"], every_voxel(gl))
-    gl["faces"].compose(grid, None, every_voxel(gl))
+    gl["inject"].run(grid, maps, every_voxel(gl))
+    gl["faces"].compose(grid, gl["inject"].base, None, every_voxel(gl))
     gl["faces"].mipmap(grid)
     radiance = 0.8 / np.pi * 2.0
     for level, fraction in ((1, 3 / 8), (2, 3 / 64)):
@@ -101,12 +101,14 @@ def test_a_voxel_facing_a_wide_lit_wall_gathers_the_walls_radiance(gl):
     albedo[5, 8, 8], normal[5, 8, 8] = 0.5, (0.0, 0.0, -1.0)    # the voxel facing it
     grid.load(albedo, normal)
     maps = lights(gl, Light("directional", np.full(3, 3.0), direction=np.array([0.0, 0.0, -1.0]), cast_shadows=False))
-    gl["inject"].run(grid, maps, gl["emitters"], gl["environment"], every_voxel(gl))
-    gl["faces"].compose(grid, None, every_voxel(gl))
+    gl["inject"].run(grid, maps, every_voxel(gl))
+    gl["faces"].compose(grid, gl["inject"].base, None, every_voxel(gl))
     gl["faces"].mipmap(grid)
     classes = gl["gather"].sort_classes(grid, 1)
-    gathered = gl["inspection"].read_level(grid, gl["gather"].run(grid, RenderSettings().cone_uniforms(), grid.gathered[0],
-                                                classes.anchor_segment(0), classes.filled_segment(0), classes.finer_segments(0)))
+    gl["gather"].hold(grid.records)
+    gathered = gl["inspection"].read_level(grid, gl["gather"].run(grid, gl["faces"].cones(grid), RenderSettings().cone_uniforms(),
+                                                gl["gather"].gathered[0], classes.anchor_segment(0), classes.filled_segment(0),
+                                                classes.finer_segments(0)))
     assert gathered[5, 8, 8, :3] == pytest.approx(np.full(3, 3.0 / np.pi), rel=0.01)
 
 
@@ -123,8 +125,8 @@ def test_mips_rebuilt_over_one_interleave_class_equal_mips_rebuilt_everywhere(gl
     classes = gl["gather"].sort_classes(grid, 4)
     for intensity, segment in ((2.0, classes.segment()), (5.0, classes.segment(1))):
         maps = lights(gl, Light("directional", np.full(3, intensity), direction=np.array([-0.5, 0.0, -1.0]), cast_shadows=False))
-        gl["inject"].run(grid, maps, gl["emitters"], gl["environment"], segment)
-        gl["faces"].compose(grid, None, segment)
+        gl["inject"].run(grid, maps, segment)
+        gl["faces"].compose(grid, gl["inject"].base, None, segment)
         if intensity == 2.0:
             gl["faces"].mipmap(grid)
             before = gl["inspection"].read_faces(grid, 1)
@@ -157,7 +159,8 @@ def test_voxels_between_anchors_take_a_gather_that_varies_linearly_along_the_wal
     anchors = np.zeros((N, N, N, 4), np.float32)  # the anchors' gathers (a = 1 where traced)
     anchors[wall_anchors] = np.concatenate([linear[wall_anchors], np.ones((wall_anchors.sum(), 1))], axis=-1)
     anchors[side_anchors] = (10.0, 10.0, 10.0, 1.0)
-    values = grid.gathered[0]
+    gl["gather"].hold(grid.records)
+    values = gl["gather"].gathered[0]
     grid.write_values(values, anchors)
     filled = gl["inspection"].read_level(grid, gl["gather"].fill(grid, values, classes.filled_segment(0), classes.finer_segments(0)))
     inner = (z == 5) & (x >= 3) & (y >= 3) & (x < 13) & (y < 13)

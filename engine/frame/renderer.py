@@ -191,7 +191,7 @@ class Renderer:
         top = self.grid.n.bit_length() - 1
         if not isinstance(level, numbers.Integral) or isinstance(level, bool) or not 0 <= level <= top:
             raise VctError(f"must be a whole number in 0..{top} for grid {self.grid.n}, got {level!r}", field="level")
-        values = self._gathered() if name == "gathered" else shown_values(self.grid, VOXEL_VOLUMES[name])
+        values = self._gathered() if name == "gathered" else shown_values(self.grid, self.inject.base, VOXEL_VOLUMES[name])
         return self.inspection.read_level(self.grid, values, level)
 
     @_current
@@ -208,8 +208,8 @@ class Renderer:
 
     def voxel_memory_bytes(self):
         """GPU bytes of the voxel grid and of the passes' storage sized by it."""
-        return (self.grid.memory_bytes() + self.voxelize.memory_bytes() + self.gather.memory_bytes()
-                + self.inspection.memory_bytes(self.grid))
+        owners = (self.voxelize, self.gather, self.inject, self.faces, self.emitter_light, self.sky_light)
+        return self.grid.memory_bytes() + sum(owner.memory_bytes() for owner in owners) + self.inspection.memory_bytes(self.grid)
 
     @property
     def bounce_iterations(self):
@@ -288,9 +288,8 @@ class Renderer:
         environment = self._environment(frame)
         if not s.shown.uses_voxels(emitters.count > 0 or frame.environment is not None):
             return direct
-        update = self._voxels(frame, s, scene.source, emitters, camera)
-        for stage in self.grid.hold_light_arrays(emitters=emitters.count > 0, sky=environment.environment is not None):
-            self.stages[stage].forget()
+        update = self._voxels(frame, s, scene.source, emitters, environment, camera)
+        self._hold_values(emitters, environment)
         work = WorkResources(shadow_maps, emitters, environment, s.cone_uniforms())
         if emitters.count:
             self._voxel_light("emitter_light", work, s, update, resting, emitters=self.stages["emitters"].version)
@@ -301,10 +300,12 @@ class Renderer:
             self._bounces(s, work)
         if s.shown.stage == "voxel_view":
             with self.timed("voxel_view"):
-                volume = self.inspection.dense(self.grid, shown_values(self.grid, s.mode))
+                volume = self.inspection.dense(self.grid, shown_values(self.grid, self.inject.base, s.mode))
                 return self.voxel_view.render(self.grid, volume, s.mode, s.voxel_mip, self._shown_level(s), camera)
         with self.timed("cone_trace"):
-            return self.cone_trace.render(gbuffer, direct, self.grid, gathered=self._gathered(), emitters=emitters,
+            return self.cone_trace.render(gbuffer, direct, self.grid, cones=self._cones(), gathered=self._gathered(),
+                                          emitter_irradiance=self.emitter_light.irradiance,
+                                          sky_irradiance=self.sky_light.irradiance, emitters=emitters,
                                           environment=environment, cone_uniforms=s.cone_uniforms(), camera=camera,
                                           terms=s.image_terms(), ao_distance=s.ao_distance)
 
@@ -384,13 +385,16 @@ class Renderer:
             stage.ran(inputs)
         return self.environment
 
-    def _voxels(self, frame, s, source, emitters, camera):
+    def _voxels(self, frame, s, source, emitters, environment, camera):
         """Voxelize what changed: the draws whose mesh, transform or material changed since the
         grid last took them in (as it holds them: self.held), and the levels that moved with
         the camera: scrolled where they moved by part of their cube, else voxelized anew (every
         level of a new grid); where surfaces emit, the emission volume's mip chain follows. Progressive frames (the viewer)
-        move one level a frame (clipmap.scrolled_regions). Returns the changes.VoxelUpdate
-        applied, or None where the voxels' inputs did not change."""
+        move one level a frame (clipmap.scrolled_regions). The passes' arrays of values per
+        record are held for the grid's records as they are after it (the emitters' and the sky's
+        light where the scene has them), and the records a voxelization handed out read zero
+        in them. Returns the changes.VoxelUpdate applied, or None where the voxels' inputs did
+        not change."""
         stage = self.stages["voxels"]
         n, regions = frame_levels(frame, s, camera.position)
         field = "voxel_region.clipmap" if frame.clipmap is not None and s.clipmap_levels is None else "grid"
@@ -420,6 +424,9 @@ class Renderer:
             if update.changed_levels(self.grid.levels):
                 with self.timed("voxelize"):
                     self.voxelize.update(self.grid, update, buffers, table.draw_bounds)
+                    self._hold_values(emitters, environment)
+                    self.grid.zero_new_records(self.inject.base, self.gather.gathered, self.faces.reflected,
+                                               self.emitter_light.irradiance, self.sky_light.irradiance, self.sky_light.traced)
                 if update.scrolled:
                     self.schedule.faces_moved(update.scrolled)
             self.held.hold(held_key, table, buffers, changed)
@@ -521,7 +528,23 @@ class Renderer:
 
     def _gathered(self, index=None):
         """Gather array `index` (None: the latest)."""
-        return self.grid.gathered[self.schedule.latest if index is None else index]
+        return self.gather.gathered[self.schedule.latest if index is None else index]
+
+    def _hold_values(self, emitters, environment):
+        """The arrays of values per record each pass owns, held for the grid's records as they
+        are (made zero for new ones): the emitters' and the sky's light only where the scene
+        has them, whose stages forget what they computed where the arrays are made now."""
+        records = self.grid.records
+        for owner in (self.inject, self.gather, self.faces):
+            owner.hold(records)
+        for name, owner, wanted in (("emitter_light", self.emitter_light, emitters.count > 0),
+                                    ("sky_light", self.sky_light, environment.environment is not None)):
+            if owner.hold(records, wanted):
+                self.stages[name].forget()
+
+    def _cones(self):
+        """What a program tracing cones binds: the voxels and the light they reflect."""
+        return self.faces.cones(self.grid)
 
     def _execute(self, item, work):
         """Run one work item of the radiance schedule with the pass that does it (WORK_ITEMS);
@@ -536,18 +559,19 @@ class Renderer:
 
     def _inject(self, item, work):
         segment = voxel_segment(self.grid, self.class_index, item.voxels)
-        self.inject.run(self.grid, work.shadow_maps, work.emitters, work.environment, segment)
+        self.inject.run(self.grid, work.shadow_maps, segment, self.emitter_light.irradiance, self.sky_light.irradiance)
 
     def _light_voxels(self, item, work):
         grid = self.grid
         if item.source == "emitter_light":
             segment = voxel_segment(grid, self.class_index, item.voxels)
-            self.emitter_light.run(grid, work.emitters, work.cone_uniforms, segment, item.levels)
+            self.emitter_light.run(grid, self._cones(), work.emitters, work.cone_uniforms, segment, item.levels)
             return
         segments = sky_segments(grid, self.class_index, item.voxels)
         levels = range(grid.levels) if item.levels is None else item.levels
-        self.sky_light.run(grid, work.environment, work.cone_uniforms, segments.traced, self.gather.anchors, levels, item.box)
-        self.gather.fill(grid, grid.traced_sky_irradiance, segments.filled, segments.finer)
+        self.sky_light.run(grid, self._cones(), work.environment, work.cone_uniforms, segments.traced, self.gather.anchors,
+                           levels, item.box)
+        self.gather.fill(grid, self.sky_light.traced, segments.filled, segments.finer)
         self.sky_light.filter(grid, segments.filtered, levels, item.box)
 
     def _take_coarser_sky_light(self, item, work):
@@ -556,7 +580,8 @@ class Renderer:
     def _compose_faces(self, item, work):
         gathered = None if item.gathered is None else self._gathered(item.gathered)
         for voxels in item.voxels:
-            self.faces.compose(self.grid, gathered, voxel_segment(self.grid, self.class_index, voxels), voxels.levels)
+            self.faces.compose(self.grid, self.inject.base, gathered, voxel_segment(self.grid, self.class_index, voxels),
+                               voxels.levels)
 
     def _mipmap(self, item, work):
         cells = [segment for voxels in item.voxels for segment in cell_segments(self.grid, self.class_index, voxels)]
@@ -564,7 +589,8 @@ class Renderer:
 
     def _gather(self, item, work):
         segments = gather_segments(self.grid, self.class_index, item.voxels)
-        self.gather.run(self.grid, work.cone_uniforms, self._gathered(item.into), segments.traced, segments.filled, segments.finer)
+        self.gather.run(self.grid, self._cones(), work.cone_uniforms, self._gathered(item.into), segments.traced, segments.filled,
+                        segments.finer)
 
     def _extrapolate_gather(self, item, work):
         self.gather.extrapolate(self.grid, self._gathered(item.latest), self._gathered(item.older), item.gain)

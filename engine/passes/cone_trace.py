@@ -57,9 +57,12 @@ class ConeTracePass:
         anchors = ((size[0] + 1) // 2, (size[1] + 1) // 2)
         self.specular_in, self.diffuse_in = (self.ctx.texture(anchors, 4, dtype="f4") for _ in range(2))
 
-    def render(self, gbuffer, direct, grid, *, gathered, emitters, environment, cone_uniforms, camera, terms, ao_distance):
+    def render(self, gbuffer, direct, grid, *, cones, gathered, emitter_irradiance, sky_irradiance, emitters, environment,
+               cone_uniforms, camera, terms, ao_distance):
         """The HDR image over the G-buffer `gbuffer` and the direct light `direct`, from `grid`'s
-        voxels and the gather array `gathered`. `camera`: frame.camera.FrameCamera; `emitters`:
+        voxels as cones read them (`cones`: FaceViewsPass.cones), the light they gathered and
+        the emitters' and the sky's light at them (arrays per record; the latter two None where
+        the scene has none). `camera`: frame.camera.FrameCamera; `emitters`:
         gpu.scene_buffers.EmitterBuffers; `environment`: gpu.scene_buffers.EnvironmentMap;
         `terms`: settings.ImageTerms (which of direct, diffuse, specular, or AO)."""
         program = self.programs[emitters.count > 0, environment.environment is not None]
@@ -74,15 +77,15 @@ class ConeTracePass:
             write_buffer(pixel_list, np.array([0, 1, 1, 0], dtype="u4").tobytes())  # no group, no pixel yet
         rgba32f = GL_IMAGE_FORMAT["rgba32f"]
         # What every program of the pass reads: the G-buffer, the camera, the voxels cones read.
-        common = {**gbuffer.resources(), **camera.resources(), **grid.cones()}
+        common = {**gbuffer.resources(), **camera.resources(), **cones}
         pixels = dict(SSBO_CONE_PIXELS=self.cone_pixels, SSBO_SHARED_PIXELS=self.shared_pixels,
                       SSBO_UNSHARED_PIXELS=self.unshared_pixels)
         anchors = dict(IMG_DIFFUSE_IN=Image(self.diffuse_in, read=True, write=True, format=rgba32f),
                        IMG_SPECULAR_IN=Image(self.specular_in, read=True, write=True, format=rgba32f))
         self.target.draw(program, {**common, **pixels, "IMG_DIFFUSE_IN": anchors["IMG_DIFFUSE_IN"],
                                    "TEX_DIRECT_LIGHT": direct.texture, "SSBO_VOXEL_GATHERED": gathered,
-                                   "SSBO_VOXEL_EMITTER_IRRADIANCE": grid.emitter_irradiance,
-                                   "SSBO_VOXEL_SKY_IRRADIANCE": grid.sky_irradiance, **environment.resources(),
+                                   "SSBO_VOXEL_EMITTER_IRRADIANCE": emitter_irradiance,
+                                   "SSBO_VOXEL_SKY_IRRADIANCE": sky_irradiance, **environment.resources(),
                                    **emitters.resources()})
         if terms.diffuse or terms.specular:
             self.ctx.memory_barrier(self.ctx.SHADER_STORAGE_BARRIER_BIT | self.ctx.COMMAND_BARRIER_BIT

@@ -6,6 +6,7 @@ import numpy as np
 
 from ..core.constants import VOXEL_FACES
 from ..voxels.grid import VoxelGrid
+from ..voxels.records import RecordArrays
 
 
 class FaceViewsPass:
@@ -18,16 +19,32 @@ class FaceViewsPass:
                                                writes=("IMG_FACES_OUT",))
         self.totals_program = programs.compute("faces/sum_face_views.comp", reads=("TEX_VOXEL_FACES",), writes=("SSBO_READBACK",))
         self.totals_buffer = ctx.buffer(reserve=16 * VOXEL_FACES)
+        self.values = RecordArrays(1)  # the light each voxel reflects, per record
 
-    def compose(self, grid, gathered, segment, levels=None):
-        """Level 0 of the face views, the light the voxels reflect (grid.reflected), from the
-        base radiance plus rho times `gathered` (an array of the grid, or None before the
-        first bounce), for the voxels of `segment` (a VoxelSegment) that lie in `levels`
-        (None: every level). Returns grid.reflected."""
+    def hold(self, records):
+        """Hold the reflected light for the grid's `records` (zero when made); True when made now."""
+        return self.values.hold(records)
+
+    @property
+    def reflected(self):
+        """The light each voxel reflects per record (rgb; a = 1): level 0 of the face views."""
+        return self.values.arrays[0]
+
+    def cones(self, grid):
+        """What a program tracing cones binds (VoxelGrid.CONE_READS): the voxels' surface and the
+        light they reflect (level 0), and the face views (level 1 up)."""
+        return dict(zip(VoxelGrid.CONE_READS, (*grid.surface().values(), self.reflected, grid.faces)))
+
+    def compose(self, grid, base, gathered, segment, levels=None):
+        """Level 0 of the face views, the light the voxels reflect, from the base radiance
+        `base` plus rho times `gathered` (arrays per record; gathered None before the first
+        bounce), for the voxels of `segment` (a VoxelSegment) that lie in `levels` (None: every
+        level). Returns the reflected light."""
+        self.hold(grid.records)
         self.compose_program.set(**grid.uniforms(), include_gathered=gathered is not None, composed_levels=grid.level_mask(levels))
-        grid.dispatch(self.compose_program, segment, SSBO_VOXEL_LIST=segment.buffer, **grid.surface(), SSBO_VOXEL_BASE=grid.base,
-                      SSBO_VOXEL_GATHERED=gathered, SSBO_VOXEL_REFLECTED=grid.reflected)
-        return grid.reflected
+        grid.dispatch(self.compose_program, segment, SSBO_VOXEL_LIST=segment.buffer, **grid.surface(), SSBO_VOXEL_BASE=base,
+                      SSBO_VOXEL_GATHERED=gathered, SSBO_VOXEL_REFLECTED=self.reflected)
+        return self.reflected
 
     def mipmap(self, grid, level_one=None, levels=None):
         """Every coarser level of the face views, level after level: level 1 over the cells
@@ -41,7 +58,7 @@ class FaceViewsPass:
         for level in range(1, grid.mip_count):
             for segment, entry_level in level_one if level == 1 else [(grid.cells.segment(level), level)]:
                 self.mipmap_program.set(**uniforms, voxel_entries=entry_level == 0, mipmapped_levels=grid.level_mask(levels))
-                grid.dispatch(self.mipmap_program, segment, SSBO_CELLS=segment.buffer, **grid.cones(),
+                grid.dispatch(self.mipmap_program, segment, SSBO_CELLS=segment.buffer, **self.cones(grid),
                               IMG_FACES_OUT=grid.faces_out(level))
         return grid.faces
 
@@ -61,6 +78,10 @@ class FaceViewsPass:
         self.request_totals(grid)
         return self.read_totals()
 
+    def memory_bytes(self):
+        return self.values.memory_bytes()
+
     def release(self):
+        self.values.release()
         for resource in (self.compose_program, self.mipmap_program, self.totals_program, self.totals_buffer):
             resource.release()

@@ -15,6 +15,7 @@ from ..gpu.functions import write_buffer
 from ..voxels.clipmap import with_coarser_levels
 from ..voxels.grid import GridStorage, VoxelGrid
 from ..voxels.lists import ClassIndex, SegmentTable, VoxelList
+from ..voxels.records import RecordArrays
 
 
 def class_buckets(grid):
@@ -49,6 +50,16 @@ class GatherPass:
                                                     writes=("SSBO_GATHERED_OUT",))
         self.anchors_epoch = None  # the epoch of the covered list self.anchors was found for
         self._storage = GridStorage()
+        self.values = RecordArrays(2)  # the diffuse light each voxel gathered, per record: the latest and the one before
+
+    def hold(self, records):
+        """Hold the gather arrays for the grid's `records` (zero when made); True when made now."""
+        return self.values.hold(records)
+
+    @property
+    def gathered(self):
+        """The two gather arrays per record (the radiance schedule names which is the latest)."""
+        return self.values.arrays
 
     def _ensure_storage(self, grid):
         """Per record of the grid (engine/voxels/records.py, the list room): its voxel's anchors
@@ -73,8 +84,8 @@ class GatherPass:
         self.anchors_epoch = None
 
     def memory_bytes(self):
-        """GPU bytes of the per-voxel storage for the grid's size."""
-        return self._storage.memory_bytes()
+        """GPU bytes of the per-voxel storage for the grid's size and of the gather arrays."""
+        return self._storage.memory_bytes() + self.values.memory_bytes()
 
     def read_anchors(self):
         """Per record, its voxel's anchor word (lib/gather_anchors.glsl): a read back, for
@@ -152,13 +163,14 @@ class GatherPass:
         grid.dispatch(self.find_anchors_program, voxels, SSBO_COVERED=grid.covered.buffer, **marked)
         self.anchors_epoch = grid.epoch
 
-    def run(self, grid, cone_uniforms, out, anchors, filled, finer):
+    def run(self, grid, cones, cone_uniforms, out, anchors, filled, finer):
         """Gather the anchors among the voxels of segment `anchors` (an interleave class's
-        anchors, of the class index, or the touched voxels) into array `out`, then the others
+        anchors, of the class index, or the touched voxels) through `cones` (what cones read:
+        FaceViewsPass.cones) into `out` (one of self.gathered), then the others
         from them (`fill`). Every level's anchors in one dispatch: on a GPU a dispatch a level
         waits for each level's longest cones in turn. Returns `out`."""
         self.trace_program.set(**grid.uniforms(), **cone_uniforms)
-        grid.dispatch(self.trace_program, anchors, SSBO_CLASS_LIST=anchors.buffer, SSBO_GATHER_ANCHORS=self.anchors, **grid.cones(),
+        grid.dispatch(self.trace_program, anchors, SSBO_CLASS_LIST=anchors.buffer, SSBO_GATHER_ANCHORS=self.anchors, **cones,
                       SSBO_GATHERED_OUT=out)
         return self.fill(grid, out, filled, finer)
 
@@ -186,6 +198,7 @@ class GatherPass:
         return older
 
     def release(self):
+        self.values.release()
         for handle in (self.trace_program, self.mark_stale_program, self.find_anchors_program, self.sort_classes_program,
                        self.sort_cells_program, self.fill_program, self.take_finer_program,
                        self.extrapolate_program, self.scan_program):

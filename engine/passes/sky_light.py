@@ -3,14 +3,15 @@ SKY_CONE_COUNT cones over its hemisphere, each bringing the sky around its direc
 the voxels let it through (the face views must hold the grid's current coverage), each voxel's
 cones offset by a jitter of its own. Traced at the gather's anchors of a segment of the class
 list when the voxels or the environment change (or of the voxels a scrolled level took in) into
-grid.traced_sky_irradiance, the other voxels interpolating them as they interpolate the gather
-(GatherPass.fill); then averaged over the
-like-facing voxels around each covered voxel (or each of those taken in) into grid.sky_irradiance, which light injection adds to
-the base radiance and the image interpolates per pixel. The voxels a scrolled clipmap level took
+its traced irradiance, the other voxels interpolating them as they interpolate the gather
+(GatherPass.fill); then averaged over the like-facing voxels around each covered voxel (or
+each of those taken in) into its irradiance, which light injection adds to the base radiance
+and the image interpolates per pixel. The voxels a scrolled clipmap level took
 in may take theirs from the next coarser level instead (take_coarser), until the camera rests."""
 import numpy as np
 
 from ..voxels.grid import VoxelGrid
+from ..voxels.records import RecordArrays
 
 
 class SkyLightPass:
@@ -24,41 +25,64 @@ class SkyLightPass:
         self.coarser_program = programs.compute(
             "sky_light/take_coarser_sky_light.comp", writes=("SSBO_VOXEL_TRACED_SKY_IRRADIANCE", "SSBO_VOXEL_SKY_IRRADIANCE"),
             reads=("SSBO_VOXEL_LIST", "SSBO_SEGMENTS", *VoxelGrid.SURFACE_READS, "SSBO_VOXEL_SKY_IRRADIANCE"))
+        self.values = RecordArrays(2)  # the sky's irradiance per record, filtered and traced, where the scene has a sky
 
-    def run(self, grid, environment, cone_uniforms, segment, anchors, levels=None, box=None):
-        """`environment`: scene_buffers.EnvironmentMap; `segment`: a VoxelSegment (the anchors of a
+    def hold(self, records, wanted):
+        """Hold the sky's light for the grid's `records` where `wanted` (zero when made), none
+        otherwise; True when made now (the light is still to compute)."""
+        return self.values.hold(records, wanted)
+
+    @property
+    def irradiance(self):
+        """The sky's irradiance per record, filtered (what light injection and the image
+        read); None where the scene has no sky."""
+        return self.values.arrays[0] if self.values.arrays else None
+
+    @property
+    def traced(self):
+        """The sky's irradiance per record as the anchors' cones brought it (and the other
+        voxels interpolated it); None where the scene has no sky."""
+        return self.values.arrays[1] if self.values.arrays else None
+
+    def run(self, grid, cones, environment, cone_uniforms, segment, anchors, levels=None, box=None):
+        """`cones`: what cones read (FaceViewsPass.cones); `environment`:
+        scene_buffers.EnvironmentMap; `segment`: a VoxelSegment (the anchors of a
         class, or the voxels a voxelization touched), whose anchors (`anchors`: the gather's
         anchor words, GatherPass.anchors) are lit where they lie in `levels` (None: every
         level) and their centres in the world box `box` ((lo, hi); None: anywhere). Writes and
-        returns grid.traced_sky_irradiance, at those voxels."""
+        returns the traced irradiance, at those voxels."""
         self.program.set(**grid.uniforms(), **cone_uniforms, **environment.uniforms(), lit_levels=grid.level_mask(levels),
                          **_box_uniforms(box))
-        grid.dispatch(self.program, segment, SSBO_VOXEL_LIST=segment.buffer, SSBO_GATHER_ANCHORS=anchors, **grid.cones(),
-                      **environment.resources(), SSBO_VOXEL_TRACED_SKY_IRRADIANCE=grid.traced_sky_irradiance)
-        return grid.traced_sky_irradiance
+        grid.dispatch(self.program, segment, SSBO_VOXEL_LIST=segment.buffer, SSBO_GATHER_ANCHORS=anchors, **cones,
+                      **environment.resources(), SSBO_VOXEL_TRACED_SKY_IRRADIANCE=self.traced)
+        return self.traced
 
     def filter(self, grid, segment, levels=None, box=None):
-        """grid.sky_irradiance of the voxels of `segment` (a VoxelSegment: the covered list, or
+        """The filtered irradiance of the voxels of `segment` (a VoxelSegment: the covered list, or
         the voxels a voxelization touched) that lie in `levels` (None: every level; a voxel's
         filter reads its own level only) and within the filter's reach of the world box `box`
-        (the voxels lit in it; None: anywhere) from grid.traced_sky_irradiance around each
-        (written and returned)."""
+        (the voxels lit in it; None: anywhere) from the traced irradiance around each (written
+        and returned)."""
         self.filter_program.set(**grid.uniforms(), lit_levels=grid.level_mask(levels), **_box_uniforms(box))
         grid.dispatch(self.filter_program, segment, SSBO_VOXEL_LIST=segment.buffer, **grid.surface(),
-                      SSBO_VOXEL_TRACED_SKY_IRRADIANCE=grid.traced_sky_irradiance, SSBO_VOXEL_SKY_IRRADIANCE=grid.sky_irradiance)
-        return grid.sky_irradiance
+                      SSBO_VOXEL_TRACED_SKY_IRRADIANCE=self.traced, SSBO_VOXEL_SKY_IRRADIANCE=self.irradiance)
+        return self.irradiance
 
     def take_coarser(self, grid, segment, levels):
         """The sky's light at the voxels of `segment` (the voxels a scroll took in) that lie in
-        `levels` (each finer than the coarsest), from the next coarser level's
-        grid.sky_irradiance around them: a lookup in place of their cones. Writes it as their
-        grid.traced_sky_irradiance and grid.sky_irradiance; returns the latter."""
+        `levels` (each finer than the coarsest), from the next coarser level's filtered
+        irradiance around them: a lookup in place of their cones. Writes it as their traced and
+        filtered irradiance; returns the latter."""
         self.coarser_program.set(**grid.uniforms(), lit_levels=grid.level_mask(levels))
         grid.dispatch(self.coarser_program, segment, SSBO_VOXEL_LIST=segment.buffer, **grid.surface(),
-                      SSBO_VOXEL_TRACED_SKY_IRRADIANCE=grid.traced_sky_irradiance, SSBO_VOXEL_SKY_IRRADIANCE=grid.sky_irradiance)
-        return grid.sky_irradiance
+                      SSBO_VOXEL_TRACED_SKY_IRRADIANCE=self.traced, SSBO_VOXEL_SKY_IRRADIANCE=self.irradiance)
+        return self.irradiance
+
+    def memory_bytes(self):
+        return self.values.memory_bytes()
 
     def release(self):
+        self.values.release()
         self.program.release()
         self.filter_program.release()
         self.coarser_program.release()

@@ -8,9 +8,10 @@ SHOW = {"voxels": SHADER_ENUMS["SHOW"]["radiance"], "voxel-normals": SHADER_ENUM
         "voxel-albedo": SHADER_ENUMS["SHOW"]["albedo"]}
 
 
-def shown_values(grid, view):
-    """The array of values a voxel view (or `Renderer.voxels`) shows."""
-    return {"voxels": grid.base, "voxel-normals": grid.normal, "voxel-albedo": grid.albedo}[view]
+def shown_values(grid, base, view):
+    """The array of values a voxel view (or `Renderer.voxels`) shows: the base radiance `base`
+    (InjectPass), or the grid's normals or albedo."""
+    return {"voxels": base, "voxel-normals": grid.normal, "voxel-albedo": grid.albedo}[view]
 
 
 class VoxelViewPass(FullScreenPass):

@@ -61,10 +61,6 @@ class VoxelizePass:
             writes=("SSBO_VOXEL_SUMS", "SSBO_FRONT_KEYS", "SSBO_TOUCHED_RECORDS", "SSBO_VOXEL_RECORD", "SSBO_RECORD_POOL", "SSBO_VOXEL_ALBEDO",
                     "SSBO_VOXEL_NORMAL", "SSBO_VOXEL_EMISSION", "SSBO_COVERED",
                     "SSBO_NEWLY_COVERED"))
-        self.clear_new_records = programs.compute(
-            "voxelize/clear_new_records.comp", reads=("SSBO_NEWLY_COVERED", "SSBO_VOXEL_RECORD"),
-            writes=("SSBO_VOXEL_BASE", "SSBO_VOXEL_GATHERED", "SSBO_GATHERED_OUT", "SSBO_VOXEL_REFLECTED", "SSBO_VOXEL_EMITTER_IRRADIANCE",
-                    "SSBO_VOXEL_SKY_IRRADIANCE", "SSBO_VOXEL_TRACED_SKY_IRRADIANCE"))
         self.list_cells = programs.compute("voxelize/list_cells.comp", reads=("SSBO_COVERED",),
                                            writes=("SSBO_CELLS", "SSBO_CELL_STAMPS"))
         self.fill_emission = programs.compute("voxelize/fill_cone_emission.comp", reads=("SSBO_CELLS", "SSBO_SEGMENTS", *VoxelGrid.SURFACE_READS),
@@ -269,17 +265,11 @@ class VoxelizePass:
                       IMG_CONE_EMISSION_OUT=volume_image(grid.cone_emission))
 
     def _relist_covered(self, grid, full, scrolled_levels):
-        """The light at the records the resolve gave zeroed; the covered list (a voxel per
-        record, which the resolve wrote) sized, its new epoch marked with the levels a scroll
-        alone changed (Epoch.scrolled_levels), and the cells of every level listed again."""
+        """The newly covered list (whose records' light the grid zeroes next:
+        VoxelGrid.zero_new_records) and the covered list (a voxel per record, which the resolve
+        wrote) sized, the covered list's new epoch marked with the levels a scroll alone changed
+        (Epoch.scrolled_levels), and the cells of every level listed again."""
         grid.size_list(grid.newly_covered)
-        self.clear_new_records.set(**grid.uniforms(), voxel_emitters=grid.emitter_irradiance is not None,
-                                   voxel_sky=grid.sky_irradiance is not None)
-        grid.dispatch(self.clear_new_records, grid.newly_covered.segment(), SSBO_NEWLY_COVERED=grid.newly_covered.buffer,
-                      SSBO_VOXEL_RECORD=grid.records.index, SSBO_VOXEL_BASE=grid.base, SSBO_VOXEL_GATHERED=grid.gathered[0],
-                      SSBO_GATHERED_OUT=grid.gathered[1], SSBO_VOXEL_REFLECTED=grid.reflected,
-                      SSBO_VOXEL_EMITTER_IRRADIANCE=grid.emitter_irradiance, SSBO_VOXEL_SKY_IRRADIANCE=grid.sky_irradiance,
-                      SSBO_VOXEL_TRACED_SKY_IRRADIANCE=grid.traced_sky_irradiance)
         grid.covered_changed(scrolled_levels)
         self._relist_cells(grid, full, zeroed=scrolled_levels is not None)
 
@@ -304,7 +294,7 @@ class VoxelizePass:
         return self._scratch.memory_bytes()
 
     def release(self):
-        for handle in (*self.programs, self.mark_covered, self.resolve, self.clear_new_records,
+        for handle in (*self.programs, self.mark_covered, self.resolve,
                        self.list_cells, self.fill_emission, self.clear_cells, self.scroll_level, self.mark_box):
             handle.release()
         for draw_list in (self.marking, self.jobs, self.moved):

@@ -13,12 +13,12 @@ Per covered voxel, arrays of RGBA16F values indexed by the voxel's record (`reco
 engine/voxels/records.py; an empty voxel reads zero):
 - the resolved surface of each voxel: `albedo`, mean `normal`, `emission` (a: the surface
   offset);
-- the light arriving at each voxel's surface: `emitter_irradiance`, the emitters' shadowed
-  irradiance (a: the fraction of it that arrives); `sky_irradiance`, the environment's through
-  the voxels, and `traced_sky_irradiance`, the same as the anchors' cones brought it;
-- the radiance: `base` (emission + injected direct light), the diffuse light `gathered` by
-  each voxel (two arrays, the latest and the one before, for closing the bounce series) and
-  the light its surface `reflected` in the last composition, what cones read at level 0.
+- the arrays the passes that write them own (records.RecordArrays, made zero for each
+  records store): the light arriving at each voxel's surface (the emitters' and the sky's,
+  EmitterLightPass and SkyLightPass), the radiance (`base`, InjectPass), the diffuse light
+  each voxel gathered (GatherPass) and the light its surface reflected in the last
+  composition, what cones read at level 0 (`reflected`, FaceViewsPass). A record handed out
+  reads zero in each of them (`zero_new_records`, after a voxelization).
 
 Volumes (RGBA16F with their mip chains, what cones read from mip level 1 up, where cells hold
 several voxels: level 0 is the voxels' own records, their reflected light and mean normal):
@@ -58,7 +58,7 @@ LIST_HEADROOM = 5 / 4  # a grown list's room over what it needed
 # The voxels of the touched list the voxelizer's sums hold at once (a chunk), per n^2: a full
 # voxelization of a closed box (6.5 n^2) is one chunk.
 SUM_ROOM = 8
-# The arrays of values a grid may hold per record (see the module's docstring).
+# The arrays of values a grid and its passes may hold per record (see the module's docstring).
 RECORD_ARRAYS = ("albedo", "normal", "emission", "base", "gathered", "gathered_previous", "reflected",
                  "emitter_irradiance", "sky_irradiance", "traced_sky_irradiance")
 
@@ -131,6 +131,10 @@ class VoxelGrid:
         self.size_program = programs.compute("voxel_grid/size_segment.comp", reads=("SSBO_COUNTED",), writes=("SSBO_SEGMENTS",))
         self.size_cells_program = programs.compute("voxel_grid/size_cell_segments.comp", reads=("SSBO_COUNTED",),
                                                    writes=("SSBO_SEGMENTS",))
+        self.zero_program = programs.compute("voxel_grid/zero_new_records.comp", reads=("SSBO_NEWLY_COVERED", "SSBO_VOXEL_RECORD"),
+                                             writes=("SSBO_VOXEL_BASE", "SSBO_VOXEL_GATHERED", "SSBO_GATHERED_OUT",
+                                                     "SSBO_VOXEL_REFLECTED", "SSBO_VOXEL_EMITTER_IRRADIANCE",
+                                                     "SSBO_VOXEL_SKY_IRRADIANCE", "SSBO_VOXEL_TRACED_SKY_IRRADIANCE"))
 
     # -- allocation ----------------------------------------------------------------------
 
@@ -161,7 +165,7 @@ class VoxelGrid:
     def grow_lists(self, needed):
         """Make the grid anew, empty, with list room for `needed` covered voxels (list_room),
         holding a cone emission volume if it held one (the voxelization that follows fills it;
-        the light arrays are made again with their light: hold_light_arrays)."""
+        the passes' arrays are made again for its records)."""
         emits = self.cone_emission is not None
         self._release_resources()
         self._allocate(self.n, list_room(needed, self.n, self.levels))
@@ -172,9 +176,7 @@ class VoxelGrid:
         self.n, self.list_room = n, room
         self._mipmapped = set()  # the volumes whose mip chain is allocated
         self.records = self._keep(VoxelRecords(ctx, n, self.levels, room))
-        self.albedo, self.normal, self.emission, self.base, self.reflected = (self._values() for _ in range(5))
-        self.gathered = [self._values() for _ in range(2)]
-        self.emitter_irradiance = self.sky_irradiance = self.traced_sky_irradiance = None  # hold_light_arrays
+        self.albedo, self.normal, self.emission = (self._values() for _ in range(3))
         self.cone_emission = None  # hold_cone_emission
         self.faces = self._volume(mipmapped=True, slabs=VOXEL_FACES, side=n // 2)
         self.touched = self._keep(VoxelList(ctx, self.touched_room))
@@ -243,26 +245,6 @@ class VoxelGrid:
             self._drop(self.cone_emission)
             self.cone_emission = None
         return False
-
-    def hold_light_arrays(self, emitters, sky):
-        """Hold the arrays of the emitters' light (`emitters`) and of the sky's (`sky`) where
-        the scene has them, zero when made, and none of those it has not. Returns which were
-        made now ("emitter_light", "sky_light"): their light is still to compute."""
-        made = set()
-        if emitters and self.emitter_irradiance is None:
-            self.emitter_irradiance = self._values()
-            made.add("emitter_light")
-        elif not emitters and self.emitter_irradiance is not None:
-            self._drop(self.emitter_irradiance)
-            self.emitter_irradiance = None
-        if sky and self.sky_irradiance is None:
-            self.sky_irradiance, self.traced_sky_irradiance = self._values(), self._values()
-            made.add("sky_light")
-        elif not sky and self.sky_irradiance is not None:
-            self._drop(self.sky_irradiance)
-            self._drop(self.traced_sky_irradiance)
-            self.sky_irradiance = self.traced_sky_irradiance = None
-        return made
 
     def viewable(self, volume):
         """`volume` with its hardware mip chain built."""
@@ -391,6 +373,19 @@ class VoxelGrid:
         handle.run_indirect(segment.table.buffer, SEGMENT.itemsize * segment.row, **resources)
         self.barrier()
 
+    def zero_new_records(self, base, gathered, reflected, emitter_irradiance=None, sky_irradiance=None,
+                         traced_sky_irradiance=None):
+        """After a voxelization, the values at the records it handed out (its newly covered
+        voxels) zero in the passes' arrays of them (records.RecordArrays; the emitters' and the
+        sky's light where the scene has them): those records were other voxels' before."""
+        self.zero_program.set(**self.uniforms(), voxel_emitters=emitter_irradiance is not None,
+                              voxel_sky=sky_irradiance is not None)
+        self.dispatch(self.zero_program, self.newly_covered.segment(), SSBO_NEWLY_COVERED=self.newly_covered.buffer,
+                      SSBO_VOXEL_RECORD=self.records.index, SSBO_VOXEL_BASE=base, SSBO_VOXEL_GATHERED=gathered[0],
+                      SSBO_GATHERED_OUT=gathered[1], SSBO_VOXEL_REFLECTED=reflected,
+                      SSBO_VOXEL_EMITTER_IRRADIANCE=emitter_irradiance, SSBO_VOXEL_SKY_IRRADIANCE=sky_irradiance,
+                      SSBO_VOXEL_TRACED_SKY_IRRADIANCE=traced_sky_irradiance)
+
     def size_list(self, voxel_list):
         """The segment row of a voxel list (every entry) from its count, after a pass appended."""
         self.size_program.run(1, SSBO_COUNTED=voxel_list.buffer, SSBO_SEGMENTS=voxel_list.table.buffer)
@@ -418,8 +413,8 @@ class VoxelGrid:
         self._release_resources()
         self.n = 0
         self.regions = ()
-        self.size_program.release()
-        self.size_cells_program.release()
+        for handle in (self.size_program, self.size_cells_program, self.zero_program):
+            handle.release()
 
 
 def gpu_bytes(resource, mipmapped=False):

@@ -16,6 +16,38 @@ VALUE_BYTES = 8  # an RGBA16F value
 POOL_HEADER = 2  # the stack's height, the records asked for in vain
 
 
+class RecordArrays:
+    """Arrays of one value per record that a pass owns and writes (its light or radiance at the
+    covered voxels): made zero for each records store of a grid (a new grid, or one made anew
+    with more room), none while the pass does not want them."""
+
+    def __init__(self, count):
+        self.count = count
+        self.records = None  # the VoxelRecords they were made for
+        self.arrays = []
+
+    def hold(self, records, wanted=True):
+        """Hold the arrays for `records` (zero when made), none where not `wanted`; True when
+        made now (what they held is still to compute)."""
+        if not wanted:
+            self.release()
+            return False
+        if self.records is records:
+            return False
+        self.release()
+        self.arrays = [records.array() for _ in range(self.count)]
+        self.records = records
+        return True
+
+    def memory_bytes(self):
+        return sum(array.size for array in self.arrays)
+
+    def release(self):
+        for array in self.arrays:
+            array.release()
+        self.arrays, self.records = [], None
+
+
 def pool_words(room, held=0):
     """The pool of `room` records of which the first `held` are held: the free ones stacked so
     that the next taken is the lowest."""

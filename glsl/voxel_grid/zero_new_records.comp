@@ -1,8 +1,8 @@
 #version 450 core
-// After a resolve, over the voxels it listed as newly covered:
-// the light at their records starts at zero, as at an empty voxel (the records were another
-// voxel's before): base radiance, both gathers, the reflected light, and where the scene has them the emitters'
-// and the sky's light.
+// After a voxelization, over the voxels its resolve listed as newly covered: the light at
+// their records starts at zero, as at an empty voxel (the records were another voxel's
+// before), in the arrays the passes own: base radiance, both gathers, the reflected light,
+// and where the scene has them the emitters' and the sky's light (VoxelGrid.zero_new_records).
 #include "lib/voxel_records.glsl"
 #include "lib/list_append.glsl"
 
