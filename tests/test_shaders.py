@@ -55,7 +55,7 @@ def test_shared_enums_and_struct_layouts_come_from_the_python_tables():
 
 
 def test_a_program_that_binds_two_resources_to_one_unit_is_refused_naming_both(glsl_copy):
-    shader = glsl_copy / "voxelize/clear_cells.comp"
+    shader = glsl_copy / "voxel_grid/clear_cells.comp"
     lines = shader.read_text().splitlines()
     at = next(i for i, line in enumerate(lines) if "IMG_FACES_OUT" in line)
     lines.insert(at + 1, "layout(binding = IMG_INSPECT_OUT, rgba16f) uniform writeonly image3D also_out;")
@@ -64,8 +64,8 @@ def test_a_program_that_binds_two_resources_to_one_unit_is_refused_naming_both(g
     with pytest.raises(engine.ShaderError) as error:
         engine.Renderer(16, 16, glsl_root=glsl_copy)
     message = str(error.value)
-    assert message.startswith(f"glsl/voxelize/clear_cells.comp:{at + 2}: error: IMG_INSPECT_OUT"), message
-    assert f"IMG_FACES_OUT is (glsl/voxelize/clear_cells.comp:{at + 1})" in message
+    assert message.startswith(f"glsl/voxel_grid/clear_cells.comp:{at + 2}: error: IMG_INSPECT_OUT"), message
+    assert f"IMG_FACES_OUT is (glsl/voxel_grid/clear_cells.comp:{at + 1})" in message
 
 
 def test_a_program_that_reads_a_resource_its_pass_does_not_declare_is_refused(glsl_copy):

@@ -423,8 +423,10 @@ class Renderer:
                 changed, update = None, VoxelUpdate(True, [], [])
             if update.changed_levels(self.grid.levels):
                 with self.timed("voxelize"):
+                    self._clear_face_views(update, before=True)
                     self.voxelize.update(self.grid, update, buffers, table.draw_bounds)
                     self._hold_values(emitters, environment)
+                    self._clear_face_views(update, before=False)
                     self.grid.zero_new_records(self.inject.base, self.gather.gathered, self.faces.reflected,
                                                self.emitter_light.irradiance, self.sky_light.irradiance, self.sky_light.traced)
                 if update.scrolled:
@@ -432,7 +434,7 @@ class Renderer:
             self.held.hold(held_key, table, buffers, changed)
             if emitters.count:
                 with self.timed("emission_mipmap"):
-                    self.grid.build_emission_mips()
+                    self.voxelize.build_emission_mips(self.grid)
             stage.ran(inputs)
             return update
         return None
@@ -541,6 +543,19 @@ class Renderer:
                                     ("sky_light", self.sky_light, environment.environment is not None)):
             if owner.hold(records, wanted):
                 self.stages[name].forget()
+
+    def _clear_face_views(self, update, before):
+        """The face views zeroed where a voxelization (`update`) empties cells, by their pass:
+        `before` it, the levels that scroll and, for a full one, every covered cell (the cells
+        listed before it); after one of some voxels, the cells of those it touched (a scroll
+        alone moves voxels whose light is composed again: its levels were zeroed before)."""
+        if before:
+            for level in update.scrolled:
+                self.faces.clear_level(self.grid, level)
+            if update.full:
+                self.faces.clear_covered(self.grid)
+        elif not update.full and not update.scrolls_only:
+            self.faces.clear_touched(self.grid)
 
     def _cones(self):
         """What a program tracing cones binds: the voxels and the light they reflect."""

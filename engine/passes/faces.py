@@ -1,7 +1,8 @@
 """The face views cones read: composed per covered voxel from its base radiance and the light
 it gathered, L = L_base + rho G (rho: its reflectance), which cones see times the coverage of
 each face direction (level 0); then their mip levels, built over the covered cells of each
-level only."""
+level only, and zeroed where a voxelization empties cells (cells no surface covers read zero:
+the mipmap writes only faces with coverage)."""
 import numpy as np
 
 from ..core.constants import VOXEL_FACES
@@ -18,6 +19,8 @@ class FaceViewsPass:
         self.mipmap_program = programs.compute("faces/mipmap_face_views.comp", reads=("SSBO_CELLS", "SSBO_SEGMENTS", *VoxelGrid.CONE_READS),
                                                writes=("IMG_FACES_OUT",))
         self.totals_program = programs.compute("faces/sum_face_views.comp", reads=("TEX_VOXEL_FACES",), writes=("SSBO_READBACK",))
+        self.clear_program = programs.compute("voxel_grid/clear_cells.comp", reads=("SSBO_CELLS", "SSBO_SEGMENTS"),
+                                              writes=("IMG_FACES_OUT",))
         self.totals_buffer = ctx.buffer(reserve=16 * VOXEL_FACES)
         self.values = RecordArrays(1)  # the light each voxel reflects, per record
 
@@ -62,6 +65,28 @@ class FaceViewsPass:
                               IMG_FACES_OUT=grid.faces_out(level))
         return grid.faces
 
+    def clear_level(self, grid, level):
+        """Before a scroll of grid level `level` moves its voxels: its face views zeroed over the
+        cells it holds, at every mip level."""
+        self._clear(grid, [(grid.cells.segment(mip), False) for mip in range(1, grid.mip_count)], [level])
+
+    def clear_covered(self, grid):
+        """Before a full voxelization: the face views zeroed over every covered cell."""
+        self._clear(grid, [(grid.cells.segment(mip), False) for mip in range(1, grid.mip_count)])
+
+    def clear_touched(self, grid):
+        """After a voxelization of some voxels: the face views zeroed over the cells of the
+        voxels it touched, at every mip level, until the mipmap builds them again."""
+        self._clear(grid, [(grid.touched.segment(), True)] * (grid.mip_count - 1))
+
+    def _clear(self, grid, segments, levels=None):
+        """Zero mip level k + 1 of the face views (grid levels `levels`; None: every level)
+        over the cells of the k-th (VoxelSegment, whether its entries are voxels) pair."""
+        for mip, (segment, voxel_entries) in enumerate(segments, start=1):
+            self.clear_program.set(**grid.uniforms(), voxel_entries=voxel_entries, views=VOXEL_FACES,
+                                   cleared_levels=grid.level_mask(levels))
+            grid.dispatch(self.clear_program, segment, SSBO_CELLS=segment.buffer, IMG_FACES_OUT=grid.faces_out(mip))
+
     def request_totals(self, grid):
         """Compute the mean premultiplied radiance (rgb) of the face views over the grid,
         summed over the six faces (from the 1^3 levels), into a buffer read_totals reads."""
@@ -83,5 +108,5 @@ class FaceViewsPass:
 
     def release(self):
         self.values.release()
-        for resource in (self.compose_program, self.mipmap_program, self.totals_program, self.totals_buffer):
+        for resource in (self.compose_program, self.mipmap_program, self.totals_program, self.clear_program, self.totals_buffer):
             resource.release()

@@ -65,7 +65,7 @@ class VoxelizePass:
                                            writes=("SSBO_CELLS", "SSBO_CELL_STAMPS"))
         self.fill_emission = programs.compute("voxelize/fill_cone_emission.comp", reads=("SSBO_CELLS", "SSBO_SEGMENTS", *VoxelGrid.SURFACE_READS),
                                               writes=("IMG_CONE_EMISSION_OUT",))
-        self.clear_cells = programs.compute("voxelize/clear_cells.comp", reads=("SSBO_CELLS", "SSBO_SEGMENTS"), writes=("IMG_FACES_OUT",))
+        self.clear_cells = programs.compute("voxel_grid/clear_cells.comp", reads=("SSBO_CELLS", "SSBO_SEGMENTS"), writes=("IMG_FACES_OUT",))
         self.scroll_level = programs.compute("voxelize/scroll_level.comp", writes=("SSBO_COVERED", "SSBO_VOXEL_RECORD", "SSBO_RECORD_POOL"))
         self.mark_box = programs.compute("voxelize/mark_voxel_box.comp", writes=("SSBO_TOUCHED", "SSBO_VOXEL_RECORD", "SSBO_TOUCHED_RECORDS"))
         self._scratch = GridStorage()  # the fixed-point sums, front-layer keys, touched voxels' records, a framebuffer
@@ -119,19 +119,14 @@ class VoxelizePass:
 
     def _scroll(self, grid, level, shift):
         """Scroll a level whose cube moved by `shift` of its voxels (grid.regions holds where it
-        lies now): its face views and emission cells are zeroed where they were, then its
-        records move to their voxels' new coordinates, those it left behind freed. The covered
-        list keeps its count; the voxelization of the slabs that follows gives it its new
-        epoch."""
-        cells, mask = grid.cells, grid.level_mask([level])
-        volumes = [(grid.faces, VOXEL_FACES, grid.mip_count)]  # (volume, its views, the mip levels held up to)
-        if grid.cone_emission is not None:
-            volumes.append((grid.cone_emission, 1, 2))  # its level 1: the coarser ones are its hardware mips
-        for volume, views, mips in volumes:
-            for mip in range(1, mips):
-                self.clear_cells.set(**grid.uniforms(), voxel_entries=False, views=views, cleared_levels=mask)
-                grid.dispatch(self.clear_cells, cells.segment(mip), SSBO_CELLS=cells.segment(mip).buffer,
-                              IMG_FACES_OUT=volume_image(volume, mip - 1))
+        lies now): its emission cells are zeroed where they were (its face views, which
+        FaceViewsPass writes, are zeroed by it before: clear_level), then its records move to
+        their voxels' new coordinates, those it left behind freed. The covered list keeps its
+        count; the voxelization of the slabs that follows gives it its new epoch."""
+        if grid.cone_emission is not None:  # its level 1: the coarser ones are its hardware mips
+            self.clear_cells.set(**grid.uniforms(), voxel_entries=False, views=1, cleared_levels=grid.level_mask([level]))
+            grid.dispatch(self.clear_cells, grid.cells.segment(1), SSBO_CELLS=grid.cells.buffer,
+                          IMG_FACES_OUT=volume_image(grid.cone_emission))
         self.scroll_level.set(**grid.uniforms(), scrolled_level=level, level_shift=tuple(int(s) for s in shift))
         for lifting in (True, False):
             self.scroll_level.set(lifting=lifting)
@@ -172,7 +167,7 @@ class VoxelizePass:
                     for stage in ("front", "add"):
                         self._rasterize(grid, stage, self.jobs, buffers, chunk_first)
                 self._resolve(grid, chunk_first)
-        self._relist_covered(grid, update.full, frozenset(update.scrolled) if update.scrolls_only else None)
+        self._relist_covered(grid, frozenset(update.scrolled) if update.scrolls_only else None)
         if grid.cone_emission is not None:  # a scrolled level's cells all moved
             self.fill_cone_emission(grid, touched=not update.scrolled)
 
@@ -264,25 +259,23 @@ class VoxelizePass:
         grid.dispatch(self.fill_emission, segment, SSBO_CELLS=segment.buffer, **grid.surface(),
                       IMG_CONE_EMISSION_OUT=volume_image(grid.cone_emission))
 
-    def _relist_covered(self, grid, full, scrolled_levels):
+    def build_emission_mips(self, grid):
+        """The cone emission's coarser levels from its level 1, after a voxelization where
+        surfaces emit."""
+        grid.cone_emission.build_mipmaps()
+
+    def _relist_covered(self, grid, scrolled_levels):
         """The newly covered list (whose records' light the grid zeroes next:
         VoxelGrid.zero_new_records) and the covered list (a voxel per record, which the resolve
         wrote) sized, the covered list's new epoch marked with the levels a scroll alone changed
         (Epoch.scrolled_levels), and the cells of every level listed again."""
         grid.size_list(grid.newly_covered)
         grid.covered_changed(scrolled_levels)
-        self._relist_cells(grid, full, zeroed=scrolled_levels is not None)
+        self._relist_cells(grid)
 
-    def _relist_cells(self, grid, full, zeroed=False):
-        """Zero the face views of every level over the cells the voxelization changed (those
-        holding the voxels it touched; after a full one, the old covered cells) unless they are
-        zero (`zeroed`: a scroll alone, which zeroed its levels' face views), then list the
-        cells the covered voxels now reach, every level in one pass."""
+    def _relist_cells(self, grid):
+        """List the cells the covered voxels now reach, every level in one pass."""
         uniforms, cells = grid.uniforms(), grid.cells
-        for level in range(1, grid.mip_count) if not zeroed else ():
-            segment = cells.segment(level) if full else grid.touched.segment()
-            self.clear_cells.set(**uniforms, voxel_entries=not full, views=VOXEL_FACES, cleared_levels=grid.level_mask())
-            grid.dispatch(self.clear_cells, segment, SSBO_CELLS=segment.buffer, IMG_FACES_OUT=grid.faces_out(level))
         generation = cells.restart()
         self.list_cells.set(**uniforms, top_level=grid.mip_count - 1, level_first=cells.first_words(), generation=generation)
         grid.dispatch(self.list_cells, grid.covered.segment(), SSBO_COVERED=grid.covered.buffer, SSBO_CELLS=cells.buffer,

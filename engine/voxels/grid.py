@@ -23,9 +23,10 @@ engine/voxels/records.py; an empty voxel reads zero):
 Volumes (RGBA16F with their mip chains, what cones read from mip level 1 up, where cells hold
 several voxels: level 0 is the voxels' own records, their reflected light and mean normal):
 the six one-sided face views, stacked along z in one volume `faces` ((n/2) x (n/2) x 6L(n/2) at
-mip level 1, view f at z in [f L n/2, (f + 1) L n/2)), and, where surfaces emit, `cone_emission`
-(emission, a: coverage): the emission the specular cones see ((n/2) x (n/2) x L(n/2) and
-coarser: the cones that read it are at least 4 voxels wide). engine/voxels/inspection.py reads
+mip level 1, view f at z in [f L n/2, (f + 1) L n/2); FaceViewsPass writes it), and, where
+surfaces emit, `cone_emission` (emission, a: coverage; the voxelizer writes it): the emission
+the specular cones see ((n/2) x (n/2) x L(n/2) and coarser: the cones that read it are at
+least 4 voxels wide). engine/voxels/inspection.py reads
 them back, and an array as a volume made from it.
 
 Lists (lists.py): `covered` (the voxel of each record handed out, or NO_VOXEL at a free
@@ -351,11 +352,6 @@ class VoxelGrid:
         new epoch (`scrolled_levels`: Epoch.scrolled_levels)."""
         self.size_list(self.covered)
         self.epoch = self.epoch.next(scrolled_levels)
-
-    def build_emission_mips(self):
-        """The cone emission's coarser levels from its level 1, after a voxelization where
-        surfaces emit."""
-        self.cone_emission.build_mipmaps()
 
     def faces_out(self, level):
         """Mip level `level` (1 up) of the face views, to write (as IMG_FACES_OUT)."""

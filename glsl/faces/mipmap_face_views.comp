@@ -6,7 +6,7 @@
 // level-m cell holds the mean premultiplied radiance and coverage of the 2^m voxels along each
 // side. At level 1 the children are voxels, seen as cones see level 0 (lib/cone.glsl
 // voxel_face): their reflected light times the coverage of each face. Cells no surface covers
-// are zero and stay zero (voxelize/clear_cells.comp).
+// are zero and stay zero (voxel_grid/clear_cells.comp, run by FaceViewsPass).
 #include "lib/segment_cells.glsl"
 #include "lib/cone.glsl"
 

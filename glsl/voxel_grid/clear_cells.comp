@@ -2,8 +2,8 @@
 // Zeroes a volume of `views` stacks of the levels (the face views: VOXEL_FACES; the emission
 // volume: 1) at one mip level over the cells that hold the entries of a list segment, where
 // they lie in the levels of `cleared_levels` (bit k: level k): that level's cells of the
-// previous geometry (after a full voxelization, before their list is rebuilt, or of a level
-// about to scroll), or the voxels a voxelization touched (`voxel_entries`), so cells no surface
+// previous geometry (before a full voxelization, or of a level about to scroll), or those of
+// the voxels a voxelization touched (`voxel_entries`), so cells no surface
 // covers any more read empty, and the cells whose surfaces changed read empty until the face
 // views' mipmap builds them again (faces/mipmap_face_views.comp writes only faces with coverage).
 #include "lib/segment_cells.glsl"
