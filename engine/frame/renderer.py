@@ -586,7 +586,7 @@ class Renderer:
         levels = range(grid.levels) if item.levels is None else item.levels
         self.sky_light.run(grid, self._cones(), work.environment, work.cone_uniforms, segments.traced, self.gather.anchors,
                            levels, item.box)
-        self.gather.fill(grid, self.sky_light.traced, segments.filled, segments.finer)
+        self.sky_light.fill(grid, self.gather.anchors, segments.filled, segments.finer)
         self.sky_light.filter(grid, segments.filtered, levels, item.box)
 
     def _take_coarser_sky_light(self, item, work):

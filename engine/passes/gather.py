@@ -24,6 +24,40 @@ def class_buckets(grid):
     return grid.levels * max(grid.n // CLASS_BLOCK, 1) ** 3 * CLASS_FACINGS
 
 
+class AnchorFill:
+    """Values that anchors computed, spread to the other voxels: interpolated from the anchors
+    around each voxel (lib/gather_anchors.glsl), then, beneath a finer level, the mean of the
+    finer voxels that tile it, level after level. The gather uses it, and the sky's light the
+    same way; each pass holds its own, over its own array."""
+
+    def __init__(self, programs):
+        self.fill_program = programs.compute("gather/interpolate_from_anchors.comp", writes=("SSBO_GATHERED_OUT",),
+                                             reads=("SSBO_CLASS_LIST", "SSBO_SEGMENTS", "SSBO_GATHER_ANCHORS", *VoxelGrid.SURFACE_READS))
+        self.take_finer_program = programs.compute("gather/take_finer_gather.comp", writes=("SSBO_GATHERED_OUT",),
+                                                   reads=("SSBO_CLASS_LIST", "SSBO_SEGMENTS", "SSBO_GATHER_ANCHORS",
+                                                          *VoxelGrid.SURFACE_READS))
+
+    def run(self, grid, values, anchors, filled, finer):
+        """Interpolate `values` (an array per record, the anchors' values written) at the
+        voxels of segment `filled` that are not anchors (a class's that interpolate, or the
+        touched voxels) from the anchors around them (`anchors`: GatherPass.anchors), then at
+        those beneath a finer level take the finer voxels' mean, level after level: `finer`
+        maps each level above the finest to the segments holding them (a class's, every
+        class's, or the touched voxels again). Returns `values`."""
+        filling = dict(SSBO_GATHER_ANCHORS=anchors, **grid.surface(), SSBO_GATHERED_OUT=values)
+        self.fill_program.set(**grid.uniforms())
+        grid.dispatch(self.fill_program, filled, SSBO_CLASS_LIST=filled.buffer, **filling)
+        for level in range(1, grid.levels):
+            self.take_finer_program.set(**grid.uniforms(), level=level)
+            for segment in finer[level]:
+                grid.dispatch(self.take_finer_program, segment, SSBO_CLASS_LIST=segment.buffer, **filling)
+        return values
+
+    def release(self):
+        self.fill_program.release()
+        self.take_finer_program.release()
+
+
 class GatherPass:
     def __init__(self, ctx, programs):
         self.ctx = ctx
@@ -40,11 +74,7 @@ class GatherPass:
             writes=("SSBO_CLASS_BUCKETS", "SSBO_CLASS_LIST", "SSBO_CELL_CLASS_BITS"))
         self.sort_cells_program = programs.compute("gather/sort_class_cells.comp", reads=("SSBO_CELLS", "SSBO_CELL_CLASS_BITS"),
                                                    writes=("SSBO_CLASS_BUCKETS", "SSBO_CELLS_BY_CLASS"))
-        self.fill_program = programs.compute("gather/interpolate_from_anchors.comp", writes=("SSBO_GATHERED_OUT",),
-                                             reads=("SSBO_CLASS_LIST", "SSBO_SEGMENTS", "SSBO_GATHER_ANCHORS", *VoxelGrid.SURFACE_READS))
-        self.take_finer_program = programs.compute("gather/take_finer_gather.comp", writes=("SSBO_GATHERED_OUT",),
-                                                   reads=("SSBO_CLASS_LIST", "SSBO_SEGMENTS", "SSBO_GATHER_ANCHORS",
-                                                          *VoxelGrid.SURFACE_READS))
+        self.filling = AnchorFill(programs)
         self.scan_program = programs.compute("gather/scan_buckets.comp", writes=("SSBO_CLASS_BUCKETS", "SSBO_SEGMENTS"))
         self.extrapolate_program = programs.compute("gather/close_bounce_series.comp", reads=("SSBO_COVERED", "SSBO_VOXEL_RECORD", "SSBO_VOXEL_GATHERED"),
                                                     writes=("SSBO_GATHERED_OUT",))
@@ -174,21 +204,14 @@ class GatherPass:
                       SSBO_GATHERED_OUT=out)
         return self.fill(grid, out, filled, finer)
 
-    def fill(self, grid, values, filled, finer):
-        """Interpolate `values` (an array of the grid, the anchors' values written) at the
+    def fill(self, grid, out, filled, finer):
+        """Interpolate `out` (one of self.gathered, the anchors' gathers written) at the
         voxels of segment `filled` that are not anchors (a class's that interpolate, or the
         touched voxels) from the anchors around them, then at those beneath a finer level take
         the finer voxels' mean, level after level: `finer` maps each level above the finest to
         the segments holding them (a class's, every class's, or the touched voxels again).
-        Returns `values`."""
-        filling = dict(SSBO_GATHER_ANCHORS=self.anchors, **grid.surface(), SSBO_GATHERED_OUT=values)
-        self.fill_program.set(**grid.uniforms())
-        grid.dispatch(self.fill_program, filled, SSBO_CLASS_LIST=filled.buffer, **filling)
-        for level in range(1, grid.levels):
-            self.take_finer_program.set(**grid.uniforms(), level=level)
-            for segment in finer[level]:
-                grid.dispatch(self.take_finer_program, segment, SSBO_CLASS_LIST=segment.buffer, **filling)
-        return values
+        Returns `out` (AnchorFill)."""
+        return self.filling.run(grid, out, self.anchors, filled, finer)
 
     def extrapolate(self, grid, latest, older, gain):
         """older <- latest + (latest - older) * gain, per covered voxel; returns `older`."""
@@ -200,7 +223,6 @@ class GatherPass:
     def release(self):
         self.values.release()
         for handle in (self.trace_program, self.mark_stale_program, self.find_anchors_program, self.sort_classes_program,
-                       self.sort_cells_program, self.fill_program, self.take_finer_program,
-                       self.extrapolate_program, self.scan_program):
+                       self.sort_cells_program, self.filling, self.extrapolate_program, self.scan_program):
             handle.release()
         self._storage.release()

@@ -4,14 +4,15 @@ the voxels let it through (the face views must hold the grid's current coverage)
 cones offset by a jitter of its own. Traced at the gather's anchors of a segment of the class
 list when the voxels or the environment change (or of the voxels a scrolled level took in) into
 its traced irradiance, the other voxels interpolating them as they interpolate the gather
-(GatherPass.fill); then averaged over the like-facing voxels around each covered voxel (or
-each of those taken in) into its irradiance, which light injection adds to the base radiance
-and the image interpolates per pixel. The voxels a scrolled clipmap level took
+(AnchorFill); then averaged over the like-facing voxels around each covered voxel (or each of
+those taken in) into its irradiance, which light injection adds to the base radiance and the
+image interpolates per pixel. The voxels a scrolled clipmap level took
 in may take theirs from the next coarser level instead (take_coarser), until the camera rests."""
 import numpy as np
 
 from ..voxels.grid import VoxelGrid
 from ..voxels.records import RecordArrays
+from .gather import AnchorFill
 
 
 class SkyLightPass:
@@ -26,6 +27,7 @@ class SkyLightPass:
             "sky_light/take_coarser_sky_light.comp", writes=("SSBO_VOXEL_TRACED_SKY_IRRADIANCE", "SSBO_VOXEL_SKY_IRRADIANCE"),
             reads=("SSBO_VOXEL_LIST", "SSBO_SEGMENTS", *VoxelGrid.SURFACE_READS, "SSBO_VOXEL_SKY_IRRADIANCE"))
         self.values = RecordArrays(2)  # the sky's irradiance per record, filtered and traced, where the scene has a sky
+        self.filling = AnchorFill(programs)
 
     def hold(self, records, wanted):
         """Hold the sky's light for the grid's `records` where `wanted` (zero when made), none
@@ -57,6 +59,11 @@ class SkyLightPass:
                       **environment.resources(), SSBO_VOXEL_TRACED_SKY_IRRADIANCE=self.traced)
         return self.traced
 
+    def fill(self, grid, anchors, filled, finer):
+        """The traced irradiance of the voxels that are not anchors, from the anchors' as the
+        gather fills its own (AnchorFill; `anchors`: GatherPass.anchors). Returns it."""
+        return self.filling.run(grid, self.traced, anchors, filled, finer)
+
     def filter(self, grid, segment, levels=None, box=None):
         """The filtered irradiance of the voxels of `segment` (a VoxelSegment: the covered list, or
         the voxels a voxelization touched) that lie in `levels` (None: every level; a voxel's
@@ -83,6 +90,7 @@ class SkyLightPass:
 
     def release(self):
         self.values.release()
+        self.filling.release()
         self.program.release()
         self.filter_program.release()
         self.coarser_program.release()
