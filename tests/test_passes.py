@@ -84,7 +84,8 @@ def test_a_mip_cell_is_the_mean_of_its_eight_children(gl):
     gl["faces"].mipmap(grid)
     radiance = 0.8 / np.pi * 2.0
     for level, fraction in ((1, 3 / 8), (2, 3 / 64)):
-        views = gl["inspection"].read_faces(grid, level).reshape(6, N >> level, N >> level, N >> level, 4)
+        faces = gl["inspection"].read_faces(grid, gl["faces"].volume, level)
+        views = faces.reshape(6, N >> level, N >> level, N >> level, 4)
         cell = 4 >> level
         assert views[0, cell, cell, cell] == pytest.approx([fraction * radiance] * 3 + [fraction], rel=2e-3)
         views[0, cell, cell, cell] = 0.0
@@ -129,11 +130,11 @@ def test_mips_rebuilt_over_one_interleave_class_equal_mips_rebuilt_everywhere(gl
         gl["faces"].compose(grid, gl["inject"].base, None, segment)
         if intensity == 2.0:
             gl["faces"].mipmap(grid)
-            before = gl["inspection"].read_faces(grid, 1)
+            before = gl["inspection"].read_faces(grid, gl["faces"].volume, 1)
     gl["faces"].mipmap(grid, [(segment, 1) for segment in classes.cell_segments(1)])
-    partial = [gl["inspection"].read_faces(grid, level) for level in range(1, grid.mip_count)]
+    partial = [gl["inspection"].read_faces(grid, gl["faces"].volume, level) for level in range(1, grid.mip_count)]
     gl["faces"].mipmap(grid)
-    full = [gl["inspection"].read_faces(grid, level) for level in range(1, grid.mip_count)]
+    full = [gl["inspection"].read_faces(grid, gl["faces"].volume, level) for level in range(1, grid.mip_count)]
     assert not np.array_equal(partial[0], before)
     for level, (a, b) in enumerate(zip(partial, full), start=1):
         assert np.array_equal(a, b), f"level {level} differs"

@@ -537,8 +537,9 @@ class Renderer:
         are (made zero for new ones): the emitters' and the sky's light only where the scene
         has them, whose stages forget what they computed where the arrays are made now."""
         records = self.grid.records
-        for owner in (self.inject, self.gather, self.faces):
+        for owner in (self.inject, self.gather):
             owner.hold(records)
+        self.faces.hold(self.grid)
         for name, owner, wanted in (("emitter_light", self.emitter_light, emitters.count > 0),
                                     ("sky_light", self.sky_light, environment.environment is not None)):
             if owner.hold(records, wanted):
@@ -550,6 +551,7 @@ class Renderer:
         listed before it); after one of some voxels, the cells of those it touched (a scroll
         alone moves voxels whose light is composed again: its levels were zeroed before)."""
         if before:
+            self.faces.hold(self.grid)
             for level in update.scrolled:
                 self.faces.clear_level(self.grid, level)
             if update.full:

@@ -6,7 +6,7 @@ the mipmap writes only faces with coverage)."""
 import numpy as np
 
 from ..core.constants import VOXEL_FACES
-from ..voxels.grid import VoxelGrid
+from ..voxels.grid import MIP_CHAIN, TEXEL_BYTES, VoxelGrid, volume_image, zero_volume
 from ..voxels.records import RecordArrays
 
 
@@ -23,10 +23,23 @@ class FaceViewsPass:
                                               writes=("IMG_FACES_OUT",))
         self.totals_buffer = ctx.buffer(reserve=16 * VOXEL_FACES)
         self.values = RecordArrays(1)  # the light each voxel reflects, per record
+        self.volume = None  # the face views from mip level 1 up, for the records store in self.values
 
-    def hold(self, records):
-        """Hold the reflected light for the grid's `records` (zero when made); True when made now."""
-        return self.values.hold(records)
+    def hold(self, grid):
+        """Hold the reflected light for the grid's records and the face views for its levels
+        (zero when made); True when made now."""
+        if not self.values.hold(grid.records):
+            return False
+        if self.volume is not None:
+            self.volume.release()
+        self.volume = zero_volume(self.ctx, grid.n // 2, VOXEL_FACES * grid.levels)  # mip level 1
+        self.volume.build_mipmaps()
+        self.volume.filter = (self.ctx.LINEAR_MIPMAP_LINEAR, self.ctx.LINEAR)
+        return True
+
+    def faces_out(self, level):
+        """Mip level `level` (1 up) of the face views, to write (as IMG_FACES_OUT)."""
+        return volume_image(self.volume, level - 1)
 
     @property
     def reflected(self):
@@ -36,14 +49,14 @@ class FaceViewsPass:
     def cones(self, grid):
         """What a program tracing cones binds (VoxelGrid.CONE_READS): the voxels' surface and the
         light they reflect (level 0), and the face views (level 1 up)."""
-        return dict(zip(VoxelGrid.CONE_READS, (*grid.surface().values(), self.reflected, grid.faces)))
+        return dict(zip(VoxelGrid.CONE_READS, (*grid.surface().values(), self.reflected, self.volume)))
 
     def compose(self, grid, base, gathered, segment, levels=None):
         """Level 0 of the face views, the light the voxels reflect, from the base radiance
         `base` plus rho times `gathered` (arrays per record; gathered None before the first
         bounce), for the voxels of `segment` (a VoxelSegment) that lie in `levels` (None: every
         level). Returns the reflected light."""
-        self.hold(grid.records)
+        self.hold(grid)
         self.compose_program.set(**grid.uniforms(), include_gathered=gathered is not None, composed_levels=grid.level_mask(levels))
         grid.dispatch(self.compose_program, segment, SSBO_VOXEL_LIST=segment.buffer, **grid.surface(), SSBO_VOXEL_BASE=base,
                       SSBO_VOXEL_GATHERED=gathered, SSBO_VOXEL_REFLECTED=self.reflected)
@@ -62,8 +75,8 @@ class FaceViewsPass:
             for segment, entry_level in level_one if level == 1 else [(grid.cells.segment(level), level)]:
                 self.mipmap_program.set(**uniforms, voxel_entries=entry_level == 0, mipmapped_levels=grid.level_mask(levels))
                 grid.dispatch(self.mipmap_program, segment, SSBO_CELLS=segment.buffer, **self.cones(grid),
-                              IMG_FACES_OUT=grid.faces_out(level))
-        return grid.faces
+                              IMG_FACES_OUT=self.faces_out(level))
+        return self.volume
 
     def clear_level(self, grid, level):
         """Before a scroll of grid level `level` moves its voxels: its face views zeroed over the
@@ -85,13 +98,13 @@ class FaceViewsPass:
         for mip, (segment, voxel_entries) in enumerate(segments, start=1):
             self.clear_program.set(**grid.uniforms(), voxel_entries=voxel_entries, views=VOXEL_FACES,
                                    cleared_levels=grid.level_mask(levels))
-            grid.dispatch(self.clear_program, segment, SSBO_CELLS=segment.buffer, IMG_FACES_OUT=grid.faces_out(mip))
+            grid.dispatch(self.clear_program, segment, SSBO_CELLS=segment.buffer, IMG_FACES_OUT=self.faces_out(mip))
 
     def request_totals(self, grid):
         """Compute the mean premultiplied radiance (rgb) of the face views over the grid,
         summed over the six faces (from the 1^3 levels), into a buffer read_totals reads."""
         self.totals_program.set(top_level=grid.mip_count - 2)  # the face views hold levels 1 and up
-        self.totals_program.run(1, TEX_VOXEL_FACES=grid.faces, SSBO_READBACK=self.totals_buffer)
+        self.totals_program.run(1, TEX_VOXEL_FACES=self.volume, SSBO_READBACK=self.totals_buffer)
         self.ctx.memory_barrier(self.ctx.SHADER_STORAGE_BARRIER_BIT)
 
     def read_totals(self):
@@ -104,9 +117,14 @@ class FaceViewsPass:
         return self.read_totals()
 
     def memory_bytes(self):
-        return self.values.memory_bytes()
+        """The reflected light's array and the face views with their mip chain."""
+        volume = int(np.prod(self.volume.size)) * TEXEL_BYTES * MIP_CHAIN if self.volume is not None else 0
+        return self.values.memory_bytes() + int(volume)
 
     def release(self):
         self.values.release()
+        if self.volume is not None:
+            self.volume.release()
+            self.volume = None
         for resource in (self.compose_program, self.mipmap_program, self.totals_program, self.clear_program, self.totals_buffer):
             resource.release()

@@ -22,9 +22,9 @@ engine/voxels/records.py; an empty voxel reads zero):
 
 Volumes (RGBA16F with their mip chains, what cones read from mip level 1 up, where cells hold
 several voxels: level 0 is the voxels' own records, their reflected light and mean normal):
-the six one-sided face views, stacked along z in one volume `faces` ((n/2) x (n/2) x 6L(n/2) at
-mip level 1, view f at z in [f L n/2, (f + 1) L n/2); FaceViewsPass writes it), and, where
-surfaces emit, `cone_emission` (emission, a: coverage; the voxelizer writes it): the emission
+the six one-sided face views, stacked along z in one volume ((n/2) x (n/2) x 6L(n/2) at mip
+level 1, view f at z in [f L n/2, (f + 1) L n/2); FaceViewsPass holds and writes it), and,
+where surfaces emit, `cone_emission` (emission, a: coverage; the voxelizer writes it): the emission
 the specular cones see ((n/2) x (n/2) x L(n/2) and coarser: the cones that read it are at
 least 4 voxels wide). engine/voxels/inspection.py reads
 them back, and an array as a volume made from it.
@@ -179,7 +179,6 @@ class VoxelGrid:
         self.records = self._keep(VoxelRecords(ctx, n, self.levels, room))
         self.albedo, self.normal, self.emission = (self._values() for _ in range(3))
         self.cone_emission = None  # hold_cone_emission
-        self.faces = self._volume(mipmapped=True, slabs=VOXEL_FACES, side=n // 2)
         self.touched = self._keep(VoxelList(ctx, self.touched_room))
         self.covered, self.newly_covered = (self._keep(VoxelList(ctx, room)) for _ in range(2))
         self.covered.clear()  # no record handed out yet
@@ -268,12 +267,8 @@ class VoxelGrid:
         return self._keep(self.records.array())
 
     def _volume(self, mipmapped=False, slabs=1, side=None):
-        """A side x side x (slabs L side) RGBA16F volume of zeros, side n unless given: `slabs`
-        stacks of the levels along z (with a full mip chain if asked)."""
-        n, depth = side or self.n, slabs * self.levels * (side or self.n)
-        volume = self.ctx.texture3d((n, n, depth), 4, data=bytes(TEXEL_BYTES * n * n * depth), dtype=VOXEL_FORMAT)
-        volume.filter = (self.ctx.LINEAR, self.ctx.LINEAR)
-        volume.repeat_x = volume.repeat_y = volume.repeat_z = False
+        """A volume of zeros of the grid's stacked levels (zero_volume), kept with its resources."""
+        volume = zero_volume(self.ctx, side or self.n, slabs * self.levels)
         if mipmapped:
             self.viewable(volume)
         return self._keep(volume)
@@ -342,20 +337,11 @@ class VoxelGrid:
         resolved surface)."""
         return dict(zip(self.SURFACE_READS, (self.records.index, self.albedo, self.normal, self.emission)))
 
-    def cones(self):
-        """What a program tracing cones binds (CONE_READS): the surface and reflected light of
-        the voxels (level 0) and the face views (level 1 up)."""
-        return dict(zip(self.CONE_READS, (*self.surface().values(), self.reflected, self.faces)))
-
     def covered_changed(self, scrolled_levels=None):
         """After a voxelization wrote the covered list: its segment row from its count, and a
         new epoch (`scrolled_levels`: Epoch.scrolled_levels)."""
         self.size_list(self.covered)
         self.epoch = self.epoch.next(scrolled_levels)
-
-    def faces_out(self, level):
-        """Mip level `level` (1 up) of the face views, to write (as IMG_FACES_OUT)."""
-        return volume_image(self.faces, level - 1)
 
     def dispatch(self, handle, segment, **resources):
         """Run a compute program once per entry of a list segment (a VoxelSegment: its table
@@ -458,6 +444,16 @@ def unpack_voxels(entries):
     entries = np.asarray(entries, np.uint32)
     mask = (1 << VOXEL_PACK_BITS) - 1
     return np.stack([entries & mask, (entries >> VOXEL_PACK_BITS) & mask, entries >> (2 * VOXEL_PACK_BITS)], axis=-1)
+
+
+def zero_volume(ctx, side, stacks):
+    """A side x side x (stacks side) RGBA16F volume of zeros: `stacks` stacks of side^3 along z,
+    filtered linearly and clamped."""
+    depth = stacks * side
+    volume = ctx.texture3d((side, side, depth), 4, data=bytes(TEXEL_BYTES * side * side * depth), dtype=VOXEL_FORMAT)
+    volume.filter = (ctx.LINEAR, ctx.LINEAR)
+    volume.repeat_x = volume.repeat_y = volume.repeat_z = False
+    return volume
 
 
 def volume_image(volume, level=0, read=False):

@@ -65,9 +65,10 @@ class VoxelInspection:
         finally:
             buffer.release()
 
-    def read_faces(self, grid, level):
-        """Mip level `level` (1 up) of `grid`'s face views, as read_level reads a volume."""
-        return self.read_level(grid, grid.faces, level - 1)
+    def read_faces(self, grid, faces, level):
+        """Mip level `level` (1 up) of the face views `faces` (FaceViewsPass.volume), as
+        read_level reads a volume."""
+        return self.read_level(grid, faces, level - 1)
 
     def memory_bytes(self, grid):
         """GPU bytes of the dense volume, where it is of `grid`'s size (with its mip chain)."""
