@@ -9,7 +9,6 @@ changed since it last ran (found from the scene's edits: engine/scene/table.py, 
 import functools
 import numbers
 from contextlib import contextmanager
-from dataclasses import dataclass
 
 import moderngl
 import numpy as np
@@ -46,19 +45,10 @@ from ..voxels.grid import VoxelGrid
 from ..voxels.inspection import VoxelInspection
 from . import schedule
 from .camera import CameraBlock, frame_camera
-from .segments import cell_segments, gather_segments, sky_segments, voxel_segment
 from .settings import RenderSettings
+from .work_items import WorkItems, WorkResources
 
 VOXEL_VOLUMES = {"radiance": "voxels", "normal": "voxel-normals", "albedo": "voxel-albedo", "gathered": None}
-
-
-@dataclass(frozen=True)
-class WorkResources:
-    """What the radiance schedule's work items read besides the grid, for one frame."""
-    shadow_maps: object
-    emitters: object
-    environment: object
-    cone_uniforms: dict
 
 
 def _current(method):
@@ -87,7 +77,7 @@ def _image_size(width, height):
     return int(width), int(height)
 
 
-class Renderer:
+class Renderer(WorkItems):
     def __init__(self, width, height, settings=None, ctx=None, glsl_root=GLSL_ROOT):
         self.ctx = None
         self.settings = _settings(settings or RenderSettings())
@@ -518,19 +508,7 @@ class Renderer:
         self._run(self.schedule.bounce(restart=restart, bounces=s.bounces, interleave=s.bounce_interleave,
                                        progressive=self.progressive, epoch=self.grid.epoch), work)
 
-    # -- the radiance schedule's work items -----------------------------------------------------
-
-    def _run(self, plan, work):
-        """Run the work items a plan of the radiance schedule yields, each under the timer of
-        its pass; returns the items run."""
-        def execute(item):
-            with self.timed(item.timer):
-                return self._execute(item, work)
-        return schedule.run_plan(plan, execute)
-
-    def _gathered(self, index=None):
-        """Gather array `index` (None: the latest)."""
-        return self.gather.gathered[self.schedule.latest if index is None else index]
+    # -- the passes' arrays of values, around a voxelization ---------------------------------
 
     def _hold_values(self, emitters, environment):
         """The arrays of values per record each pass owns, held for the grid's records as they
@@ -558,68 +536,6 @@ class Renderer:
                 self.faces.clear_covered(self.grid)
         elif not update.full and not update.scrolls_only:
             self.faces.clear_touched(self.grid)
-
-    def _cones(self):
-        """What a program tracing cones binds: the voxels and the light they reflect."""
-        return self.faces.cones(self.grid)
-
-    def _execute(self, item, work):
-        """Run one work item of the radiance schedule with the pass that does it (WORK_ITEMS);
-        returns what a MeasureTotals or ReadTotals measured, else None."""
-        return WORK_ITEMS[type(item)](self, item, work)
-
-    def _sort_classes(self, item, work):
-        self.class_index = self.gather.sort_classes(self.grid, item.interleave)
-
-    def _find_anchors(self, item, work):
-        self.gather.find_anchors(self.grid)
-
-    def _inject(self, item, work):
-        segment = voxel_segment(self.grid, self.class_index, item.voxels)
-        self.inject.run(self.grid, work.shadow_maps, segment, self.emitter_light.irradiance, self.sky_light.irradiance)
-
-    def _light_voxels(self, item, work):
-        grid = self.grid
-        if item.source == "emitter_light":
-            segment = voxel_segment(grid, self.class_index, item.voxels)
-            self.emitter_light.run(grid, self._cones(), work.emitters, work.cone_uniforms, segment, item.levels)
-            return
-        segments = sky_segments(grid, self.class_index, item.voxels)
-        levels = range(grid.levels) if item.levels is None else item.levels
-        self.sky_light.run(grid, self._cones(), work.environment, work.cone_uniforms, segments.traced, self.gather.anchors,
-                           levels, item.box)
-        self.sky_light.fill(grid, self.gather.anchors, segments.filled, segments.finer)
-        self.sky_light.filter(grid, segments.filtered, levels, item.box)
-
-    def _take_coarser_sky_light(self, item, work):
-        self.sky_light.take_coarser(self.grid, voxel_segment(self.grid, self.class_index, item.voxels), sorted(item.levels))
-
-    def _compose_faces(self, item, work):
-        gathered = None if item.gathered is None else self._gathered(item.gathered)
-        for voxels in item.voxels:
-            self.faces.compose(self.grid, self.inject.base, gathered, voxel_segment(self.grid, self.class_index, voxels),
-                               voxels.levels)
-
-    def _mipmap(self, item, work):
-        cells = [segment for voxels in item.voxels for segment in cell_segments(self.grid, self.class_index, voxels)]
-        self.faces.mipmap(self.grid, cells, item.levels)
-
-    def _gather(self, item, work):
-        segments = gather_segments(self.grid, self.class_index, item.voxels)
-        self.gather.run(self.grid, self._cones(), work.cone_uniforms, self._gathered(item.into), segments.traced, segments.filled,
-                        segments.finer)
-
-    def _extrapolate_gather(self, item, work):
-        self.gather.extrapolate(self.grid, self._gathered(item.latest), self._gathered(item.older), item.gain)
-
-    def _measure_totals(self, item, work):
-        return self.faces.totals(self.grid)
-
-    def _request_totals(self, item, work):
-        self.faces.request_totals(self.grid)
-
-    def _read_totals(self, item, work):
-        return self.faces.read_totals()
 
     @_current
     def render(self, scene, mode=None, **changes):
@@ -687,23 +603,6 @@ class Renderer:
 
     def __exit__(self, *exc):
         self.close()
-
-
-# The pass method that runs each kind of work item of the radiance schedule.
-WORK_ITEMS = {
-    schedule.SortClasses: Renderer._sort_classes,
-    schedule.FindAnchors: Renderer._find_anchors,
-    schedule.Inject: Renderer._inject,
-    schedule.LightVoxels: Renderer._light_voxels,
-    schedule.TakeCoarserSkyLight: Renderer._take_coarser_sky_light,
-    schedule.ComposeFaces: Renderer._compose_faces,
-    schedule.Mipmap: Renderer._mipmap,
-    schedule.Gather: Renderer._gather,
-    schedule.ExtrapolateGather: Renderer._extrapolate_gather,
-    schedule.MeasureTotals: Renderer._measure_totals,
-    schedule.RequestTotals: Renderer._request_totals,
-    schedule.ReadTotals: Renderer._read_totals,
-}
 
 
 def _settings(settings):
