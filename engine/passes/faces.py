@@ -6,7 +6,7 @@ the mipmap writes only faces with coverage)."""
 import numpy as np
 
 from ..core.constants import VOXEL_FACES
-from ..voxels.grid import MIP_CHAIN, TEXEL_BYTES, VoxelGrid, volume_image, zero_volume
+from ..voxels.grid import VoxelGrid, build_mips, gpu_bytes, volume_image, zero_volume
 from ..voxels.records import RecordArrays
 
 
@@ -32,9 +32,7 @@ class FaceViewsPass:
             return False
         if self.volume is not None:
             self.volume.release()
-        self.volume = zero_volume(self.ctx, grid.n // 2, VOXEL_FACES * grid.levels)  # mip level 1
-        self.volume.build_mipmaps()
-        self.volume.filter = (self.ctx.LINEAR_MIPMAP_LINEAR, self.ctx.LINEAR)
+        self.volume = build_mips(zero_volume(self.ctx, grid.n // 2, VOXEL_FACES * grid.levels))  # from mip level 1
         return True
 
     def faces_out(self, level):
@@ -118,8 +116,8 @@ class FaceViewsPass:
 
     def memory_bytes(self):
         """The reflected light's array and the face views with their mip chain."""
-        volume = int(np.prod(self.volume.size)) * TEXEL_BYTES * MIP_CHAIN if self.volume is not None else 0
-        return self.values.memory_bytes() + int(volume)
+        volume = gpu_bytes(self.volume, mipmapped=True) if self.volume is not None else 0
+        return self.values.memory_bytes() + volume
 
     def release(self):
         self.values.release()

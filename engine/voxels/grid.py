@@ -247,10 +247,8 @@ class VoxelGrid:
         return False
 
     def viewable(self, volume):
-        """`volume` with its hardware mip chain built."""
-        volume.build_mipmaps()
-        volume.filter = (self.ctx.LINEAR_MIPMAP_LINEAR, self.ctx.LINEAR)
-        self._mipmapped.add(volume)
+        """`volume` with its hardware mip chain built (build_mips), counted in memory_bytes."""
+        self._mipmapped.add(build_mips(volume))
         return volume
 
     def _keep(self, resource):
@@ -453,6 +451,13 @@ def zero_volume(ctx, side, stacks):
     volume = ctx.texture3d((side, side, depth), 4, data=bytes(TEXEL_BYTES * side * side * depth), dtype=VOXEL_FORMAT)
     volume.filter = (ctx.LINEAR, ctx.LINEAR)
     volume.repeat_x = volume.repeat_y = volume.repeat_z = False
+    return volume
+
+
+def build_mips(volume):
+    """`volume` with its hardware mip chain built, sampled trilinearly through it."""
+    volume.build_mipmaps()
+    volume.filter = (moderngl.LINEAR_MIPMAP_LINEAR, moderngl.LINEAR)
     return volume
 
 

@@ -7,9 +7,8 @@ import math
 import moderngl
 import numpy as np
 
-from ..core.constants import GL_IMAGE_FORMAT, VOLUME_GROUP, VOXEL_FORMAT
-from ..gpu.bindings import Image
-from .grid import MIP_CHAIN, TEXEL_BYTES
+from ..core.constants import VOLUME_GROUP
+from .grid import TEXEL_BYTES, build_mips, gpu_bytes, volume_image, zero_volume
 
 
 class VoxelInspection:
@@ -26,23 +25,20 @@ class VoxelInspection:
         """An array of values of `grid` as a volume of its stacked levels, n x n x L n (zero
         where no surface covers a voxel), with its hardware mip chain built where `mips`: one
         volume, made again at each call."""
-        n, depth = grid.n, grid.levels * grid.n
+        n = grid.n
         if self.size_of != (n, grid.levels):
             self._release_volume()
-            self.volume = self.ctx.texture3d((n, n, depth), 4, dtype=VOXEL_FORMAT)
-            self.volume.repeat_x = self.volume.repeat_y = self.volume.repeat_z = False
+            self.volume = zero_volume(self.ctx, n, grid.levels)
             self.size_of = (n, grid.levels)
         volume = self.volume
         volume.write(bytes(TEXEL_BYTES * grid.voxel_count))
         self.scatter_program.set(**grid.uniforms())
         grid.dispatch(self.scatter_program, grid.covered.segment(), SSBO_COVERED=grid.covered.buffer,
                       SSBO_VOXEL_RECORD=grid.records.index, SSBO_INSPECT_VALUES=values,
-                      IMG_INSPECT_OUT=Image(volume, format=GL_IMAGE_FORMAT["rgba16f"]))
+                      IMG_INSPECT_OUT=volume_image(volume))
         if mips:
-            volume.build_mipmaps()
-            volume.filter = (self.ctx.LINEAR_MIPMAP_LINEAR, self.ctx.LINEAR)
-        else:
-            volume.filter = (self.ctx.LINEAR, self.ctx.LINEAR)
+            return build_mips(volume)
+        volume.filter = (self.ctx.LINEAR, self.ctx.LINEAR)
         return volume
 
     def read_level(self, grid, volume, level=0):
@@ -74,7 +70,7 @@ class VoxelInspection:
         """GPU bytes of the dense volume, where it is of `grid`'s size (with its mip chain)."""
         if self.volume is None or self.size_of != (grid.n, grid.levels):
             return 0
-        return int(np.prod(self.volume.size) * TEXEL_BYTES * MIP_CHAIN)
+        return gpu_bytes(self.volume, mipmapped=True)
 
     def _release_volume(self):
         if self.volume is not None:
