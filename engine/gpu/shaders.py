@@ -285,6 +285,7 @@ class ProgramHandle:
     def __init__(self, library, stages, defines, reads, writes):
         self.library = library
         self.reads, self.writes = tuple(reads), tuple(writes)  # binding names "KIND_NAME" (check_declared)
+        self.declared = frozenset(self.reads) | frozenset(self.writes)  # what each dispatch or draw binds (bind)
         self.stages = stages  # {'vertex_shader': 'gbuffer/draw_surfaces.vert', ...} or {'compute_shader': ...}
         self.defines = dict(defines or {})
         self.program = None
@@ -349,7 +350,7 @@ class ProgramHandle:
         ({"SSBO_VOXEL_BASE": buffer, ...}: gpu.bindings.bind_resources): exactly the resources
         its pass declares, so nothing it reads is left as another pass bound it and nothing is
         bound that it does not declare."""
-        given, declared = set(resources), set(self.reads) | set(self.writes)
+        given, declared = resources.keys(), self.declared
         if given != declared:
             raise ValueError(f"{', '.join(self.stages.values())}: bound {sorted(given - declared)} it does not declare, "
                              f"not bound {sorted(declared - given)}")
