@@ -12,7 +12,6 @@ from engine.core.constants import FACING_EXPONENT
 from engine.core.errors import SceneError
 from engine.scene.model import Clipmap, VoxelRegion
 from engine.voxels.clipmap import default_clipmap, entered_slabs, level_regions, level_shift, level_snap_voxels, moved_levels
-from engine.voxels.grid import unpack_voxels
 from conftest import REFERENCE, SCENES, reference_file, rel_mae
 from test_cli import assert_one_line_error, vct
 from test_tracking import SCREEN_PASSES
@@ -129,7 +128,7 @@ def test_a_clipmap_lights_the_cornell_box_as_the_path_tracer_does(renderer, corn
     reference = np.load(reference_file(REFERENCE / "cornell_box_gi.npy"))
     cornell.clipmap = Clipmap(levels=2, resolution=64, voxel_size=2.1 / 64)
     image = renderer.render(cornell, mode="gi")
-    assert renderer.grid.levels == 2 and renderer.grid.voxel_count == 2 * 64 ** 3
+    assert renderer.voxel_layout.levels == 2 and renderer.voxel_layout.voxel_count == 2 * 64 ** 3
     assert rel_mae(image, reference) < 0.07
     assert image.mean() / reference.mean() == pytest.approx(1.0, abs=0.03)
 
@@ -158,7 +157,7 @@ def test_a_coarser_levels_voxels_beneath_the_finer_level_take_the_gather_of_the_
     cornell.clipmap = Clipmap(levels=2, resolution=32, voxel_size=0.05)
     small.render(cornell, mode="gi", bounces=1)
     gathered, normals = small.voxels("gathered"), small.voxels("normal")
-    fine, coarse = small.grid.regions
+    fine, coarse = small.voxel_layout.regions
     n, voxel = 32, 0.05
     first_fine = np.rint((np.asarray(coarse.center) - coarse.size / 2 - (np.asarray(fine.center) - fine.size / 2)) / voxel).astype(int)
     checked = 0
@@ -215,17 +214,16 @@ def test_a_level_that_moves_scrolls_and_holds_the_voxels_a_new_grid_there_holds(
     eye, step = np.array([-0.15, 0.0, 1.5]), np.array([0.61, -0.2, -0.43])
     cornell.camera.position = eye
     small.render(cornell, mode="gi")
-    held = small.grid.regions
+    held = small.voxel_layout.regions
     cornell.camera.position = eye + step
     moved = small.render(cornell, mode="gi")
-    shifts = [level_shift(a, b, 32) for a, b in zip(held, small.grid.regions)]
+    shifts = [level_shift(a, b, 32) for a, b in zip(held, small.voxel_layout.regions)]
     assert all(shift is not None and any(shift) for shift in shifts)
     in_slabs = np.zeros((2 * 32, 32, 32), bool)  # [level z, y, x]
     for level, shift in enumerate(shifts):
         for lo, hi in entered_slabs(shift, 32):
             in_slabs[32 * level + lo[2]:32 * level + hi[2], lo[1]:hi[1], lo[0]:hi[0]] = True
-    with small.ctx:
-        x, y, z = unpack_voxels(small.grid.touched.read_entries()).T
+    x, y, z = small.voxel_lists().touched.T
     assert len(x) > 0 and in_slabs[z, y, x].all()  # the slabs' voxels, no others
     with engine.Renderer(64, 64) as fresh:
         expected = fresh.render(cornell, mode="gi")
@@ -316,8 +314,8 @@ def test_the_viewer_moves_one_level_a_frame_finest_first(small, cornell):
     assert moved_levels(start, target) == {0, 1, 2}
     for frame in range(3):
         small.render(cornell, mode="gi")
-        assert moved_levels(small.grid.regions, target) == set(range(frame + 1, 3))
-        assert moved_levels(small.grid.regions, start) == set(range(frame + 1))
+        assert moved_levels(small.voxel_layout.regions, target) == set(range(frame + 1, 3))
+        assert moved_levels(small.voxel_layout.regions, start) == set(range(frame + 1))
 
 
 def test_the_voxel_views_show_one_level_at_a_time(small, cornell):
@@ -335,16 +333,16 @@ def test_the_voxel_views_show_one_level_at_a_time(small, cornell):
 
 def test_the_clipmap_option_places_levels_of_the_grid_size_around_the_camera(small, cornell):
     small.render(cornell, mode="voxels", grid=32, clipmap_levels=4)
-    assert small.grid.levels == 4 and small.grid.n == 32
-    assert small.grid.level_voxel_size(3) == pytest.approx(8 * small.grid.level_voxel_size(0))
+    assert small.voxel_layout.levels == 4 and small.voxel_layout.n == 32
+    assert small.voxel_layout.level_voxel_size(3) == pytest.approx(8 * small.voxel_layout.level_voxel_size(0))
 
 
 def test_clipmap_zero_gives_one_grid_where_the_scene_file_gives_a_clipmap(small, cornell):
     cornell.clipmap = Clipmap(levels=3, resolution=32, voxel_size=0.05)
     small.render(cornell, mode="voxels", grid=32)
-    assert small.grid.levels == 3
+    assert small.voxel_layout.levels == 3
     small.render(cornell, mode="voxels", grid=32, clipmap_levels=0)
-    assert small.grid.levels == 1 and small.grid.level_voxel_size(0) == pytest.approx(cornell.region().size / 32)
+    assert small.voxel_layout.levels == 1 and small.voxel_layout.level_voxel_size(0) == pytest.approx(cornell.region().size / 32)
 
 
 def test_bench_reports_a_clipmaps_levels_voxels_and_memory_for_every_frame_kind(tmp_path):

@@ -6,9 +6,13 @@ import pytest
 
 import engine
 from engine.core import transforms
-from engine.core.constants import MATERIAL_TEXTURE_ARRAYS
-from engine.gpu.scene_buffers import texture_groups
+from engine.core.constants import DRAW_TEST_FRUSTUM, MATERIAL_TEXTURE_ARRAYS
+from engine.gpu.context import create_headless_context
+from engine.gpu.scene_buffers import SceneBuffers, texture_groups
+from engine.gpu.shaders import ProgramLibrary
+from engine.passes.cull import CullPass, DrawList, view_records
 from engine.scene.model import Camera, Light, Material, Node, Scene, Texture, box_mesh, quad_mesh
+from engine.scene.table import SceneTable
 
 
 def field_of_boxes(count, materials=4):
@@ -29,8 +33,7 @@ def test_nodes_that_share_a_mesh_hold_one_copy_of_it_on_the_gpu():
     scene = field_of_boxes(64)
     with engine.Renderer(64, 64) as r:
         r.render(scene, mode="direct")
-        pool = r.scene_buffers.pool
-        assert len(pool.entries) == 2 and pool.vertex_count == 4 + 24
+        assert r.held_meshes == (2, 4 + 24)
 
 
 def test_a_frame_issues_as_many_multi_draws_for_thousands_of_objects_as_for_a_few():
@@ -43,7 +46,7 @@ def test_a_frame_issues_as_many_multi_draws_for_thousands_of_objects_as_for_a_fe
         with engine.Renderer(64, 64) as r:
             for mode in ("direct", "gi"):
                 r.render(scene, mode=mode, grid=32)
-                calls[count, mode] = r.scene_buffers.draw_calls
+                calls[count, mode] = r.draw_calls
     assert calls[16, "direct"] == calls[1024, "direct"] and calls[16, "gi"] == calls[1024, "gi"]
     assert calls[16, "direct"] <= 4  # a bucket of the G-buffer, the shadow maps' opaque bucket
 
@@ -54,20 +57,30 @@ def test_the_camera_draws_the_clusters_in_its_frustum_and_no_others():
     computes it for the same boxes."""
     scene = field_of_boxes(256)
     scene.camera = Camera(np.array([0.0, 1.0, -5.0]), np.array([2.0, 0.0, 0.0]), np.array([0.0, 1.0, 0.0]), 30.0, 64, 64)
-    with engine.Renderer(64, 64) as r:
-        r.render(scene, mode="albedo")
-        with r.ctx:
-            draw_list = r.gbuffer.draw_list
-            commands = np.frombuffer(draw_list.commands.read(), "u4")[:5 * draw_list.command_count].reshape(-1, 5)
-        table, pool = r.table, r.scene_buffers.pool
-        view_projection = engine.frame.camera.frame_camera(scene.camera, r.size, table.bounds).view_projection
+    table = SceneTable()
+    table.sync(scene)
+    ctx = create_headless_context()
+    with ctx:
+        buffers, cull = SceneBuffers(ctx), CullPass(ctx, ProgramLibrary(ctx))
+        draw_list = DrawList(ctx, lambda flags: np.zeros(len(flags), int), 1)
+        buffers.sync(table)
+        view_projection = engine.frame.camera.frame_camera(scene.camera, (64, 64), table.bounds).view_projection
+        views = view_records(1)
+        views["view_projection"][0] = np.asarray(view_projection, "f4").T.ravel()
+        draw_list.build(buffers)
+        views["items"][0] = (0, draw_list.item_count, DRAW_TEST_FRUSTUM, 0)
+        cull.run(draw_list, buffers, views)
+        commands = np.frombuffer(draw_list.commands.read(), "u4")[:5 * draw_list.command_count].reshape(-1, 5)
         expected = 0
         for draw in range(table.draw_count):
-            entry = r.scene_buffers.draw_entries[draw]
-            for cluster in pool.clusters[entry.first_cluster:entry.first_cluster + entry.cluster_count]:
+            entry = buffers.draw_entries[draw]
+            for cluster in buffers.pool.clusters[entry.first_cluster:entry.first_cluster + entry.cluster_count]:
                 corners = transforms.box_corners(cluster["lo"][:3], cluster["hi"][:3]) @ table.draw_world[draw][:3, :3].T
                 corners += table.draw_world[draw][:3, 3]
                 expected += not transforms.outside_frustum(corners[None], view_projection)[0]
+        for resource in (draw_list, cull, buffers):
+            resource.release()
+    ctx.release()
     assert 0 < commands[:, 1].sum() == expected < table.draw_count
 
 

@@ -155,7 +155,7 @@ def test_while_an_object_moves_under_a_sky_only_the_voxels_near_it_are_relit_the
             scene.root.find("Plate").translation += [0.2 / rest, 0.0, 0.0]
             viewer.render(scene, grid=32)
         moving = viewer.voxels("radiance")
-        lo, hi = viewer.grid.level_bounds(0)
+        lo, hi = viewer.voxel_layout.level_bounds(0)
         voxel = (hi - lo)[0] / 32
         centres = lo + (np.indices((32, 32, 32)).transpose(1, 2, 3, 0)[..., ::-1] + 0.5) * voxel  # [z, y, x] -> (x, y, z)
         reach = SKY_NEAR_REACH * 0.7 + (SKY_FILTER_RADIUS + 2) * voxel  # past the plates' box: the relit box's, the filter's

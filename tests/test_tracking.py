@@ -8,7 +8,6 @@ import engine
 from conftest import SCENES, rel_mae
 from engine.app.bench import FramePath, settle
 from engine.scene.emitters import is_emissive
-from engine.voxels.grid import unpack_voxels
 
 SCREEN_PASSES = ["gbuffer", "lighting", "cone_trace"]
 BOUNCE_PASSES = {"gather", "faces", "mipmap"}
@@ -20,13 +19,6 @@ def settle_viewer(renderer, scene):
     settle(scene, renderer, renderer.settings.replace(grid=32))
     assert renderer.settled
     return renderer.radiance()
-
-
-def list_voxels(voxel_list):
-    """The x, y and z coordinates of a VoxelList's entries (the covered list's free records,
-    NO_VOXEL, left out)."""
-    entries = voxel_list.read_entries()
-    return unpack_voxels(entries[entries != 0xFFFFFFFF]).T
 
 
 def edits():
@@ -114,11 +106,9 @@ def test_gather_anchors_found_again_around_a_moved_object_equal_anchors_found_an
         fresh.render(scene, grid=32)
         records = []
         for r in (tracked, fresh):
-            with r.ctx:
-                x, y, z = list_voxels(r.grid.covered)
-                record = r.grid.records.read_index()[x + 32 * (y + 32 * z)] - 1
-                records.append((r.grid.touched.read_count(), r.grid.covered.read_count(), set(zip(x, y, z)),
-                                dict(zip(zip(x, y, z), r.gather.read_anchors()[record]))))
+            lists = r.voxel_lists()
+            voxels = [tuple(voxel) for voxel in lists.covered.tolist()]
+            records.append((len(lists.touched), len(lists.covered), set(voxels), dict(zip(voxels, lists.anchors))))
     (touched, covered, voxels, found_again), (_, _, fresh_voxels, found_anew) = records
     assert 0 < touched < covered  # a partial voxelization
     assert voxels == fresh_voxels and found_again == found_anew
@@ -212,9 +202,7 @@ def test_a_moved_object_in_the_viewer_carries_its_direct_light_at_once():
         box.translation = box.translation + [0.1, 0.0, -0.05]
         r.render(scene, grid=32)
         base = r.voxels("radiance")
-        grid = r.grid
-        with r.ctx:
-            x, y, z = list_voxels(grid.touched)
+        x, y, z = r.voxel_lists().touched.T
         touched = np.zeros(base.shape[:3], bool)
         touched[z, y, x] = True
         with engine.Renderer(64, 64) as fresh:
@@ -291,7 +279,7 @@ def test_objects_leaving_and_joining_the_scene_update_the_voxels(edit):
             root.children.remove(short_box)
         image = r.render(scene, grid=32, bounces=1)
         voxels = [r.voxels(name).tobytes() for name in ("radiance", "normal", "albedo")]
-        assert set(r.scene_buffers.pool.entries) == {id(node.mesh) for node, _ in scene.drawables()}
+        assert r.held_meshes[0] == len({id(node.mesh) for node, _ in scene.drawables()})
     with engine.Renderer(64, 64) as fresh:
         assert np.array_equal(fresh.render(scene, grid=32, bounces=1), image)
         assert [fresh.voxels(name).tobytes() for name in ("radiance", "normal", "albedo")] == voxels

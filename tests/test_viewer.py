@@ -414,12 +414,12 @@ def test_the_overlay_says_what_a_frame_reused(on_display, scene, mode, camera_fr
         imgui.get_io().add_key_event(imgui.Key.w, True)
         viewer.frame()  # the camera moved: the G-buffer and the direct light again
         imgui.get_io().add_key_event(imgui.Key.w, False)
-        draws = viewer.renderer.scene_buffers.draw_calls
+        draws = viewer.renderer.draw_calls
         assert draws > 0 and f"{draws} draw calls; {camera_frame}" in work(viewer)
         host = next(line for line in work(viewer) if line.startswith("host "))  # the host's ms and the GPU's, apart
         assert float(host.split()[1]) > 0.0 and host.split()[3] == "GPU" and float(host.split()[4]) > 0.0, host
         if mode == "gi":  # the voxels' GPU memory, in all and per voxel of the grid
-            grid = viewer.renderer.grid.n
+            grid = viewer.renderer.voxel_layout.n
             per_voxel = viewer.renderer.voxel_memory_bytes() / grid ** 3
             assert any(line.startswith("voxels ") and f"({per_voxel:.0f} B/voxel)" in line for line in work(viewer))
 
@@ -438,18 +438,18 @@ def test_the_viewer_flies_through_a_clipmap_moving_one_level_a_frame(on_display,
         viewer.frame()
         lines = [line[0] for line in overlay_lines(viewer.frames, viewer.process, viewer.renderer, False) if line]
         assert any("clipmap 3 x 16^3" in line for line in lines), lines
-        start, placements = viewer.renderer.grid.regions, set()
+        start, placements = viewer.renderer.voxel_layout.regions, set()
         imgui.get_io().add_key_event(imgui.Key.w, True)
         for _ in range(20):
-            held = viewer.renderer.grid.regions
+            held = viewer.renderer.voxel_layout.regions
             viewer.frame()
-            assert len(moved_levels(held, viewer.renderer.grid.regions)) <= 1  # one level a frame
-            placements.add(viewer.renderer.grid.regions[0].center.tobytes())
+            assert len(moved_levels(held, viewer.renderer.voxel_layout.regions)) <= 1  # one level a frame
+            placements.add(viewer.renderer.voxel_layout.regions[0].center.tobytes())
         imgui.get_io().add_key_event(imgui.Key.w, False)
-        assert len(placements) > 1 and moved_levels(start, viewer.renderer.grid.regions)
+        assert len(placements) > 1 and moved_levels(start, viewer.renderer.voxel_layout.regions)
         for _ in range(3):
             viewer.frame()
-        assert not moved_levels(viewer.renderer.grid.regions, level_regions(scene.clipmap, scene.camera.position))
+        assert not moved_levels(viewer.renderer.voxel_layout.regions, level_regions(scene.clipmap, scene.camera.position))
 
 
 # ---- no display needed -------------------------------------------------------------------------

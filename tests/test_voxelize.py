@@ -5,13 +5,12 @@ import pytest
 
 import engine
 from engine.voxels import grid as voxel_grid
-from engine.voxels.grid import unpack_voxels
 from conftest import SCENES
 
 
 def voxel_index(renderer, point):
     """Index (x, y, z) of the voxel holding a world point in the renderer's last grid."""
-    region, n = renderer.grid.regions[0], renderer.grid.n
+    region, n = renderer.voxel_layout.regions[0], renderer.voxel_layout.n
     lo = np.asarray(region.center) - region.size / 2.0
     return tuple(int(i) for i in np.floor((np.asarray(point) - lo) / (region.size / n)))
 
@@ -34,7 +33,7 @@ def test_voxel_size_follows_region_and_grid(renderer):
     scene = engine.load_scene(SCENES / "cornell_box.json")
     scene.voxel_region = engine.scene.model.VoxelRegion(np.zeros(3), 2.56)
     renderer.render(scene, mode="voxels", grid=16)
-    assert renderer.grid.voxel_size == pytest.approx(0.16)
+    assert renderer.voxel_layout.voxel_size == pytest.approx(0.16)
     assert 2.56 / 256 == pytest.approx(0.01)
 
 
@@ -163,7 +162,7 @@ def test_voxel_memory_is_what_the_grid_holds_with_light_arrays_only_where_the_sc
     with engine.Renderer(16, 16) as r:
         r.render(cornell, grid=32, bounces=1)
         alone = r.voxel_memory_bytes()
-        values = 8 * r.grid.list_room
+        values = 8 * r.voxel_layout.list_room
         r.render(sky, grid=32, bounces=1)
         assert r.voxel_memory_bytes() - alone == 2 * values
         r.render(cornell, grid=32, bounces=1)
@@ -193,14 +192,14 @@ def test_voxel_lists_grow_to_hold_every_covered_voxel(renderer):
 
     scene = engine.load_scene(SCENES / "cornell_box.json")
     renderer.render(scene, mode="gi", grid=32, bounces=1)
-    room = renderer.grid.list_room
+    room = renderer.voxel_layout.list_room
     walls = np.count_nonzero(renderer.voxels("albedo")[..., 3])
     shelved(scene, np.linspace(-0.9, 0.9, 15))
     for step in range(2):
         renderer.render(scene, mode="gi", grid=32, bounces=1)
         voxels, image = state(renderer)
         covered = np.count_nonzero(renderer.voxels("albedo")[..., 3])
-        assert covered > room > walls and renderer.grid.list_room >= covered
+        assert covered > room > walls and renderer.voxel_layout.list_room >= covered
         with engine.Renderer(256, 256) as fresh:
             fresh.render(scene, mode="gi", grid=32, bounces=1)
             fresh_voxels, fresh_image = state(fresh)
@@ -228,7 +227,7 @@ def test_a_draw_covers_no_more_voxels_than_its_fragment_bound():
                                  voxel_region=scene.voxel_region)
             r.render(alone, mode="voxels", grid=32)
             covered = np.count_nonzero(r.voxels("albedo")[..., 3])
-            bound = fragment_bound(draw, r.grid.bounds()[0], r.grid.voxel_size, r.grid.n)
+            bound = fragment_bound(draw, r.voxel_layout.bounds()[0], r.voxel_layout.voxel_size, r.voxel_layout.n)
             assert 0 < covered <= bound < 16 * covered, draw.node.name
 
 
@@ -266,8 +265,7 @@ def test_voxels_summed_in_chunks_are_the_voxels_summed_at_once(monkeypatch):
         monkeypatch.setattr(voxel_grid, "SUM_ROOM", room)
         with engine.Renderer(64, 64) as r:
             image = r.render(scene, mode="gi", grid=32, bounces=1)
-            with r.ctx:
-                touched = r.grid.touched.read_count()
+            touched = len(r.voxel_lists().touched)
             results.append(([r.voxels(name).tobytes() for name in ("radiance", "normal", "albedo")], image, touched))
     (chunked, chunked_image, touched), (whole, whole_image, _) = results
     assert touched > 2 * chunk and voxel_grid.sum_room(32, 1) == 32 ** 3
@@ -292,16 +290,9 @@ def test_every_covered_voxel_holds_a_record_of_its_own_and_an_emptied_voxel_give
 
 def check_records(renderer):
     """The record invariants of the renderer's grid (see the test above)."""
-    with renderer.ctx:
-        grid = renderer.grid
-        index, pool, covered = grid.records.read_index(), grid.records.read_pool(), grid.covered.read_entries()
-    records = np.flatnonzero(covered != 0xFFFFFFFF)  # the covered list holds the voxel of each record
-    covered = covered[records]
-    x, y, z = unpack_voxels(covered).T
-    held = index[x + grid.n * (y + grid.n * z)]
-    assert np.array_equal(held - 1, records) and np.count_nonzero(index) == len(covered)
-    free_count, short = pool[0], pool[1]
-    assert short == 0 and free_count == grid.records.room - len(covered)
-    free = pool[2:2 + free_count]
-    assert sorted(np.concatenate([held - 1, free]).tolist()) == list(range(grid.records.room))
-
+    lists, room, n = renderer.voxel_lists(), renderer.voxel_layout.list_room, renderer.voxel_layout.n
+    x, y, z = lists.covered.T  # the covered list holds the voxel of each record
+    held = lists.index[x + n * (y + n * z)]
+    assert np.array_equal(held - 1, lists.records) and np.count_nonzero(lists.index) == len(lists.covered)
+    assert lists.short == 0 and len(lists.free) == room - len(lists.covered)
+    assert sorted(np.concatenate([held - 1, lists.free]).tolist()) == list(range(room))

@@ -197,7 +197,7 @@ def time_frames(scene, renderer, settings, kind, frames, warmup):
               for name in PASS_ORDER if any(name in timings for timings in measured)}
     return {"frame": kind, "moves": path.subject, "total_ms": frame_ms, "host_ms": statistics.median(host),
             "gpu_ms": statistics.median([sum(timings.values()) for timings in measured]), "max_ms": max(walls),
-            "passes": passes, "draw_calls": renderer.scene_buffers.draw_calls}
+            "passes": passes, "draw_calls": renderer.draw_calls}
 
 
 def benchmark(scene, renderer, settings, grids, frames, warmup, kinds=FRAME_KINDS, reference=None):
@@ -211,18 +211,18 @@ def benchmark(scene, renderer, settings, grids, frames, warmup, kinds=FRAME_KIND
         s = settings.replace(grid=grid)
         renderer.progressive = True
         settle(scene, renderer, s)
-        held = (renderer.grid.n, renderer.grid.levels) if uses_voxels else None
+        held = (renderer.voxel_layout.n, renderer.voxel_layout.levels) if uses_voxels else None
         if held in timed:
             continue
         timed.add(held)
         for kind in kinds:
-            record = {"scene": scene.name, "grid": renderer.grid.n if uses_voxels else None, "width": renderer.size[0],
+            record = {"scene": scene.name, "grid": renderer.voxel_layout.n if uses_voxels else None, "width": renderer.size[0],
                       "height": renderer.size[1], **time_frames(scene, renderer, s, kind, frames, warmup)}
             settle(scene, renderer, s)  # back to the settled scene for the next kind
             voxel_bytes = renderer.voxel_memory_bytes() if uses_voxels else 0
-            record.update(levels=renderer.grid.levels if uses_voxels else None, voxel_count=renderer.grid.voxel_count if uses_voxels else 0,
-                          voxel_bytes=voxel_bytes, voxel_bytes_per_voxel=voxel_bytes / renderer.grid.voxel_count if uses_voxels else 0.0,
-                          texture_bytes=renderer.scene_buffers.textures.memory_bytes(), peak_rss_mb=peak_rss_mb())
+            record.update(levels=renderer.voxel_layout.levels if uses_voxels else None, voxel_count=renderer.voxel_layout.voxel_count if uses_voxels else 0,
+                          voxel_bytes=voxel_bytes, voxel_bytes_per_voxel=voxel_bytes / renderer.voxel_layout.voxel_count if uses_voxels else 0.0,
+                          texture_bytes=renderer.texture_memory_bytes(), peak_rss_mb=peak_rss_mb())
             rows.append(record)
         if reference is not None and uses_voxels:  # the accuracy of this grid, converged within one frame
             renderer.progressive = False

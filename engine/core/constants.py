@@ -327,6 +327,7 @@ SHADER_ENUMS = {
 # Voxel coordinates packed into one uint for the voxel lists: x | y << 10 | z << 20 (N <= 1024;
 # z, which spans the levels, < 4096).
 VOXEL_PACK_BITS: GLSL_INT = 10
+NO_VOXEL: GLSL_UINT = 0xFFFFFFFF  # the packed word no voxel has: a list's entry that holds none (a free record's)
 # While an update runs, a touched voxel's word of the record index holds TOUCHED_FLAG and its
 # place on the touched list, or UNLISTED_PLACE where the list had no room left
 # (lib/voxel_slots.glsl).

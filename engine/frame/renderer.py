@@ -42,7 +42,7 @@ from ..scene.model import Scene
 from ..scene.table import SceneTable
 from ..voxels.clipmap import frame_levels, level_shift, moved_levels, scrolled_regions, with_coarser_levels
 from ..voxels.grid import VoxelGrid
-from ..voxels.inspection import VoxelInspection
+from ..voxels.inspection import VoxelInspection, read_lists
 from . import schedule
 from .camera import CameraBlock, frame_camera
 from .settings import RenderSettings
@@ -551,6 +551,43 @@ class Renderer(WorkItems):
     def radiance(self):
         """The last frame's linear radiance (or encoded data view), float32 (H, W, 3), row 0 at the top."""
         return self.output.read()[..., :3].copy()
+
+    @_current
+    def positions(self):
+        """The world point each pixel of the last frame sees, float32 (H, W, 3), row 0 at the
+        top; NaN where it sees no surface."""
+        width, height = self.size
+        texels = np.frombuffer(self.gbuffer.target.textures[0].read(), "f4").reshape(height, width, 4)[::-1]
+        return np.where(texels[..., 3:] > 0.0, texels[..., :3], np.nan).astype("f4")
+
+    @property
+    def voxel_layout(self):
+        """Where the voxels of the last frame lie: a VoxelLayout (n, regions, levels, voxel
+        sizes, bounds, and the room of the voxel lists)."""
+        return self.grid.layout()
+
+    @property
+    def draw_calls(self):
+        """The multi-draws the last frame issued."""
+        return self.scene_buffers.draw_calls
+
+    @property
+    def held_meshes(self):
+        """The meshes the GPU holds (one copy of each, whatever the nodes sharing it), and
+        their vertices: (meshes, vertices)."""
+        pool = self.scene_buffers.pool
+        return len(pool.entries), pool.vertex_count
+
+    def texture_memory_bytes(self):
+        """GPU bytes of the scene's textures."""
+        return self.scene_buffers.textures.memory_bytes()
+
+    @_current
+    def voxel_lists(self):
+        """The voxel lists of the last frame read back: VoxelLists (the covered voxels, the
+        touched ones, their records and gather anchors). A read back waits for the GPU."""
+        found = self.gather.anchors_epoch is self.grid.epoch
+        return read_lists(self.grid, self.gather.read_anchors() if found else None)
 
     @_current
     def display_target(self):

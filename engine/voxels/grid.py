@@ -38,6 +38,8 @@ grew. A voxelization that needs more room makes the grid anew with more (`list_c
 `grow_lists`). Scratch storage of one pass (the voxelizer's sums, the gather's anchors and
 class lists) belongs to that pass.
 """
+from dataclasses import dataclass
+
 import moderngl
 import numpy as np
 
@@ -114,7 +116,52 @@ def check_grid(ctx, n, levels=1, source=None, field="grid"):
                        f"{VOXEL_MEMORY_BUDGET / 2**30:.1f} GiB", source=source, field=field)
 
 
-class VoxelGrid:
+class Placement:
+    """Where L levels of n^3 voxels lie: `n` and `regions` (a VoxelRegion per level, finest
+    first) and what follows from them."""
+
+    @property
+    def levels(self):
+        return len(self.regions)
+
+    @property
+    def voxel_count(self):
+        """The voxels of every level."""
+        return self.levels * self.n ** 3
+
+    @property
+    def mip_count(self):
+        return self.n.bit_length()  # N = 2^k has levels 0..k
+
+    @property
+    def voxel_size(self):
+        """The finest level's voxel size."""
+        return self.level_voxel_size(0)
+
+    def level_voxel_size(self, level):
+        return float(self.regions[level].size) / self.n
+
+    def level_bounds(self, level):
+        """A level's cube as a world box (lo, hi)."""
+        region = self.regions[level]
+        lo = np.asarray(region.center, float) - region.size / 2.0
+        return lo, lo + region.size
+
+    def bounds(self):
+        """The box of every level's cube (lo, hi)."""
+        boxes = [self.level_bounds(level) for level in range(self.levels)]
+        return np.min([lo for lo, _ in boxes], axis=0), np.max([hi for _, hi in boxes], axis=0)
+
+
+@dataclass(frozen=True)
+class VoxelLayout(Placement):
+    """A grid's placement at one frame, and the room of its lists (Renderer.voxel_layout)."""
+    n: int
+    regions: tuple
+    list_room: int
+
+
+class VoxelGrid(Placement):
     # What a program reading the voxels' surface (glsl/lib/voxel_surface.glsl) declares.
     SURFACE_READS = ("SSBO_VOXEL_RECORD", "SSBO_VOXEL_ALBEDO", "SSBO_VOXEL_NORMAL", "SSBO_VOXEL_EMISSION")
     # What a program tracing cones (glsl/lib/cone.glsl) declares besides the emission volume:
@@ -276,41 +323,13 @@ class VoxelGrid:
         """The touched list's room: the voxels covered before and after an update."""
         return min(2 * self.list_room, self.voxel_count)
 
-    @property
-    def levels(self):
-        return len(self.regions)
-
-    @property
-    def voxel_count(self):
-        """The voxels of every level."""
-        return self.levels * self.n ** 3
-
-    @property
-    def mip_count(self):
-        return self.n.bit_length()  # N = 2^k has levels 0..k
-
-    @property
-    def voxel_size(self):
-        """The finest level's voxel size."""
-        return self.level_voxel_size(0)
-
-    def level_voxel_size(self, level):
-        return float(self.regions[level].size) / self.n
-
     def level_mask(self, levels=None):
         """Levels as a bit mask (bit k: level k) for the shaders; None: every level."""
         return sum(1 << level for level in (range(self.levels) if levels is None else levels))
 
-    def level_bounds(self, level):
-        """A level's cube as a world box (lo, hi)."""
-        region = self.regions[level]
-        lo = np.asarray(region.center, float) - region.size / 2.0
-        return lo, lo + region.size
-
-    def bounds(self):
-        """The box of every level's cube (lo, hi)."""
-        boxes = [self.level_bounds(level) for level in range(self.levels)]
-        return np.min([lo for lo, _ in boxes], axis=0), np.max([hi for _, hi in boxes], axis=0)
+    def layout(self):
+        """Its placement now, as a VoxelLayout."""
+        return VoxelLayout(self.n, self.regions, self.list_room)
 
     def memory_bytes(self):
         """GPU bytes the grid holds now: its volumes (their mip chains where allocated) and lists."""

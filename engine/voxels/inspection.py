@@ -3,12 +3,38 @@ record as a dense volume of the stacked levels (with its hardware mip chain), an
 of any volume as numpy. A read back waits for the GPU: inspection only, never in a frame the
 viewer renders for its image."""
 import math
+from dataclasses import dataclass
 
 import moderngl
 import numpy as np
 
-from ..core.constants import VOLUME_GROUP
-from .grid import TEXEL_BYTES, build_mips, gpu_bytes, volume_image, zero_volume
+from ..core.constants import NO_VOXEL, VOLUME_GROUP
+from .grid import TEXEL_BYTES, build_mips, gpu_bytes, unpack_voxels, volume_image, zero_volume
+
+
+@dataclass(frozen=True)
+class VoxelLists:
+    """The voxel lists and records of the last frame read back (Renderer.voxel_lists): voxel
+    coordinates (k, 3) as x, y, z of the levels' stack (level L at z in [L n, (L + 1) n))."""
+    covered: np.ndarray  # the voxels some surface covers
+    records: np.ndarray  # the record each of them holds: its place in the covered list
+    touched: np.ndarray  # the voxels the last voxelization touched
+    index: np.ndarray  # per voxel of the stack, flat (x + n (y + n z)), its record + 1 (0: none)
+    free: np.ndarray  # the records the pool holds free
+    short: int  # records the last voxelizations asked the pool for in vain
+    anchors: np.ndarray  # per covered voxel, its gather anchor word (lib/gather_anchors.glsl), or None
+
+
+def read_lists(grid, anchors):
+    """VoxelLists of `grid`, with the anchor word of each record from `anchors` (GatherPass;
+    None where the frame found none)."""
+    entries = grid.covered.read_entries()
+    records = np.flatnonzero(entries != NO_VOXEL)  # a free record's entry is NO_VOXEL
+    pool = grid.records.read_pool()  # free count, short, the free records
+    return VoxelLists(covered=unpack_voxels(entries[records]), records=records,
+                      touched=unpack_voxels(grid.touched.read_entries()), index=grid.records.read_index(),
+                      free=pool[2:2 + pool[0]].copy(), short=int(pool[1]),
+                      anchors=None if anchors is None else anchors[records])
 
 
 class VoxelInspection:

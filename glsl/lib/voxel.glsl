@@ -177,9 +177,7 @@ float face_coverage(vec3 mean_normal, int face) {
 }
 
 // Voxel coordinates packed into one uint for the voxel lists (N <= 2^VOXEL_PACK_BITS; z, which
-// spans the levels, takes the remaining bits).
-// The packed word no voxel has: a list's entry that holds none (a free record's, lib/covered_voxels.glsl).
-#define NO_VOXEL 0xFFFFFFFFu
+// spans the levels, takes the remaining bits); NO_VOXEL is the word no voxel has.
 
 uint pack_voxel(ivec3 v) {
     return uint(v.x) | (uint(v.y) << VOXEL_PACK_BITS) | (uint(v.z) << (2 * VOXEL_PACK_BITS));

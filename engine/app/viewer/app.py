@@ -163,7 +163,7 @@ class Viewer:
                             rects["Overlay"])
         self.selected = panels.draw_scene_graph(self.scene, self.selected, rects["Scene Graph"])
         panels.draw_inspector(self.scene, self.selected, rects["Inspector"])
-        changed = panels.draw_renderer_panel(self.settings, rects["Renderer"], max(self.renderer.grid.levels, 1),
+        changed = panels.draw_renderer_panel(self.settings, rects["Renderer"], max(self.renderer.voxel_layout.levels, 1),
                                              self.settings_message)
         if changed is not None:
             self.apply_settings(changed)

@@ -40,13 +40,13 @@ def overlay_lines(frames, process, renderer, vsync):
     lines = [(f"FPS {frames.fps:6.1f}  SPF {frames.ms_per_frame:7.1f} ms", False),
              (f"host {frames.host_ms:6.2f} ms  GPU {gpu:6.2f} ms", False),
              (f"CPU {cpu:>5} %  RAM {process.ram_mb:7.0f} MB", False),
-             (f"{voxel_memory_line(renderer)}  textures {renderer.scene_buffers.textures.memory_bytes() / 2 ** 20:.0f} MB", False),
+             (f"{voxel_memory_line(renderer)}  textures {renderer.texture_memory_bytes() / 2 ** 20:.0f} MB", False),
              (f"{renderer.size[0]}x{renderer.size[1]} {s.mode} {grid_line(renderer)}{' vsync' if vsync else ''}", True)]
     if renderer.timings:
         lines.append(None)
         lines += [(f"{name:<16}{ms:8.1f} ms", False) for name, ms in renderer.timings.items()]
         lines.append((f"{'all passes':<16}{sum(renderer.timings.values()):8.1f} ms", True))
-    lines.append((work_line(renderer.passes_ran, renderer.scene_buffers.draw_calls), True))
+    lines.append((work_line(renderer.passes_ran, renderer.draw_calls), True))
     if s.shown.uses_radiance and s.bounces == 0:
         state = "settled" if renderer.idle else "converging"
         lines.append((f"bounces {state} ({renderer.bounce_iterations} so far)", True))
@@ -55,7 +55,7 @@ def overlay_lines(frames, process, renderer, vsync):
 
 def grid_line(renderer):
     """The voxel grid the last frame used: `grid N`, or `clipmap L x N^3` for a clipmap."""
-    grid = renderer.grid
+    grid = renderer.voxel_layout
     if grid.levels > 1:
         return f"clipmap {grid.levels} x {grid.n}^3"
     return f"grid {grid.n or renderer.frame_settings.grid}"
@@ -63,10 +63,10 @@ def grid_line(renderer):
 
 def voxel_memory_line(renderer):
     """The voxel grid's GPU memory, in all and per voxel of the grid."""
-    if not renderer.grid.n:
+    if not renderer.voxel_layout.n:
         return "voxels -"
     total = renderer.voxel_memory_bytes()
-    return f"voxels {total / 2 ** 20:.0f} MB ({total / renderer.grid.voxel_count:.0f} B/voxel)"
+    return f"voxels {total / 2 ** 20:.0f} MB ({total / renderer.voxel_layout.voxel_count:.0f} B/voxel)"
 
 
 def draw_overlay(lines, rect):
