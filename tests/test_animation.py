@@ -149,7 +149,6 @@ def test_skins_and_morph_targets_are_drawn_in_the_rest_pose_with_one_warning(tmp
      "has 3 elements; LINEAR over 2 input times needs 2"),
     (("Card", "translation", [0, 1], [[0, 0, 0]] * 2, "CUBICSPLINE"), "animations[0].samplers[0].output", "needs 6"),
     (("Card", "rotation", [0, 1], [[0, 0, 0, 0]] * 2, "LINEAR"), "animations[0].samplers[0].output", "unit quaternions"),
-    (("Card", "scale", [0, 1], [[1, 1, 1], [0, 1, 1]], "LINEAR"), "animations[0].samplers[0].output", "scales"),
     (("Card", "translation", [0, 1], [[0, 0, 0]] * 2, "BEZIER"), "animations[0].samplers[0].interpolation", "BEZIER"),
 ])
 def test_malformed_samplers_are_one_line_naming_the_element(tmp_path, channel, element, message):

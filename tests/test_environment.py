@@ -315,14 +315,23 @@ def test_environment_from_the_command_line_replaces_the_scenes(tmp_path):
                           "--environment", "file not found")
 
 
-def test_a_scene_nothing_can_light_renders_with_one_warning_line(tmp_path):
+def test_a_scene_nothing_can_light_is_shown_under_the_studio_sky_or_black_with_one_warning_line(tmp_path):
+    """No light, no emitter, no environment: the commands light it with the studio sky (one
+    line says so); `--environment none` keeps it black, and one line says why."""
     document = json.loads((ROOT / "scenes" / "cornell_box.json").read_text())
     document["lights"] = []
     path = write(tmp_path, document)
-    result = vct("render", path, "--out", tmp_path / "x.png", "--width", "16", "--height", "16", "--grid", "16")
+    result = vct("render", path, "--out", tmp_path / "x.png", "--hdr", tmp_path / "x.npy", "--width", "16", "--height", "16",
+                 "--grid", "16")
+    assert result.returncode == 0 and len(result.stderr.splitlines()) == 1
+    assert result.stderr.startswith(f"vct: warning: {path}: no light in the scene: shown under the studio sky")
+    assert np.load(tmp_path / "x.npy").mean() > 0.001  # the box is open at the front only
+    result = vct("render", path, "--out", tmp_path / "x.png", "--hdr", tmp_path / "x.npy", "--width", "16", "--height", "16",
+                 "--grid", "16", "--environment", "none")
     assert result.returncode == 0 and len(result.stderr.splitlines()) == 1
     assert result.stderr.startswith(f"vct: warning: {path}: no light: the scene has no lights, no emissive surfaces "
                                     "and no environment")
+    assert np.load(tmp_path / "x.npy").max() == 0.0
 
 
 def test_a_light_enclosed_by_geometry_renders_with_one_warning_line_naming_it(tmp_path):

@@ -115,9 +115,10 @@ def _add_settings_arguments(parser, default_mode="gi"):
     parser.add_argument("--shaders", help="GLSL directory to use instead of the project's glsl/ (for shader work)")
     parser.add_argument("--camera", metavar="NAME",
                         help="render from the camera node of this name (a glTF camera) instead of the scene's camera")
-    parser.add_argument("--environment", metavar="FILE|R,G,B",
+    parser.add_argument("--environment", metavar="FILE|R,G,B|none",
                         help="light from beyond the scene, instead of the scene file's: an equirectangular map of "
-                             "linear radiance (.exr or .hdr) or a uniform sky's radiance R,G,B in W/(m^2 sr)")
+                             "linear radiance (.exr or .hdr), a uniform sky's radiance R,G,B in W/(m^2 sr), or none "
+                             "(a scene with no light at all is otherwise shown under a grey studio sky)")
     parser.add_argument("--tonemap", choices=TONEMAPS, default=d.tonemap, help=f"tone curve for the PNG (default {d.tonemap})")
 
 
@@ -137,7 +138,7 @@ def build_parser():
     render = commands.add_parser("render", help="render a scene headless to PNG (and linear HDR .npy or .exr)",
                                  description="Render a scene headless (EGL) to a tone-mapped PNG and optionally "
                                              "linear float32 radiance (H, W, 3), row 0 at the top, as .npy or OpenEXR.")
-    render.add_argument("scene", help="scene file: JSON, or glTF/GLB as a whole scene")
+    render.add_argument("scene", help="scene file: JSON, or a model (.glb .gltf .obj .ply .stl .off) as a whole scene")
     render.add_argument("--out", help="output PNG path; with --frames a pattern the frame's number fills (f_%%04d.png)")
     render.add_argument("--hdr", help="also write linear radiance before tone mapping: FILE.npy (numpy float32) "
                                       "or FILE.exr (OpenEXR, float32 RGB); with --frames a pattern as --out")
@@ -160,7 +161,7 @@ def build_parser():
                                description="Interactive viewer: fly camera, overlay, scene graph and inspector, "
                                            "GLSL hot reload. Keys: WASD/QE move, drag to look, scroll for speed, "
                                            "R reset camera, V vsync, F12/PrtScrn screenshot, Esc quit.")
-    view.add_argument("scene", help="scene file: JSON, or glTF/GLB as a whole scene")
+    view.add_argument("scene", help="scene file: JSON, or a model (.glb .gltf .obj .ply .stl .off) as a whole scene")
     view.add_argument("--frames", type=_whole_number(1, MAX_VIEW_FRAMES),
                       help=f"render this many frames (at most {MAX_VIEW_FRAMES}), then exit")
     view.add_argument("--screenshot", help="with --frames: save the last frame (without panels) to this PNG")
@@ -177,7 +178,7 @@ def build_parser():
                                             "one finish at the end), the host time of a frame (its Python and the GL "
                                             "calls that only record work), and the median GPU time of each pass "
                                             "(GL timer queries; on llvmpipe, the wall clock around a finish).")
-    bench.add_argument("scene", help="scene file: JSON, or glTF/GLB as a whole scene")
+    bench.add_argument("scene", help="scene file: JSON, or a model (.glb .gltf .obj .ply .stl .off) as a whole scene")
     bench.add_argument("--frames", type=_whole_number(1, MAX_BENCH_FRAMES), default=10,
                        help=f"timed frames per kind and grid, at most {MAX_BENCH_FRAMES} (default 10)")
     bench.add_argument("--warmup", type=_whole_number(0, MAX_BENCH_FRAMES), default=3,
@@ -341,11 +342,13 @@ def load_lit_scene(args):
     from ..core.errors import warn
     from ..formats.input_files import InputFiles, os_problem, read_radiance_map
     from ..core.limits import MAX_EMISSION
-    from ..scene.model import Environment
+    from ..scene.model import Environment, studio_environment
     from ..formats.scene_file import load_scene
 
     scene = load_scene(args.scene, camera=args.camera)
-    if args.environment:
+    if args.environment == "none":
+        scene.environment = None
+    elif args.environment:
         parts = args.environment.split(",")
         try:
             radiance = [float(part) for part in parts] if len(parts) == 3 else None
@@ -365,8 +368,12 @@ def load_lit_scene(args):
             scene.environment = Environment(image=image, name=f"{args.environment}: --environment")
             scene.files += tuple(inputs.paths)
     if not scene.lights() and not scene_emits(scene) and scene.environment is None:
-        warn("no light: the scene has no lights, no emissive surfaces and no environment, so the image is black",
-             source=args.scene)
+        if args.environment == "none":
+            warn("no light: the scene has no lights, no emissive surfaces and no environment, so the image is black",
+                 source=args.scene)
+        else:
+            scene.environment = studio_environment()
+            warn("no light in the scene: shown under the studio sky (--environment none keeps it black)", source=args.scene)
     return scene
 
 

@@ -25,6 +25,8 @@ class JsonReader:
                 self.fail(f"{field}.{key}" if field else key, "missing")
             return default
         value = obj[key]
+        if kind is int:  # JSON has one number type: 1.0 is the integer 1
+            value = _integer(value)
         if kind is not None and not isinstance(value, kind):
             self.fail(f"{field}.{key}" if field else key, f"must be {_kind_name(kind)}")
         return value
@@ -81,9 +83,17 @@ class JsonReader:
         return self.index_value(value, f"{field}.{key}" if field else key, array, count)
 
     def index_value(self, value, where, array, count):
+        value = _integer(value)
         if isinstance(value, bool) or not isinstance(value, int) or not 0 <= value < count:
             self.fail(where, f"must be the index of one of the file's {count} {array}, got {value!r}")
         return value
+
+
+def _integer(value):
+    """A JSON number with no fraction as a Python int (1.0 -> 1); anything else as it is."""
+    if isinstance(value, float) and _finite(value) and value == int(value):
+        return int(value)
+    return value
 
 
 def _kind_name(kind):

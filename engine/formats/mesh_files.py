@@ -7,13 +7,14 @@
   material: Kd (x map_Kd) -> albedo (Kd defaults to 1 with map_Kd, else 0.8); Ke (x map_Ke) ->
   emission (Ke defaults to 1 with map_Ke, else 0); Ns -> roughness r = (2 / (Ns + 2))^(1/4),
   the inverse of the renderer's Blinn-Phong exponent 2/r^4 - 2 (no Ns: r = 1); Ks not black
-  -> specular 0.04 (a dielectric, as glTF's), else 0 (Lambertian); d (or Tr = 1 - d) and
-  map_d -> alpha, with alpha_mode BLEND (drawn as a cut-out at 0.5; map_d's alpha channel, or
+  -> specular 0.04 (a dielectric, as glTF's), else 0 (Lambertian); d (or Tr = 1 - d, with a
+  warning where it makes the material fully transparent) and map_d -> alpha, with alpha_mode BLEND (drawn as a cut-out at 0.5; map_d's alpha channel, or
   its grey level where it has none, becomes the alpha of the base-colour texture). Metalness
   0, one-sided. Texture options other than -clamp are refused; other statements are ignored.
-  Normals from the file (vn), else smooth (area-weighted) normals. OBJ's texture v grows
-  upwards; it is flipped to glTF's convention (see engine.scene.model.Texture).
-- PLY, STL and OFF (read by trimesh): one mesh with smooth normals. trimesh's other formats
+  Faces of four corners or more are cut into triangles in their plane (concave ones too).
+  Normals from the file (vn), else computed, smooth but at creases (mesh_building.py). OBJ's
+  texture v grows upwards; it is flipped to glTF's convention (see engine.scene.model.Texture).
+- PLY, STL and OFF (read by trimesh): one mesh, its normals computed as an OBJ's without vn. trimesh's other formats
   are not read: its archives (zip, tar, bz2) decompress without a bound, and the rest hold no
   triangles.
 
@@ -34,14 +35,15 @@ from pathlib import Path
 
 import numpy as np
 
-from ..core.errors import SceneError
+from ..core.errors import SceneError, warn
 from ..core.limits import check_material
 from ..scene.model import Material, Node
 from .gltf import GltfFile
 from .input_files import InputFiles, os_problem
-from .mesh_building import FileTextures, default_material, surface_mesh, warn_dropped
+from .mesh_building import FileTextures, default_material, polygon_triangles, quad_triangles, surface_mesh, warn_dropped
 
 TRIMESH_FORMATS = (".ply", ".stl", ".off")
+MESH_SUFFIXES = (".gltf", ".glb", ".obj", *TRIMESH_FORMATS)
 
 
 def load_mesh_file(path, name, material=None, inputs=None):
@@ -74,11 +76,55 @@ def _statements(text, keyword):
     return [m.strip() for m in re.findall(rf"\n{keyword}[ \t]+([^\r\n]*)", "\n" + text)]
 
 
+_POLYGON = re.compile(r"^f[ \t]+\S+[ \t]+\S+[ \t]+\S+[ \t]+\S", re.MULTILINE)  # a face of four corners or more
+
+
+def _triangulated(text, name):
+    """The OBJ text with each face of more than three corners written as triangles
+    (quad_triangles, polygon_triangles: right for concave faces too); the text itself where
+    every face is a triangle."""
+    if not _POLYGON.search(text):
+        return text
+    lines = text.split("\n")
+    positions, polygons = [], []  # polygons: (line index, corner words, position indices)
+    for number, line in enumerate(lines):
+        words = line.split("#", 1)[0].split()
+        if not words:
+            continue
+        if words[0] == "v":
+            positions.append(words[1:4])
+        elif words[0] == "f" and len(words) > 4:
+            try:
+                refs = [int(word.split("/", 1)[0]) for word in words[1:]]
+            except ValueError:
+                raise SceneError("a face's corners must be whole vertex numbers", source=name, field=f"line {number + 1}") from None
+            corners = [ref - 1 if ref > 0 else len(positions) + ref for ref in refs]
+            if not all(0 <= corner < len(positions) for corner in corners):
+                raise SceneError(f"a face names a vertex beyond the {len(positions)} before it", source=name,
+                                 field=f"line {number + 1}")
+            polygons.append((number, words[1:], corners))
+    try:
+        points = np.array(positions, np.float64)
+    except ValueError:
+        raise SceneError("a vertex (v) must have three numbers", source=name) from None
+    quads = [polygon for polygon in polygons if len(polygon[1]) == 4]
+    if quads:
+        split = quad_triangles(points[np.array([corners for _, _, corners in quads])])
+        for (number, words, _), triangles in zip(quads, split):
+            lines[number] = "\n".join("f " + " ".join(words[i] for i in triangle) for triangle in triangles)
+    for number, words, corners in polygons:
+        if len(words) > 4:
+            triangles = polygon_triangles(points[corners])
+            lines[number] = "\n".join("f " + " ".join(words[i] for i in triangle) for triangle in triangles)
+    return "\n".join(lines)
+
+
 def _load_obj(path, data, name, material, inputs):
     from trimesh.exchange.obj import load_obj
 
     path = Path(path)
-    text = data.decode("utf-8", errors="replace")
+    text = _triangulated(data.decode("utf-8", errors="replace"), name)
+    data = text.encode()
     if material is not None:  # one material for the file: its groups do not matter (trimesh names groups in quadratic time)
         data = "\n".join(line for line in text.splitlines()
                          if line.split(maxsplit=1)[:1] not in (["usemtl"], ["mtllib"])).encode()
@@ -168,7 +214,11 @@ class _MtlLibrary:
                 values[key] = float(_mtl_numbers(args, name, where, (1,), maximum=None if key == "ns" else 1.0)[0])
             elif key in ("map_kd", "map_ke", "map_d"):
                 maps[key] = self._map(args, path, name, where)
-        alpha = values.get("d", 1.0 - values.get("tr", 0.0))
+        alpha = values.get("d", 1.0 - values.get("tr", 0.0))  # Tr is transparency, 1 - d
+        if alpha == 0.0 and "map_d" not in maps:
+            line = lines.get("d", lines.get("tr"))
+            warn(f"fully transparent (alpha 0), so never seen{' (Tr is 1 - d: Tr 1 is transparent)' if 'd' not in values else ''}",
+                 source=name, field=f'newmtl "{group}": {line}')
         ns = values.get("ns")
         material = Material(
             name=group,

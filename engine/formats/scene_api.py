@@ -13,8 +13,9 @@ built by hand is held to, and trimesh meshes and scenes as engine Scenes.
 
   - Normals: the ones trimesh holds for the mesh (read from its file or set, or computed by
     an earlier read of `mesh.vertex_normals`: the test trimesh's glTF export makes), else
-    computed from the faces: smooth across edges where faces meet at less than CREASE_DEG
-    (trimesh's own smooth-shading angle), the vertices split at sharper edges.
+    computed from the faces as for every mesh file without normals: smooth across edges where
+    faces meet at less than CREASE_DEG (trimesh's own smooth-shading angle), the vertices
+    split at sharper edges.
   - PBRMaterial, field by field as the glTF loader reads the same material: albedo, alpha =
     baseColorFactor (default 1); metalness, roughness = metallicFactor, roughnessFactor
     (default 1, glTF's); emission = emissiveFactor, in W/(m^2 sr); base_color_texture
@@ -51,10 +52,9 @@ from ..core.limits import MAX_DEPTH, MIN_FOV_DEG, check_material, check_placemen
 from ..core.transforms import decompose
 from ..scene.model import TEXTURE_FIELDS, Material, Mesh, Node, NodeCamera, Scene
 from .input_files import InputFiles
-from .mesh_building import FileTextures, default_material, face_normals, generate_tangents, smooth_normals
+from .mesh_building import FileTextures, crease_normals, default_material, face_normals, generate_tangents
 from .scene_file import DEFAULT_WIDTH, FALLBACK_ASPECT, framing_camera
 
-CREASE_DEG = 20.0  # trimesh.graph.smooth_shade's default angle
 MAX_FOV_DEG = 179.0
 # The PIL image of each texture field of a trimesh PBRMaterial, and whether it holds sRGB colour.
 PBR_TEXTURES = {"base_color_texture": ("baseColorTexture", True),
@@ -74,7 +74,8 @@ def triangle_mesh(positions, indices, normals=None, texcoords=None, colors=None)
     """A Mesh of triangles: `positions` (V, 3) in metres; `indices` (T, 3) whole numbers (or a
     flat sequence of 3T) into them, each triangle counter-clockwise seen from its front;
     optionally `normals` (V, 3), scaled to unit length (None: computed, smooth and
-    area-weighted per vertex, or flat where faces facing apart share vertices), `texcoords`
+    angle-weighted across edges where faces meet at less than CREASE_DEG, sharp at sharper
+    ones: engine/formats/mesh_building.py), `texcoords`
     (V, 2) in glTF's convention ((0, 0) is the image's top-left corner, v grows downwards:
     engine.Texture) and `colors` (V, 3) linear RGB in 0..1 multiplying the material's base
     colour. Every value is finite and within the limits of loaded meshes; triangles of zero
@@ -113,7 +114,7 @@ def _mesh(positions, indices, normals, texcoords, colors, fail):
         normals = normals[used] / lengths[:, None]
     positions, texcoords, colors = (None if a is None else a[used] for a in (positions, texcoords, colors))
     if normals is None:
-        positions, normals, triangles, texcoords, colors = smooth_normals(positions, triangles, texcoords, colors)
+        positions, normals, triangles, texcoords, colors = crease_normals(positions, triangles, texcoords, colors)
     return Mesh(positions.astype(np.float32), normals.astype(np.float32), triangles.astype(np.uint32),
                 None if texcoords is None else texcoords.astype(np.float32),
                 colors=None if colors is None else colors.astype(np.float32))
@@ -352,9 +353,6 @@ class _TrimeshScene:
             positions, triangles = positions[corners], np.arange(len(corners)).reshape(-1, 3)
             normals, texcoords = (None if a is None else a[corners] for a in (normals, texcoords))
             colors = np.repeat(visual.face_colors[:, :3] / 255.0, 3, axis=0)
-        elif normals is None:
-            source_vertex, triangles = _crease_split(mesh)
-            positions, texcoords, colors = (None if a is None else a[source_vertex] for a in (positions, texcoords, colors))
         part = _mesh(positions, triangles, normals, texcoords, colors, fail)
         if part is not None and material.normal_texture is not None:
             part.tangents = generate_tangents(part.positions, part.normals, part.texcoords, part.indices)
@@ -433,18 +431,3 @@ class _TrimeshScene:
         except ValueError as exc:
             self.fail(field, str(exc))
         return self.textures.texture(key, f"{self.where}: {field}", srgb, "REPEAT", "REPEAT")
-
-
-def _crease_split(mesh):
-    """(the source vertex of each new vertex, triangles over the new vertices): the mesh's
-    vertices split between the groups of faces that meet along edges at less than CREASE_DEG,
-    so that normals computed over shared vertices are smooth within a group and sharp between
-    groups (trimesh's smooth_shaded splits the same way)."""
-    import trimesh
-
-    smooth_edges = mesh.face_adjacency[mesh.face_adjacency_angles < np.radians(CREASE_DEG)]
-    groups = trimesh.graph.connected_component_labels(smooth_edges, node_count=len(mesh.faces))
-    group_count = int(groups.max()) + 1
-    corners = np.asarray(mesh.faces, np.int64).reshape(-1) * group_count + np.repeat(groups, 3)  # (vertex, group)
-    split, triangles = np.unique(corners, return_inverse=True)
-    return split // group_count, triangles.reshape(-1, 3)

@@ -1,4 +1,5 @@
-"""Scene files -> scene model: a JSON scene file, or a glTF/GLB file as a whole scene.
+"""Scene files -> scene model: a JSON scene file, or a model file (glTF/GLB with its cameras
+and lights, OBJ, PLY, STL, OFF) as a whole scene.
 
 A JSON file is checked against the scene format's schema (engine/formats/scene_schema.py: fields,
 types, ranges, defaults) and then for what a schema cannot say (materials named but not
@@ -19,9 +20,8 @@ from ..core.errors import SceneError, warn
 from ..core.limits import MATERIAL_RANGES, MAX_DEPTH, MAX_SCENE_BYTES, check_material, check_placement
 from ..scene.model import Camera, Clipmap, Environment, Light, Material, Node, Scene, VoxelRegion, box_mesh, quad_mesh, sphere_mesh
 from .input_files import InputFiles, os_problem, read_radiance_map
-from .mesh_files import load_mesh_file
+from .mesh_files import MESH_SUFFIXES, load_mesh_file
 
-GLTF_SUFFIXES = (".gltf", ".glb")
 # The image of a camera that a glTF file gives no size: this wide, its aspect ratio the
 # camera's (glTF aspectRatio, or xmag / ymag), else FALLBACK_ASPECT.
 DEFAULT_WIDTH = 640
@@ -113,11 +113,11 @@ def parse_scene_file(path, inputs):
 
 
 def load_scene(path, camera=None):
-    """Load a scene file (JSON, or glTF/GLB as a whole scene) into a Scene (pure Python/numpy,
+    """Load a scene file (JSON, or a model file as a whole scene: MESH_SUFFIXES) into a Scene (pure Python/numpy,
     no GL); `camera`: the name of the camera node to render from (None: the scene's own)."""
     path = Path(path)
     scene_file = _SceneFile(path)
-    scene = scene_file.gltf_scene() if path.suffix.lower() in GLTF_SUFFIXES else scene_file.scene()
+    scene = scene_file.model_scene() if path.suffix.lower() in MESH_SUFFIXES else scene_file.scene()
     if camera is not None:
         scene.camera = scene_file.named_camera(scene, camera)
     return scene
@@ -180,9 +180,10 @@ class _SceneFile:
                 self.fail(f"voxel_region.{key}", "missing (a grid's cube takes center and size)")
         return VoxelRegion(np.array(spec["center"], float), float(spec["size"])), None
 
-    def gltf_scene(self):
-        """A glTF/GLB file as a whole scene: its nodes, cameras and lights, under a root node
-        named after the file; held to the scene file's limits (engine.core.limits)."""
+    def model_scene(self):
+        """A model file as a whole scene: its nodes (with a glTF file's cameras and lights)
+        under a root node named after the file; held to the scene file's limits
+        (engine.core.limits)."""
         root = Node(name=_title(self.path.stem))
         root.children = load_mesh_file(self.path, str(self.path), None, self.inputs)
         for part in root.children:
@@ -191,19 +192,21 @@ class _SceneFile:
             self.fail("", "holds no triangles")
         scene = Scene(name=self.path.stem, root=root, camera=None, materials={}, source=str(self.path),
                       files=tuple(self.inputs.paths))
-        scene.camera = self.file_camera(scene)
+        scene.camera = self.file_camera(scene, framed_silently=True)
         return scene
 
-    def file_camera(self, scene):
+    def file_camera(self, scene, framed_silently=False):
         """The first camera node of the scene (depth first) placed in the world, at its image
         size (the scene's camera_node: the camera follows it when the scene is posed); or, where
-        it has none, one framing the scene's bounds, with a warning."""
+        it has none, one framing the scene's bounds, with a warning unless `framed_silently`
+        (a model file, which is framed as model viewers frame it)."""
         cameras = scene.cameras()
         if cameras:
             node, world = cameras[0]
             scene.camera_node = node
             return _placed(node, world)
-        warn("no camera: rendering from one that frames the scene's bounds", source=self.path)
+        if not framed_silently:
+            warn("no camera: rendering from one that frames the scene's bounds", source=self.path)
         return framing_camera(scene.bounds(), DEFAULT_WIDTH, round(DEFAULT_WIDTH / FALLBACK_ASPECT))
 
     def named_camera(self, scene, name):

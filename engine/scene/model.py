@@ -463,6 +463,20 @@ class Environment:
         return transforms.rotate_euler_deg([0.0, -self.rotation_y_deg, 0.0])[:3, :3]
 
 
+STUDIO_SIZE = (64, 32)  # the studio sky's image, width x height
+
+
+def studio_environment():
+    """The sky vct's commands show a scene under where nothing lights it, as model viewers do:
+    a neutral grey studio whose radiance grows with the direction's height, L = 0.6 + 0.4 d.y
+    (1.0 straight up, 0.6 at the horizon, 0.2 straight down, W/(m^2 sr)), so a face turned up
+    takes E = 0.87 pi and one turned down 0.33 pi. An equirectangular image (a row per v)."""
+    width, height = STUDIO_SIZE
+    up = np.cos(np.pi * (np.arange(height) + 0.5) / height)  # d.y at each row's centre: v = acos(d.y) / pi
+    image = np.repeat((0.6 + 0.4 * up)[:, None, None], width, axis=1).repeat(3, axis=2).astype(np.float32)
+    return Environment(image=image, name="studio sky")
+
+
 @dataclass
 class Scene:
     name: str

@@ -20,7 +20,9 @@ outer angles. Animations: each channel that moves a node's translation, rotation
 under the animation's name ("animation N" where it has none); skins and morph targets are
 not played (the rest pose is drawn, with one warning). Extensions the file uses without
 requiring them and vct does not read are left out, as glTF allows, with one warning naming
-them.
+them; so are their animation targets (KHR_animation_pointer's), a texture whose image only an
+extension gives (one warning each) and, as the spec says, primitives without POSITION (one
+warning for the file). JSON numbers written with a zero fraction (1.0) read as integers.
 
 Images are decoded once per file: materials that use the same image (by content) the same way
 share one Texture object. Primitives without a material get a grey Lambertian default (albedo
@@ -56,6 +58,8 @@ class GltfFile(GltfContainer, NodeReader, MeshReader, MaterialReader, CameraLigh
         self.textures = FileTextures(inputs)
         self.placed = set()  # the nodes placed in the hierarchy so far
         self.node_objects = {}  # node index -> the Node made of it
+        self.sourceless = set()  # the textures without a source image, warned about once each
+        self.positionless = []  # the primitives without POSITION, left out (glTF: not drawn)
         required = self.json.get(self.doc, "extensionsRequired", "", [], list)
         missing = [str(e) for e in required if e not in GLTF_EXTENSIONS]
         if missing:

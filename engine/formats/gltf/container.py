@@ -10,6 +10,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ...core.errors import warn
 from ...core.limits import MAX_FILE_BYTES, check_vertices
 from ..input_files import os_problem
 from ..json_reader import JsonReader
@@ -76,7 +77,12 @@ class GltfContainer:
             if offset + 8 + size > length:
                 self.fail(f"GLB chunk {len(chunks)}", "reaches past the end of the file")
             chunks.append((kind, data[offset + 8:offset + 8 + size]))
-            offset += 8 + size + (-size % 4)
+            end = offset + 8 + size
+            offset = end + (-size % 4)
+            if size % 4 and not _chunk_at(data, offset, length) and _chunk_at(data, end, length):
+                warn(f"GLB chunk {len(chunks) - 1} is not padded to 4 bytes: the next chunk read where it was written",
+                     source=self.json.path)
+                offset = end
         if not chunks or chunks[0][0] != GLB_JSON:
             self.fail("GLB chunk 0", "must be the JSON chunk")
         if len(chunks) > 1 and chunks[1][0] == GLB_BIN:
@@ -204,6 +210,14 @@ class GltfContainer:
         if "uri" in image:
             return self._uri_bytes(self.json.get(image, "uri", field, kind=str))
         self.fail(field, "has neither uri nor bufferView")
+
+
+def _chunk_at(data, offset, length):
+    """Whether a GLB chunk header of a known kind, fitting the file, starts at `offset`."""
+    if offset + 8 > length:
+        return False
+    size, kind = struct.unpack_from("<II", data, offset)
+    return kind in (GLB_JSON, GLB_BIN) and offset + 8 + size <= length
 
 
 def short_uri(text, limit=60):

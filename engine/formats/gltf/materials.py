@@ -4,6 +4,7 @@ from collections import namedtuple
 
 import numpy as np
 
+from ...core.errors import warn
 from ...core.limits import check_material
 from ...scene.model import ALPHA_MODES, IDENTITY_UV, Material
 from .container import short_uri
@@ -88,8 +89,12 @@ class MaterialReader:
             uv_set, transform = self.texture_transform(extensions, f"{where}.extensions", uv_set)
         texture_field = f"textures[{index}]"
         spec = self.element("textures", index)
-        if "source" not in spec:
-            self.fail(texture_field, "has no source image (images in extensions, such as KHR_texture_basisu, are not read)")
+        if "source" not in spec:  # optional in glTF: its image may be an extension's (KHR_texture_basisu, EXT_texture_webp)
+            if index not in self.sourceless:
+                self.sourceless.add(index)
+                warn("has no source image vct reads (images in extensions are not read): the material is drawn without it",
+                     source=self.json.path, field=texture_field)
+            return TextureUse(None, 0, IDENTITY_UV)
         source = read.index(spec, "source", texture_field, "images", len(self.list("images")))
         wrap = ["REPEAT", "REPEAT"]
         if "sampler" in spec:

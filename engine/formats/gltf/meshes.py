@@ -34,6 +34,9 @@ class MeshReader:
             self.fail(f"{field}.mode", f"{mode} ({MODE_NAMES[mode]}): only triangles are drawn (modes 4, 5, 6)")
         attributes = self.json.get(spec, "attributes", field, kind=dict)
         where = f"{field}.attributes"
+        if "POSITION" not in attributes:  # glTF: a primitive without positions is not drawn
+            self.positionless.append(field)
+            return None
         positions = self.accessor(attributes, "POSITION", where, ("VEC3",), FLOAT)
         optional = {"NORMAL": (("VEC3",), FLOAT), "TEXCOORD_0": (("VEC2",), FLOAT + NORMALIZED_UV_TYPES),
                     "TEXCOORD_1": (("VEC2",), FLOAT + NORMALIZED_UV_TYPES), "TANGENT": (("VEC4",), FLOAT),

@@ -2,7 +2,7 @@
 import numpy as np
 
 from ...core.errors import warn
-from ...core.limits import MAX_DEPTH, MIN_SCALE
+from ...core.limits import MAX_DEPTH
 from ...core.progress import progress
 from ...core.transforms import decompose, euler_deg_from_rotation, quaternion_rotation
 from ...scene.animation import INTERPOLATIONS, PATHS, NodeTracks, Sampler
@@ -36,6 +36,10 @@ class NodeReader:
                       for k, root in enumerate(roots)]
         self.animate()
         self.buffers.clear()
+        if self.positionless:
+            warn(f"{len(self.positionless)} primitive{'s' if len(self.positionless) > 1 else ''} without POSITION not drawn "
+                 f"(as glTF says): {', '.join(self.positionless[:3])}{', ...' if len(self.positionless) > 3 else ''}",
+                 source=self.json.path)
         return result
 
     def node(self, index, depth):
@@ -104,6 +108,8 @@ class NodeReader:
                 if path == "weights":
                     morphs = True
                     continue
+                if path not in PATHS and "extensions" in target:  # an extension's target (KHR_animation_pointer)
+                    continue
                 if path not in PATHS:
                     self.fail(f"{where}.target.path", f'must be "translation", "rotation", "scale" or "weights", got "{path}"')
                 if "node" not in target:  # glTF: a channel without a node is left to extensions
@@ -145,10 +151,6 @@ class NodeReader:
             keyframes = values.reshape(len(times), per_time, 4)[:, per_time // 2]
             if not np.all((0.5 <= np.linalg.norm(keyframes, axis=1)) & (np.linalg.norm(keyframes, axis=1) <= 2.0)):
                 self.fail(f"{field}.output", "rotations must be unit quaternions x, y, z, w")
-        if path == "scale":
-            scales = np.abs(values.reshape(len(times), per_time, 3)[:, per_time // 2])
-            if np.any(scales < MIN_SCALE):
-                self.fail(f"{field}.output", f"scales must be at least {MIN_SCALE:g} in magnitude")
         if per_time == 3:
             values = values.reshape(len(times), 3, -1)
         return Sampler(times, values, interpolation, rotation=path == "rotation")
