@@ -203,7 +203,9 @@ class Terminated(BaseException):
 
 @contextlib.contextmanager
 def _signals_unwind():
-    """While a command runs in the main thread, SIGTERM and SIGHUP raise Terminated."""
+    """While a command runs in the main thread, SIGTERM and SIGHUP raise Terminated; a signal
+    whose handler was installed outside Python (a tracer, an embedding host: Python cannot put
+    it back) is left to it."""
     if threading.current_thread() is not threading.main_thread():
         yield
         return
@@ -211,7 +213,8 @@ def _signals_unwind():
     def handler(signum, frame):
         raise Terminated(signum)
 
-    previous = {number: signal.signal(number, handler) for number in (signal.SIGTERM, signal.SIGHUP)}
+    previous = {number: signal.signal(number, handler) for number in (signal.SIGTERM, signal.SIGHUP)
+                if signal.getsignal(number) is not None}
     try:
         yield
     finally:

@@ -29,6 +29,11 @@ MAX_INPUT_BYTES = 2 ** 30            # all the files of one scene
 MAX_REFERENCE_BYTES = 2 ** 30        # a `bench --reference` array
 MAX_SHADER_BYTES = 2 ** 20           # each GLSL file
 MAX_INCLUDE_DEPTH = 32               # nested #include levels
+# What a glTF file's data decodes to, checked from the counts before anything is made: its
+# accessors together (each counted once; an accessor without a buffer view is zeros of its
+# count), and the triangles of each mesh file once strips and fans are expanded.
+MAX_DECODED_BYTES = 2 ** 30
+MAX_FILE_TRIANGLES = 2 ** 23
 # Images decode within these bounds, checked from their headers before any pixel is decoded.
 MAX_IMAGE_SIDE = 16384               # pixels on a side (the GL limit is checked at upload)
 MAX_IMAGE_PIXELS = 2 ** 26           # each image: 8192 x 8192

@@ -1,15 +1,22 @@
 """Reading the files a scene names within the limits of engine/core/limits.py: each one only if it
 is a regular file (never a device such as /dev/zero, nor blocking on a pipe), up to a size,
 and every image decoded only once its header says it fits."""
+import contextlib
 import io
 import os
-import re
 import stat
+import sys
+import tempfile
 import warnings
 
 import numpy as np
 
 from ..core.limits import MAX_FILE_BYTES, MAX_IMAGE_PIXELS, MAX_IMAGE_SIDE, MAX_INPUT_BYTES, MAX_INPUT_PIXELS
+
+# The texture formats read (Pillow's names): the ones models use, each decoded by Pillow's own
+# code or a library it links, never through an external interpreter (EPS and PDF go through
+# Ghostscript where it is installed).
+IMAGE_FORMATS = ("PNG", "JPEG", "WEBP", "BMP", "TGA", "TIFF", "GIF")
 
 
 def read_regular_file(path, limit):
@@ -64,14 +71,13 @@ class InputFiles:
 
     def decode_image(self, data):
         """uint8 (H, W, C), C = 1 (grey), 2 (grey, alpha), 3 (RGB) or 4 (RGBA), row 0 at the
-        top, of an encoded image (PNG, JPEG, or any format Pillow reads); ValueError says
-        what is wrong."""
+        top, of an encoded image in one of IMAGE_FORMATS; ValueError says what is wrong."""
         from PIL import Image
 
         try:
             with warnings.catch_warnings():  # the size limits are ours, not Pillow's bomb warning
                 warnings.simplefilter("ignore", Image.DecompressionBombWarning)
-                image = Image.open(io.BytesIO(data))
+                image = Image.open(io.BytesIO(data), formats=IMAGE_FORMATS)
                 width, height = image.size
                 if max(width, height) > MAX_IMAGE_SIDE:
                     raise ValueError(f"{width}x{height} pixels, more than {MAX_IMAGE_SIDE} on a side")
@@ -84,7 +90,7 @@ class InputFiles:
         except ValueError:
             raise
         except Image.UnidentifiedImageError:
-            raise ValueError("cannot decode image (not in a format Pillow reads)") from None
+            raise ValueError(f"cannot decode image (not one of the formats vct reads: {', '.join(IMAGE_FORMATS)})") from None
         except Exception as exc:  # Pillow raises many kinds on broken or unknown data
             raise ValueError(f"cannot decode image ({' '.join(str(exc).split()) or type(exc).__name__})") from None
         self.pixels += width * height
@@ -123,21 +129,57 @@ def read_radiance_map(path, inputs):
 
 def _check_map_size(width, height):
     if min(width, height) < 1 or max(width, height) > MAX_IMAGE_SIDE or width * height > MAX_IMAGE_PIXELS:
-        raise ValueError(f"{width}x{height} pixels: at most {MAX_IMAGE_SIDE} on a side and {MAX_IMAGE_PIXELS} in all")
+        raise _MapError(f"{width}x{height} pixels: at most {MAX_IMAGE_SIDE} on a side and {MAX_IMAGE_PIXELS} in all")
+
+
+class _MapError(ValueError):
+    """What vct finds wrong with a radiance map (as against a decoder's own error)."""
+
+
+@contextlib.contextmanager
+def _decoder_output(messages):
+    """Standard error and output (fds 2 and 1, and Python's sys.stdout) into temporary files
+    while a C library decodes, its lines appended to `messages` (standard error's first): what
+    it prints goes into vct's one line, not before it."""
+    sys.stdout.flush()
+    sys.stderr.flush()
+    saved = {fd: os.dup(fd) for fd in (2, 1)}
+    python_stdout = io.StringIO()
+    with tempfile.TemporaryFile() as errors, tempfile.TemporaryFile() as output:
+        for fd, captured in ((2, errors), (1, output)):
+            os.dup2(captured.fileno(), fd)
+        try:
+            with contextlib.redirect_stdout(python_stdout):
+                yield
+        finally:
+            for fd, copy in saved.items():
+                os.dup2(copy, fd)
+                os.close(copy)
+            texts = []
+            for captured in (errors, output):
+                captured.seek(0)
+                texts.append(captured.read(4096).decode("utf-8", "replace"))
+            texts.append(python_stdout.getvalue())
+            messages.extend(line.strip() for text in texts for line in text.splitlines() if line.strip())
 
 
 def _read_exr(data):
     import OpenEXR
 
+    messages = []
     try:
-        header = OpenEXR.File(io.BytesIO(data), header_only=True).header()
-        (x0, y0), (x1, y1) = header["dataWindow"]
-        _check_map_size(int(x1) - int(x0) + 1, int(y1) - int(y0) + 1)
-        channels = OpenEXR.File(io.BytesIO(data), separate_channels=True).channels()
-    except ValueError:
+        with _decoder_output(messages):
+            header = OpenEXR.File(io.BytesIO(data), header_only=True).header()
+            (x0, y0), (x1, y1) = header["dataWindow"]
+            _check_map_size(int(x1) - int(x0) + 1, int(y1) - int(y0) + 1)
+            channels = OpenEXR.File(io.BytesIO(data), separate_channels=True).channels()
+    except _MapError:
         raise
-    except Exception as exc:  # OpenEXR raises RuntimeError and others on broken files
-        raise ValueError(f"cannot decode OpenEXR ({' '.join(str(exc).split()) or type(exc).__name__})") from None
+    except Exception as exc:  # OpenEXR raises RuntimeError, ValueError and others on broken files
+        said = messages[0] if messages else " ".join(str(exc).split()) or type(exc).__name__
+        raise ValueError(f"cannot decode OpenEXR ({said})") from None
+    if messages:  # the library read past a fault it printed
+        raise ValueError(f"cannot decode OpenEXR ({messages[0]})")
     missing = [name for name in "RGB" if name not in channels]
     if missing:
         raise ValueError(f"needs channels R, G and B (it has {', '.join(sorted(channels)) or 'none'})")
@@ -148,16 +190,25 @@ def _read_exr(data):
 
 
 def _read_rgbe(data):
+    """Radiance RGBE: its size line, the line after the header's blank line, read as the
+    decoder reads it (words apart by any white space) and checked before decoding; the decoded
+    size must be that one."""
     import imagecodecs
 
-    header = re.search(rb"\n\n([-+][XY]) (\d+) ([-+][XY]) (\d+)\n", data[:65536])
-    if not data.startswith(b"#?") or header is None:
+    end = data.find(b"\n\n", 0, 65536)
+    if not data.startswith(b"#?") or end < 0:
         raise ValueError("not a Radiance RGBE (.hdr) file")
-    if (header.group(1), header.group(3)) != (b"-Y", b"+X"):
-        raise ValueError(f"orientation {header.group(1).decode()} {header.group(3).decode()}: only -Y H +X W (row 0 "
-                         "at the top) is read")
-    _check_map_size(int(header.group(4)), int(header.group(2)))
+    words = data[end + 2:data.find(b"\n", end + 2, end + 2 + 256)].split()
+    if len(words) != 4 or not all(word.isdigit() for word in words[1::2]) or words[0] not in (b"-Y", b"+Y", b"-X", b"+X"):
+        raise ValueError("its size line (after the header) must read -Y HEIGHT +X WIDTH")
+    if (words[0], words[2]) != (b"-Y", b"+X"):
+        raise ValueError(f"orientation {words[0].decode()} {words[2].decode()}: only -Y H +X W (row 0 at the top) is read")
+    height, width = int(words[1]), int(words[3])
+    _check_map_size(width, height)
     try:
-        return imagecodecs.rgbe_decode(data)[..., :3]
+        pixels = imagecodecs.rgbe_decode(data)[..., :3]
     except Exception as exc:  # imagecodecs raises RgbeError and others on broken data
         raise ValueError(f"cannot decode Radiance RGBE ({' '.join(str(exc).split()) or type(exc).__name__})") from None
+    if pixels.shape[:2] != (height, width):
+        raise ValueError(f"decodes to {pixels.shape[1]}x{pixels.shape[0]} pixels, its size line says {width}x{height}")
+    return pixels

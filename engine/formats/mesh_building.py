@@ -67,6 +67,16 @@ def face_normals(positions, triangles):
     return np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])
 
 
+def with_area(positions, triangles, chunk=2 ** 20):
+    """The triangles whose area is not zero (the others draw nothing and have no normal),
+    computed a chunk at a time so that the work takes a bounded amount of memory."""
+    keep = np.empty(len(triangles), bool)
+    for first in range(0, len(triangles), chunk):
+        part = triangles[first:first + chunk]
+        keep[first:first + chunk] = np.any(face_normals(positions, part) != 0, axis=1)
+    return triangles[keep]
+
+
 def newell_normals(polygons):
     """The Newell normal of each polygon (m, k, 3): twice its vector area, whatever its shape."""
     following = np.roll(polygons, -1, axis=1)
@@ -177,7 +187,7 @@ def surface_mesh(positions, triangles, normals=None, texcoords=None):
     data = [positions] if texcoords is None else [positions, np.asarray(texcoords, np.float64)]
     valid = np.all([np.all(np.abs(array[triangles]) <= MAX_MAGNITUDE, axis=(1, 2)) for array in data], axis=0)
     triangles = triangles[valid]
-    triangles = triangles[np.linalg.norm(face_normals(positions, triangles), axis=1) > 0]
+    triangles = with_area(positions, triangles)
     dropped = int(np.count_nonzero(~valid))
     if len(triangles) == 0:
         return None, dropped

@@ -52,7 +52,7 @@ from ..core.limits import MAX_DEPTH, MIN_FOV_DEG, check_material, check_placemen
 from ..core.transforms import decompose
 from ..scene.model import TEXTURE_FIELDS, Material, Mesh, Node, NodeCamera, Scene
 from .input_files import InputFiles
-from .mesh_building import FileTextures, crease_normals, default_material, face_normals, generate_tangents
+from .mesh_building import FileTextures, crease_normals, default_material, generate_tangents, with_area
 from .scene_file import DEFAULT_WIDTH, FALLBACK_ASPECT, framing_camera
 
 MAX_FOV_DEG = 179.0
@@ -101,7 +101,7 @@ def _mesh(positions, indices, normals, texcoords, colors, fail):
         if np.any((colors < 0) | (colors > 1)):
             element = int(np.argmax(np.any((colors < 0) | (colors > 1), axis=1)))
             fail("colors", f"element {element} is {colors[element].tolist()}: each component must be within 0..1")
-    triangles = triangles[np.linalg.norm(face_normals(positions, triangles), axis=1) > 0]
+    triangles = with_area(positions, triangles)
     if len(triangles) == 0:
         return None
     used, triangles = np.unique(triangles, return_inverse=True)  # the vertices a triangle uses

@@ -60,6 +60,7 @@ class GltfFile(GltfContainer, NodeReader, MeshReader, MaterialReader, CameraLigh
         self.node_objects = {}  # node index -> the Node made of it
         self.sourceless = set()  # the textures without a source image, warned about once each
         self.positionless = []  # the primitives without POSITION, left out (glTF: not drawn)
+        self.triangle_count = 0  # of the primitives read so far
         required = self.json.get(self.doc, "extensionsRequired", "", [], list)
         missing = [str(e) for e in required if e not in GLTF_EXTENSIONS]
         if missing:

@@ -11,7 +11,7 @@ from pathlib import Path
 import numpy as np
 
 from ...core.errors import warn
-from ...core.limits import MAX_FILE_BYTES, check_vertices
+from ...core.limits import MAX_DECODED_BYTES, MAX_FILE_BYTES, check_vertices
 from ..input_files import os_problem
 from ..json_reader import JsonReader
 
@@ -33,6 +33,8 @@ class GltfContainer:
         self.glb_bin = None
         self.doc = self._document(data)
         self.buffers = {}
+        self.decoded = set()  # the accessors decoded so far, and their bytes
+        self.decoded_bytes = 0
 
     def fail(self, field, message):
         self.json.fail(field, message)
@@ -160,6 +162,12 @@ class GltfContainer:
         if count * element > MAX_FILE_BYTES:
             self.fail(f"{where}.count", f"{count} elements of {element} bytes: more than the {MAX_FILE_BYTES // 2 ** 20} MiB "
                                         "a buffer may hold")
+        if index not in self.decoded:
+            if self.decoded_bytes + count * element > MAX_DECODED_BYTES:
+                self.fail(f"{where}.count", f"the file's accessors would decode to more than {MAX_DECODED_BYTES // 2 ** 30} GiB "
+                                            "together")
+            self.decoded.add(index)
+            self.decoded_bytes += count * element
         if "bufferView" in spec:
             values = self.view_array(spec, where, count, width, dtype, strided=True)
         else:

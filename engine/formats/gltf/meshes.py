@@ -1,8 +1,10 @@
 """A glTF file's meshes: each primitive's triangles and vertex attributes."""
 import numpy as np
 
+from ...core.errors import warn
+from ...core.limits import MAX_FILE_TRIANGLES
 from ...scene.model import TEXTURE_FIELDS, Mesh
-from ..mesh_building import face_normals, flat_normals, generate_tangents
+from ..mesh_building import flat_normals, generate_tangents, with_area
 from .container import FLOAT, INDEX_TYPES
 
 NORMALIZED_UV_TYPES = (5121, 5123)
@@ -54,11 +56,15 @@ class MeshReader:
         else:
             indices = np.arange(len(positions), dtype=np.uint32)
         triangles = self.triangles(indices, mode, field)
-        triangles = triangles[np.linalg.norm(face_normals(positions, triangles), axis=1) > 0]
+        triangles = with_area(positions, triangles)
         material = self.override or self.primitive_material(spec, field)
         normals, tangents = found.get("NORMAL"), found.get("TANGENT")
         texcoords, texcoords1 = found.get("TEXCOORD_0"), found.get("TEXCOORD_1")
         colors = found["COLOR_0"][:, :3] if "COLOR_0" in found else None
+        if colors is not None and (colors.max() > 1.0 or colors.min() < 0.0):  # they multiply the albedo: held to its 0..1
+            warn(f"COLOR_0 values within {colors.min():.3g}..{colors.max():.3g} clamped to 0..1, the albedo's range",
+                 source=self.json.path, field=f"accessors[{attributes['COLOR_0']}]")
+            colors = np.clip(colors, 0.0, 1.0)
         if normals is not None:
             normals = self.unit_normals(normals, f"{where}.NORMAL", attributes["NORMAL"])
         for texture_field in (f for f in TEXTURE_FIELDS if getattr(material, f) is not None):
@@ -87,6 +93,12 @@ class MeshReader:
         return (normals / lengths[:, None]).astype(np.float32)
 
     def triangles(self, indices, mode, field):
+        """The (T, 3) triangles of a primitive's indices, counted against the file's
+        MAX_FILE_TRIANGLES before strips and fans are expanded."""
+        count = len(indices) // 3 if mode == 4 else max(len(indices) - 2, 0)
+        self.triangle_count += count
+        if self.triangle_count > MAX_FILE_TRIANGLES:
+            self.fail(field, f"the file's primitives would hold more than {MAX_FILE_TRIANGLES} triangles")
         if mode == 4:
             if len(indices) % 3:
                 self.fail(field, f"{len(indices)} indices do not make whole triangles")
