@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 
 import engine
-from engine import SceneError, VctWarning
+from engine import SceneError
 from engine.core.transforms import rotate_euler_deg
 from engine.scene.animation import Sampler
 from test_cli import assert_one_line_error, vct  # tests/ is on sys.path under pytest
@@ -131,15 +131,6 @@ def test_a_scene_file_plays_the_animations_of_the_gltf_it_loads(tmp_path):
     rest = np.mean(scene.bounds(), axis=0)
     scene.pose_at(0.5)
     assert np.allclose(np.mean(scene.bounds(), axis=0) - rest, [0.5, 0, 0])
-
-
-def test_skins_and_morph_targets_are_drawn_in_the_rest_pose_with_one_warning(tmp_path):
-    def skin(g):
-        g.doc["skins"] = [{"joints": [1]}]
-    path = animated_gltf(tmp_path / "a.glb", [("Card", "translation", [0, 1], [[0, 0, 0], [1, 0, 0]], "LINEAR")], skin)
-    with pytest.warns(VctWarning, match="skins, which vct does not play: drawn in the rest pose") as caught:
-        engine.load_scene(path)
-    assert len([w for w in caught if issubclass(w.category, VctWarning)]) == 1
 
 
 @pytest.mark.parametrize("channel, element, message", [

@@ -10,7 +10,6 @@ become vct's one line, and what vct cannot use is named rather than rendered wro
 import io
 import json
 import signal
-import struct
 import warnings
 
 import numpy as np

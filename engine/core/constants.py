@@ -105,7 +105,24 @@ STORAGE_BINDING = {
     "COMMAND_TABLE": 53,      # per command: index count, first index, base vertex, first instance slot per view
     "DRAW_INSTANCES": 54,     # per instance drawn: its draw (DRAW_INDEX_BITS) and view (from DRAW_VIEW_SHIFT)
     "HELD_DRAWS": 55,         # DrawRecords of draws as the voxels hold them (before they moved), for the voxelizer
+    # Posing (engine/passes/pose.py, glsl/pose/pose_vertices.comp): the mesh pool's vertices
+    # (a mesh's rest copy read, a posed draw's own copy written), a skinned mesh's influences
+    # (PoseInfluence per vertex and set), a morphed mesh's displacements (position, normal,
+    # tangent: three vec4 per vertex and target), the joint matrices and the target weights.
+    "POSE_VERTICES": 56,
+    "POSE_INFLUENCES": 57,
+    "POSE_TARGETS": 58,
+    "POSE_MATRICES": 59,
+    "POSE_WEIGHTS": 60,
 }
+
+# A vertex of the mesh pool (engine/gpu/scene_buffers.py): interleaved float32 attributes,
+# (vertex-shader input, floats); the pose pass reads and writes it as floats by these offsets.
+VERTEX_ATTRIBUTES = (("in_position", 3), ("in_normal", 3), ("in_texcoord", 2), ("in_tangent", 4), ("in_color", 3),
+                     ("in_texcoord1", 2))
+VERTEX_FLOATS: GLSL_INT = sum(size for _, size in VERTEX_ATTRIBUTES)
+VERTEX_NORMAL_AT: GLSL_INT = 3
+VERTEX_TANGENT_AT: GLSL_INT = 8
 
 # Struct layouts shared with GLSL (vec4 and mat4 fields, so std140 and std430 lay them out
 # alike): name -> ((GLSL type, field), ...). glsl_header() declares them, struct_dtype() gives
@@ -147,6 +164,8 @@ GLSL_STRUCTS = {
     # A cluster of a mesh's triangles: its bounds in the mesh's frame (xyz of lo, hi) and its
     # indices: first index and count in the shared index buffer, the mesh's base vertex.
     "Cluster": (("vec4", "lo"), ("vec4", "hi"), ("uvec4", "indices")),
+    # Four influences of a skinned vertex: joint indices into its skin and their weights.
+    "PoseInfluence": (("uvec4", "joints"), ("vec4", "weights")),
     # A view a draw list is drawn into: its view-projection (frustum culling, and the shadow
     # views' drawing), a world box (box culling), a shadow view's tile in the atlas (NDC offset
     # xy, scale zw), a voxelization job's level (voxels_min.w) and voxels [min, max), and the

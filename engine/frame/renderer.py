@@ -31,6 +31,7 @@ from ..passes.gbuffer import GBufferPass
 from ..passes.gbuffer_view import GBufferViewPass
 from ..passes.inject import InjectPass
 from ..passes.lighting import LightingPass
+from ..passes.pose import PosePass
 from ..passes.shadow import ShadowPass
 from ..passes.sky_light import SkyLightPass
 from ..passes.tonemap import TonemapPass
@@ -121,6 +122,7 @@ class Renderer(WorkItems):
     def _create_passes(self):
         """The passes of a frame, each with its programs and targets."""
         self.cull = self._add(CullPass(self.ctx, self.programs))
+        self.pose = self._add(PosePass(self.ctx, self.programs))
         self.shadow = self._add(ShadowPass(self.ctx, self.programs, self.cull, self.settings.shadow_map_size))
         self.gbuffer = self._add(GBufferPass(self.ctx, self.programs, self.cull, self.size))
         self.lighting = self._add(LightingPass(self.ctx, self.programs, self.size))
@@ -255,6 +257,10 @@ class Renderer(WorkItems):
         self.scene_buffers.draw_calls = 0
         self.table.sync(scene, rebuild=not self.track_changes)
         self.scene_buffers.sync(self.table)
+        posed = self.pose.due(self.table, self.scene_buffers)
+        if len(posed):
+            with self.timed("pose"):
+                self.pose.run(self.table, self.scene_buffers, posed)
         frame = FrameInputs(scene, self.table)
         if self.measure:
             with self.pass_timer.frame():

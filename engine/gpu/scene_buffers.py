@@ -19,7 +19,7 @@ import math
 
 import numpy as np
 
-from ..core.constants import MATERIAL_TEXTURE_ARRAYS, MAX_DRAWS, SHADER_ENUMS, struct_dtype
+from ..core.constants import MATERIAL_TEXTURE_ARRAYS, MAX_DRAWS, SHADER_ENUMS, VERTEX_FLOATS, struct_dtype
 from ..core.errors import VctError
 from ..scene.emitters import frame_emitters
 from ..scene.model import IDENTITY_UV, TEXTURE_FIELDS
@@ -27,11 +27,8 @@ from .functions import (GL_LINEAR, GL_LINEAR_MIPMAP_LINEAR, GL_RGBA, GL_RGBA8, G
                         GL_TEXTURE_MAG_FILTER, GL_TEXTURE_MIN_FILTER, GL_TEXTURE_WRAP_S, GL_TEXTURE_WRAP_T,
                         GL_UNPACK_ALIGNMENT, GL_UNSIGNED_BYTE, WRAP_MODES, gl_functions, write_buffer)
 
-# Vertex attributes in buffer order, with their float counts. Meshes without texture
-# coordinates or tangents get zeros there, without vertex colours white.
-VERTEX_ATTRIBUTES = (("in_position", 3), ("in_normal", 3), ("in_texcoord", 2), ("in_tangent", 4), ("in_color", 3),
-                     ("in_texcoord1", 2))
-VERTEX_FLOATS = sum(size for _, size in VERTEX_ATTRIBUTES)
+# The vertex attributes are VERTEX_ATTRIBUTES (engine/core/constants.py). Meshes without
+# texture coordinates or tangents get zeros there, without vertex colours white.
 CLUSTER_TRIANGLES = 1024  # meshes are split into clusters of about this many triangles
 CLUSTER_DTYPE = struct_dtype("Cluster")
 DRAW_DTYPE = struct_dtype("DrawRecord")
@@ -211,6 +208,7 @@ class MeshPool:
     def __init__(self, ctx):
         self.ctx = ctx
         self.entries = {}  # id(Mesh) -> MeshEntry
+        self.posed = {}    # a posed draw's key -> (Mesh, the MeshEntry of its own copy)
         self.clusters = np.zeros(0, CLUSTER_DTYPE)
         self.version = self.epoch = 0
         self._allocate(POOL_START, POOL_START)
@@ -232,6 +230,23 @@ class MeshPool:
         entry = self._append(mesh)
         self.entries[id(mesh)] = entry
         return entry
+
+    def posed_entry(self, key, mesh):
+        """The MeshEntry of a copy of `mesh` of its own for the posed draw `key` (its vertices
+        the pose pass's to write, its clusters' bounds set_cluster_bounds'), made anew where
+        the mesh's arrays changed."""
+        held = self.posed.get(key)
+        if held is not None and held[0] is mesh and all(a is b for a, b in zip(held[1].arrays, mesh.arrays())):
+            return held[1]
+        entry = self._append(mesh)
+        self.posed[key] = (mesh, entry)
+        return entry
+
+    def set_cluster_bounds(self, entry, lo, hi):
+        """Bound every cluster of `entry` (a posed copy) by the box (lo, hi) in its draw's frame."""
+        records = self.clusters[entry.first_cluster:entry.first_cluster + entry.cluster_count]
+        records["lo"][:, :3], records["hi"][:, :3] = lo, hi
+        self.cluster_buffer.write(records.tobytes(), offset=entry.first_cluster * CLUSTER_DTYPE.itemsize)
 
     def _append(self, mesh):
         count = len(mesh.positions)
@@ -284,13 +299,18 @@ class MeshPool:
         for buffer in (old_vertices, old_indices, old_clusters):
             buffer.release()
 
-    def retain(self, meshes):
-        """Keep the entries of `meshes` only; where what the others held is most of the
-        buffers, pack them anew with the kept meshes alone (a new epoch). True when packed."""
+    def retain(self, meshes, posed_keys=()):
+        """Keep the entries of `meshes` and the posed copies of `posed_keys` only; where what
+        the others held is most of the buffers, pack them anew with the kept ones alone (a new
+        epoch: the posed copies hold their meshes' rest pose until posed again). True when
+        packed."""
         live = {id(mesh): mesh for mesh in meshes}
         for key in [key for key in self.entries if key not in live]:
             del self.entries[key]
-        used = sum(entry.index_count for entry in self.entries.values())
+        posed_keys = set(posed_keys)
+        for key in [key for key in self.posed if key not in posed_keys]:
+            del self.posed[key]
+        used = sum(entry.index_count for entry in self.entries.values()) + sum(e.index_count for _, e in self.posed.values())
         if self.index_count - used <= max(used, POOL_START):
             return False
         self.vertices.release()
@@ -300,6 +320,7 @@ class MeshPool:
         self.entries = {}
         for mesh in live.values():
             self.entries[id(mesh)] = self._append(mesh)
+        self.posed = {key: (mesh, self._append(mesh)) for key, (mesh, _) in self.posed.items()}
         self.epoch += 1
         return True
 
@@ -309,7 +330,7 @@ class MeshPool:
     def release(self):
         for buffer in (self.vertices, self.indices, self.cluster_buffer):
             buffer.release()
-        self.entries = {}
+        self.entries, self.posed = {}, {}
 
 
 class SceneBuffers:
@@ -347,7 +368,7 @@ class SceneBuffers:
             meshes = {int(slot) for slot in table.draw_mesh[draws]}
             entries = {slot: self.pool.entry(table.meshes[slot]) for slot in meshes}
             if anew or any(self.pool.entries.get(id(table.meshes[slot])) is not entry for slot, entry in entries.items()):
-                if self.pool.retain(table.meshes):
+                if self.pool.retain(table.meshes, [posed_key(table, draw) for draw in table.posed_draws]):
                     draws = np.arange(table.draw_count)
             self._write_draws(table, draws, anew)
         self.structure, self.stamp = table.structure, table.stamp
@@ -377,7 +398,9 @@ class SceneBuffers:
             return
         _write_rows(self.draws, draw_records(table.draw_world[draws], table.draw_material[draws]), draws)
         flags = np.array([draw_flags(table.draw(draw)) for draw in draws], np.int64)
-        entries = [self.pool.entry(table.meshes[slot]) for slot in table.draw_mesh[draws]]
+        posed = set(table.poses)
+        entries = [self.pool.posed_entry(posed_key(table, draw), table.meshes[slot]) if int(draw) in posed
+                   else self.pool.entry(table.meshes[slot]) for draw, slot in zip(draws, table.draw_mesh[draws])]
         changed = anew or np.any(flags != self.draw_flags[draws]) or np.any(table.draw_material[draws] != self.draw_material[draws]) \
             or any(self.draw_entries[draw] is not entry for draw, entry in zip(draws, entries))
         self.draw_flags[draws] = flags
@@ -400,6 +423,11 @@ class SceneBuffers:
         self.textures.release()
         self.draws.release()
         self.materials.release()
+
+
+def posed_key(table, draw):
+    """The key of a posed draw's own copy of its mesh in the pool."""
+    return (table.structure, int(draw))
 
 
 def draw_records(world, materials):

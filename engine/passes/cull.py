@@ -15,11 +15,10 @@ import math
 import moderngl
 import numpy as np
 
-from ..core.constants import LIST_GROUP, MAX_DRAW_VIEWS, struct_dtype
+from ..core.constants import LIST_GROUP, MAX_DRAW_VIEWS, VERTEX_ATTRIBUTES, struct_dtype
 from ..core.errors import VctError
 from ..gpu.bindings import program_used
 from ..gpu.functions import write_buffer
-from ..gpu.scene_buffers import VERTEX_ATTRIBUTES
 
 VIEW_DTYPE = struct_dtype("DrawView")
 COMMAND_WORDS = 5  # count, instance count, first index, base vertex, base instance

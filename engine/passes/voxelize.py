@@ -156,7 +156,7 @@ class VoxelizePass:
             if moving:
                 self._rasterize(grid, "mark", self.moved, buffers, 0, self.held_draws)
             for job in jobs:
-                if job.marked is None:
+                if job.marked in (None, "every voxel"):
                     self._mark_box(grid, job.level, job.voxels)
             grid.size_list(grid.touched)
             listed = min(grid.touched.read_count() if touched is None else touched, grid.touched_room)
@@ -301,7 +301,8 @@ class VoxelizePass:
 class Job:
     """A part of a voxelization: the voxels (lo, hi) of a level, in its coordinates, which the
     draws reaching the world `box` are drawn into; the ones marked there beforehand: those of
-    "every draw", of the "moved draws", or (None) every voxel of the box."""
+    "every draw", of the "moved draws", or every voxel of the box ("every voxel", or None for
+    a scrolled level's slab, left out where no draw reaches it)."""
     level: int
     box: tuple
     voxels: tuple
@@ -312,7 +313,8 @@ def _level_jobs(grid, update, rebuilt, bounds):
     """What the update voxelizes, as Jobs: a rebuilt level, its whole cube, every draw marked. A
     level that scrolled (and is not rebuilt): each slab it took in, all its voxels marked.
     Elsewhere, the moved draws' voxels: the box within a voxel of the level of them, the moved
-    draws marked. The world boxes hold a voxel more on each side: what a triangle's dilation
+    draws marked, and every voxel of the box a moved posed draw held (its copy holds its new
+    pose only). The world boxes hold a voxel more on each side: what a triangle's dilation
     reaches. A job that marks its box's voxels is left out where no draw (`bounds`: every
     draw's world box, (D, 2, 3)) reaches the box."""
     n, changed = grid.n, update.removed + update.added
@@ -329,6 +331,12 @@ def _level_jobs(grid, update, rebuilt, bounds):
         elif changed:
             changed_box = update.touched_bounds(margin=voxel)
             boxes = [((np.maximum(changed_box[0], lo), np.minimum(changed_box[1], hi)), whole, "moved draws")]
+            for draw in update.removed:  # a posed draw as the voxels hold it: every voxel of its box
+                if draw.posed:
+                    box = (np.maximum(draw.bounds[0] - voxel, lo), np.minimum(draw.bounds[1] + voxel, hi))
+                    first = np.clip(np.floor((box[0] - lo) / voxel), 0, n).astype(int)
+                    last = np.clip(np.ceil((box[1] - lo) / voxel), 0, n).astype(int)
+                    boxes.append((box, (first, last), "every voxel"))
         else:
             continue
         for box, voxels, marked in boxes:

@@ -1,5 +1,5 @@
 """Node animations, evaluated in time (plain Python/numpy, no GL): glTF 2.0's translation,
-rotation and scale channels with LINEAR, STEP and CUBICSPLINE samplers.
+rotation, scale and morph target weights channels with LINEAR, STEP and CUBICSPLINE samplers.
 
 A node that an animation moves carries its `NodeTracks`: its rest pose and, per animation
 name, a Sampler per animated property. `Scene.pose_at(t)` sets every such node to its pose at
@@ -13,7 +13,7 @@ import numpy as np
 from ..core.transforms import euler_deg_from_rotation, quaternion_rotation
 
 INTERPOLATIONS = ("LINEAR", "STEP", "CUBICSPLINE")
-PATHS = ("translation", "rotation", "scale")  # rotation: unit quaternions [x, y, z, w]
+PATHS = ("translation", "rotation", "scale", "weights")  # rotation: unit quaternions [x, y, z, w]
 
 
 @dataclass(frozen=True, eq=False)
@@ -71,15 +71,18 @@ def slerp(a, b, u):
 
 @dataclass(frozen=True, eq=False)
 class NodeTracks:
-    """What animates one node: its rest pose (translation, rotation_deg, scale), which the
-    properties an animation does not move keep, and {animation name: {path: Sampler}}."""
+    """What animates one node: its rest pose (translation, rotation_deg, scale, morph weights
+    or None), which the properties an animation does not move keep, and {animation name:
+    {path: Sampler}}."""
 
     rest: tuple
     tracks: dict
 
     def pose(self, t, names):
-        """(translation, rotation_deg, scale) at t seconds of the animations `names`."""
-        translation, rotation_deg, scale = (np.array(v, float) for v in self.rest)
+        """(translation, rotation_deg, scale, morph weights or None) at t seconds of the
+        animations `names`."""
+        translation, rotation_deg, scale = (np.array(v, float) for v in self.rest[:3])
+        weights = None if self.rest[3] is None else np.array(self.rest[3], float)
         for name in names:
             samplers = self.tracks.get(name, {})
             if "translation" in samplers:
@@ -88,7 +91,9 @@ class NodeTracks:
                 rotation_deg = euler_deg_from_rotation(quaternion_rotation(samplers["rotation"].at(t)))
             if "scale" in samplers:
                 scale = samplers["scale"].at(t)
-        return translation, rotation_deg, scale
+            if "weights" in samplers:
+                weights = samplers["weights"].at(t)
+        return translation, rotation_deg, scale, weights
 
     def durations(self):
         """{animation name: the last keyframe time of its samplers of this node}."""

@@ -48,13 +48,15 @@ class FrameInputs:
 @dataclass(frozen=True, eq=False)
 class PlacedDraw:
     """A draw where the voxels hold it or where it is now: its index in the table, its world
-    matrix, the mesh arrays it had, its world bounds (lo, hi) and its mesh's place in the GPU's
-    pool (scene_buffers.MeshEntry)."""
+    matrix, the mesh arrays it had, its world bounds (lo, hi), its mesh's place in the GPU's
+    pool (scene_buffers.MeshEntry) and whether it is posed (its copy in the pool holds only
+    its latest pose: where the voxels hold it is known by its bounds)."""
     index: int
     world: np.ndarray
     mesh_arrays: tuple
     bounds: tuple
     entry: object
+    posed: bool = False
 
 
 class HeldDraws:
@@ -73,7 +75,8 @@ class HeldDraws:
     def placed(self, table, buffers, indices):
         """PlacedDraws of `indices` as they are now."""
         return [PlacedDraw(int(i), table.draw_world[i].copy(), table.mesh_arrays[table.draw_mesh[i]],
-                           (table.draw_bounds[i, 0].copy(), table.draw_bounds[i, 1].copy()), buffers.draw_entries[i])
+                           (table.draw_bounds[i, 0].copy(), table.draw_bounds[i, 1].copy()), buffers.draw_entries[i],
+                           int(i) in table.poses)
                 for i in indices]
 
     def held(self, indices):

@@ -75,7 +75,7 @@ EDITS = EditLog()
 # The fields whose edits change the scene graph's shape (a node's children, mesh, light, camera
 # or animation given or taken): what a scene caches about its shape is kept while
 # EDITS.shape_edits is unchanged.
-STRUCTURE_FIELDS = frozenset({"children", "mesh", "light", "camera", "animation"})
+STRUCTURE_FIELDS = frozenset({"children", "mesh", "light", "camera", "animation", "skin"})
 
 
 class TrackedArray(np.ndarray):
@@ -289,6 +289,12 @@ class Mesh(Tracked):
     tangents: np.ndarray = None
     colors: np.ndarray = None      # (V, 3) linear RGB that multiplies the base colour (glTF COLOR_0)
     texcoords1: np.ndarray = None  # (V, 2) a second set of texture coordinates (glTF TEXCOORD_1)
+    # A skin's influences (glTF JOINTS_n, WEIGHTS_n): (V, 4 k) joint indices into the Skin of the
+    # node drawing the mesh, and their weights, which sum to 1 per vertex.
+    joints: np.ndarray = None
+    weights: np.ndarray = None
+    targets: tuple = ()  # MorphTargets: displacements blended by the node's weights
+    target_weights: np.ndarray = None  # the weights of a node that gives none (glTF mesh.weights; None: zeros)
 
     def __setattr__(self, name, value):
         if isinstance(value, np.ndarray):  # read-only as it is: a mesh's arrays may be large
@@ -297,11 +303,38 @@ class Mesh(Tracked):
 
     def arrays(self):
         """The arrays the mesh is made of: the same objects mean the same geometry."""
-        return (self.positions, self.normals, self.indices, self.texcoords, self.tangents, self.colors, self.texcoords1)
+        return (self.positions, self.normals, self.indices, self.texcoords, self.tangents, self.colors, self.texcoords1,
+                self.joints, self.weights, self.targets)
+
+    @property
+    def posed(self):
+        """Whether a node's pose moves its vertices (a skin or morph targets)."""
+        return self.joints is not None or bool(self.targets)
 
     def bounds(self, matrix):
         p = transforms.transform_points(matrix, self.positions)
         return p.min(axis=0), p.max(axis=0)
+
+
+@dataclass(frozen=True, eq=False)
+class MorphTarget:
+    """Displacements of every vertex of a mesh (glTF morph target), (V, 3) each, None where the
+    target leaves that attribute: added to the mesh's positions, normals and tangents' xyz
+    times the node's weight for the target."""
+    positions: np.ndarray = None
+    normals: np.ndarray = None
+    tangents: np.ndarray = None
+
+
+@dataclass(eq=False)
+class Skin:
+    """The joints that pose a skinned mesh (glTF skin): joint nodes of the scene, each with the
+    inverse of its bind matrix (J, 4, 4). A vertex is posed in the world as
+    sum_i w_i J_i v, J_i = world(joint_i) inverse_bind_i (glTF 2.0, 3.7.3.3): the transform of
+    the node drawing the mesh does not apply."""
+    joints: list
+    inverse_bind_matrices: np.ndarray
+    name: str = "skin"
 
 
 @dataclass
@@ -390,8 +423,10 @@ class Node(Tracked):
     camera: NodeCamera = None
     children: list = field(default_factory=list)
     animation: NodeTracks = None  # what animates it (engine.scene.animation), None: it keeps its pose
+    skin: Skin = None  # the joints posing its mesh (a skinned mesh)
+    morph_weights: np.ndarray = None  # its mesh's morph target weights (None: the mesh's target_weights)
 
-    _ARRAYS = frozenset({"translation", "rotation_deg", "scale"})
+    _ARRAYS = frozenset({"translation", "rotation_deg", "scale", "morph_weights"})
 
     def __setattr__(self, name, value):
         if name == "children" and not (isinstance(value, Children) and value.owner is self):
@@ -524,7 +559,7 @@ class Scene:
 
     def pose_at(self, t, animation=None):
         """Pose the scene at `t` seconds, in place: every animated node takes its translation,
-        rotation and scale at t of `animation` (a name of `animations()`; None: all of them
+        rotation, scale and morph weights at t of `animation` (a name of `animations()`; None: all of them
         together), looping over the longest of them; a camera placed from a camera node
         follows the node. Returns the scene."""
         durations = self.played(animation)
@@ -533,7 +568,9 @@ class Scene:
         local_t = float(t) % longest if longest > 0.0 else 0.0
         animated, camera_path = self._animated_nodes()
         for node in animated:
-            node.translation, node.rotation_deg, node.scale = node.animation.pose(local_t, names)
+            node.translation, node.rotation_deg, node.scale, weights = node.animation.pose(local_t, names)
+            if weights is not None:
+                node.morph_weights = weights
         if self.camera_node is not None:
             world = np.eye(4)
             for node in camera_path:

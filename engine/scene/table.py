@@ -6,7 +6,11 @@ Rows: every node occurrence of the scene graph in depth-first order (a node reac
 two rows), each with its parent row, local and world matrices; a subtree is a contiguous run
 of rows. Draws: the rows whose node has a mesh, each with the slots of its mesh and material
 (each mesh and material once, however many nodes use it), its world matrix and world bounds.
-Lights: the rows whose node carries a light, in world space.
+Lights: the rows whose node carries a light, in world space. Posed draws: the draws whose mesh
+a pose moves (a skin's joints, morph targets), each with its joint matrices (world(joint)
+inverse_bind: a skinned draw's vertices are posed into the world, so its draw matrix is the
+identity), its target weights and a box bounding it in its draw's frame, found again where a
+joint moved or the node's weights were edited.
 
 A sync reads the objects edited since the last one: a node's new transform updates the world
 matrices of its subtree (depth by depth, all rows of a depth at once), a material's or mesh's
@@ -24,11 +28,17 @@ from dataclasses import dataclass, fields
 import numpy as np
 
 from ..core import transforms
+from ..core.errors import VctError
 from .emitters import is_emissive
 from .model import EDITS, Light, Material, Mesh, Node
 
 EXTREMES_HULL_VERTICES = 64  # meshes with more vertices are bounded through their convex hull's
 RECENT_CHANGES = 1 << 16     # draws of the recent changes kept, to find what changed since a stamp
+
+
+def _same(a, b):
+    """Whether two optional arrays hold the same values."""
+    return (a is None) == (b is None) and (a is None or (a.shape == b.shape and np.array_equal(a, b)))
 
 
 def _comparable(value):
@@ -92,6 +102,60 @@ class DrawView:
         return self.mesh.bounds(self.world)
 
 
+@dataclass
+class DrawPose:
+    """A posed draw's pose: the table rows of its skin's joints (None: not skinned), their
+    inverse bind matrices and joint matrices world(joint) inverse_bind (J, 4, 4), its morph
+    target weights (None: no targets) and the box (lo, hi) bounding it posed, in its draw's
+    frame (the world for a skinned draw)."""
+    joint_rows: np.ndarray
+    inverse_bind: np.ndarray
+    matrices: np.ndarray = None
+    weights: np.ndarray = None
+    box: tuple = None
+
+
+def morph_reach(mesh, weights):
+    """(lo, hi): how far the morph targets blended by `weights` move a vertex at most along
+    each axis (glTF: p = p0 + sum_t w_t dp_t)."""
+    lo, hi = np.zeros(3), np.zeros(3)
+    for target, weight in zip(mesh.targets, weights):
+        if target.positions is not None and weight != 0.0:
+            scaled = np.asarray(target.positions, np.float64) * weight
+            lo += scaled.min(axis=0)
+            hi += scaled.max(axis=0)
+    return lo, hi
+
+
+def joint_boxes(mesh, joint_count):
+    """(J, 2, 3): per joint the box of the rest positions of the vertices it moves (empty:
+    +inf, -inf)."""
+    boxes = np.empty((joint_count, 2, 3))
+    boxes[:, 0], boxes[:, 1] = np.inf, -np.inf
+    positions = np.asarray(mesh.positions, np.float64)
+    joints, weights = np.asarray(mesh.joints, np.int64), np.asarray(mesh.weights, np.float64)
+    vertex, column = np.nonzero((weights != 0.0) & (joints < joint_count))
+    np.minimum.at(boxes[:, 0], joints[vertex, column], positions[vertex])
+    np.maximum.at(boxes[:, 1], joints[vertex, column], positions[vertex])
+    return boxes
+
+
+def posed_box(mesh, pose, boxes):
+    """The box bounding a posed mesh in its draw's frame: the rest box (or each joint's box
+    under its joint matrix: a blend of points inside the boxes stays inside their bounds),
+    widened by the morph targets' reach."""
+    reach_lo, reach_hi = morph_reach(mesh, pose.weights) if pose.weights is not None else (np.zeros(3), np.zeros(3))
+    if pose.matrices is None:
+        positions = np.asarray(mesh.positions, np.float64)
+        return positions.min(axis=0) + reach_lo, positions.max(axis=0) + reach_hi
+    used = np.all(np.isfinite(boxes), axis=(1, 2))
+    lo, hi = boxes[used, 0] + reach_lo, boxes[used, 1] + reach_hi
+    corners = np.stack([np.where(np.array([(k >> a) & 1 for a in range(3)], bool), hi, lo) for k in range(8)], axis=1)
+    matrices = pose.matrices[used]
+    points = np.matmul(corners, np.swapaxes(matrices[:, :3, :3], 1, 2)) + matrices[:, None, :3, 3]
+    return points.min(axis=(0, 1)), points.max(axis=(0, 1))
+
+
 class SceneTable:
     def __init__(self):
         self.root = None
@@ -119,6 +183,11 @@ class SceneTable:
         self.light_row = np.zeros(0, bool)
         self.draw_rows = np.zeros(0, np.int64)
         self.draw_of_row = np.zeros(0, np.int64)
+        self.draw_skinned = np.zeros(0, bool)
+        self.posed_draws = np.zeros(0, np.int64)
+        self.poses = {}         # posed draw -> DrawPose
+        self.posed_by_row = {}  # a joint's row -> the skinned draws it moves
+        self.pose_shapes = {}   # mesh slot -> its joint_boxes
         self.light_rows = []
         self.lights, self.light_values = [], ()
         self.bounds = (np.zeros(3), np.zeros(3))
@@ -206,6 +275,7 @@ class SceneTable:
         self.draw_material = np.array([self._material_slot(nodes[row].material) for row in self.draw_rows], np.int64)
         count = len(self.draw_rows)
         self.draw_world = self.world[self.draw_rows]
+        self._place_poses()
         self.draw_bounds = np.zeros((count, 2, 3))
         self._update_bounds(np.arange(count))
         self.geometry_stamp, self.surface_stamp, self.caster_stamp = (np.full(count, stamp, np.int64) for _ in range(3))
@@ -225,6 +295,10 @@ class SceneTable:
                 if self.children_of[row] != tuple(map(id, obj.children)) or self.light_row[row] != (obj.light is not None) \
                         or (self.draw_of_row[row] < 0) != (obj.mesh is None):
                     return False
+                draw = self.draw_of_row[row]
+                if draw >= 0 and (self._skinned(obj) != self.draw_skinned[draw] or obj.mesh.posed != (draw in self.poses)
+                                  or (self._skinned(obj) and obj.skin is not self.nodes[row].skin)):
+                    return False
                 for row in rows:
                     moved_rows.append(row)
                     draw = self.draw_of_row[row]
@@ -240,7 +314,10 @@ class SceneTable:
             elif isinstance(obj, Material) and id(obj) in self.material_slot:
                 materials.add(self.material_slot[id(obj)])
             elif isinstance(obj, Mesh) and id(obj) in self.mesh_slot:
-                meshes.add(self.mesh_slot[id(obj)])
+                slot = self.mesh_slot[id(obj)]
+                if obj.posed != any(int(draw) in self.poses for draw in np.flatnonzero(self.draw_mesh == slot)):
+                    return False
+                meshes.add(slot)
             elif isinstance(obj, Light):
                 lights = True
         if moved_rows:
@@ -263,13 +340,75 @@ class SceneTable:
         subtree = np.unique(np.concatenate([np.arange(row, self.subtree_end[row]) for row in rows]))
         self._update_world(subtree)
         draws = self.draw_of_row[subtree]
-        draws = draws[draws >= 0]
-        moved = draws[np.any(self.draw_world[draws] != self.world[self.draw_rows[draws]], axis=(1, 2))]
+        draws = draws[(draws >= 0)]
+        unskinned = draws[~self.draw_skinned[draws]]
+        moved = unskinned[np.any(self.draw_world[unskinned] != self.world[self.draw_rows[unskinned]], axis=(1, 2))]
         if len(moved):
             self.draw_world[moved] = self.world[self.draw_rows[moved]]
+        reposed = self._repose(subtree, rows)
+        moved = np.union1d(moved, reposed)
+        if len(moved):
             self._update_bounds(moved)
             self._geometry_changed(moved)
         return bool(self.light_row[subtree].any())
+
+    # -- poses
+
+    def _skinned(self, node):
+        return node.skin is not None and node.mesh is not None and node.mesh.joints is not None
+
+    def _place_poses(self):
+        """The DrawPose of every posed draw, with its joints' rows; a skinned draw's matrix the
+        identity."""
+        self.draw_skinned = np.array([self._skinned(self.nodes[row]) for row in self.draw_rows], bool)
+        self.posed_draws = np.array([draw for draw, row in enumerate(self.draw_rows) if self.nodes[row].mesh.posed], np.int64)
+        for draw in self.posed_draws:
+            node = self.nodes[self.draw_rows[draw]]
+            joint_rows, inverse_bind = None, None
+            if self.draw_skinned[draw]:
+                joint_rows = []
+                for joint in node.skin.joints:
+                    rows = self.rows_of.get(id(joint))
+                    if rows is None:
+                        raise VctError(f'joint "{joint.name}" of its skin "{node.skin.name}" is not in the scene',
+                                       field=f'node "{node.name}".skin')
+                    joint_rows.append(rows[0])
+                    self.posed_by_row.setdefault(rows[0], []).append(int(draw))
+                joint_rows = np.array(joint_rows, np.int64)
+                inverse_bind = np.asarray(node.skin.inverse_bind_matrices, np.float64)
+                self.draw_world[draw] = np.eye(4)
+            self.poses[int(draw)] = DrawPose(joint_rows, inverse_bind)
+            self._pose_values(int(draw))
+
+    def _pose_values(self, draw):
+        """Compute a posed draw's joint matrices and weights; True where they changed."""
+        node = self.nodes[self.draw_rows[draw]]
+        mesh, pose = node.mesh, self.poses[draw]
+        matrices = None if pose.joint_rows is None else np.matmul(self.world[pose.joint_rows], pose.inverse_bind)
+        weights = None
+        if mesh.targets:
+            given = node.morph_weights if node.morph_weights is not None else mesh.target_weights
+            weights = np.zeros(len(mesh.targets))
+            if given is not None:
+                given = np.asarray(given, np.float64).ravel()[:len(weights)]
+                weights[:len(given)] = given
+        changed = not (_same(matrices, pose.matrices) and _same(weights, pose.weights))
+        pose.matrices, pose.weights = matrices, weights
+        return changed
+
+    def _repose(self, subtree, edited_rows):
+        """The posed draws whose pose changed: those whose joints lie in `subtree` (rows whose
+        world matrices were just updated) and those of the edited rows (their weights)."""
+        candidates = {draw for row in subtree.tolist() for draw in self.posed_by_row.get(row, ())}
+        for row in np.asarray(edited_rows).tolist():
+            draw = int(self.draw_of_row[row])
+            if draw in self.poses:
+                candidates.add(draw)
+        return np.array(sorted(draw for draw in candidates if self._pose_values(draw)), np.int64)
+
+    def pose(self, draw):
+        """The DrawPose of a posed draw."""
+        return self.poses[int(draw)]
 
     def _update_world(self, rows):
         """World matrices of `rows` (whole subtrees, in row order), a depth at a time: each
@@ -288,9 +427,12 @@ class SceneTable:
         every draw only where one of `draws` held or holds a side of them."""
         lo, hi = self.bounds
         before = self.draw_bounds[draws]
-        meshes = self.draw_mesh[draws]
+        for draw in draws[np.isin(draws, self.posed_draws)]:
+            self._update_posed_bounds(int(draw))
+        unposed = draws[~np.isin(draws, self.posed_draws)]
+        meshes = self.draw_mesh[unposed]
         for slot in np.unique(meshes):
-            chosen = draws[meshes == slot]
+            chosen = unposed[meshes == slot]
             if np.count_nonzero(self.draw_mesh == slot) > 1:
                 if self.extremes[slot] is None:
                     self.extremes[slot] = mesh_extremes(self.meshes[slot])
@@ -304,6 +446,21 @@ class SceneTable:
         boxes = np.concatenate([before, self.draw_bounds[draws]])
         if len(self.draw_bounds) == len(draws) or np.any(boxes[:, 0] <= lo) or np.any(boxes[:, 1] >= hi):
             self._update_scene_bounds()
+
+    def _update_posed_bounds(self, draw):
+        """A posed draw's box in its frame (posed_box) and world bounds."""
+        mesh, pose = self.meshes[self.draw_mesh[draw]], self.poses[draw]
+        boxes = None
+        if pose.matrices is not None:
+            slot = int(self.draw_mesh[draw])
+            if slot not in self.pose_shapes or len(self.pose_shapes[slot]) < len(pose.matrices):
+                self.pose_shapes[slot] = joint_boxes(mesh, len(pose.matrices))
+            boxes = self.pose_shapes[slot][:len(pose.matrices)]
+        pose.box = posed_box(mesh, pose, boxes)
+        corners = np.array([[pose.box[(k >> a) & 1][a] for a in range(3)] for k in range(8)])
+        world = self.draw_world[draw]
+        points = corners @ world[:3, :3].T + world[:3, 3]
+        self.draw_bounds[draw] = points.min(axis=0), points.max(axis=0)
 
     def _update_scene_bounds(self):
         if self.draw_count:
@@ -354,7 +511,10 @@ class SceneTable:
             return
         self.mesh_arrays[slot] = mesh.arrays()
         self.extremes[slot] = None
+        self.pose_shapes.pop(slot, None)
         draws = np.flatnonzero(self.draw_mesh == slot)
+        for draw in draws[np.isin(draws, self.posed_draws)]:
+            self._pose_values(int(draw))
         self._update_bounds(draws)
         self._geometry_changed(draws)
 

@@ -34,7 +34,7 @@ void main() {
     mat4x3 world = value_world(in_instance);
     uint draw_material = value_material(in_instance);
     world_position = world * vec4(in_position, 1.0);
-    world_normal = normal_transform(world) * in_normal;
+    world_normal = normal_transform(mat3(world)) * in_normal;
 #ifdef NORMAL_MAP
     world_tangent = vec4(mat3(world) * in_tangent.xyz, in_tangent.w);
 #endif

@@ -6,6 +6,7 @@
 // with DRAW_HELD set stands for a draw as the voxels hold it (its index in held_draws): the
 // voxelizer marks what a moved draw covered.
 #include "engine_constants.glsl"
+#include "lib/normal_transform.glsl"
 
 layout(std430, binding = SSBO_DRAWS) readonly buffer Draws { DrawRecord draws[]; };
 #ifdef HELD_DRAWS
@@ -38,14 +39,6 @@ uint value_material(uint value) {
     return draws[value & DRAW_INDEX_MASK].info.x;
 }
 
-// What carries normals by a world matrix: its cofactor matrix, the inverse transpose times the
-// determinant, signed so that a mirroring matrix keeps normals on their side. Unlike the
-// inverse it exists for a matrix that flattens an axis (the normal of the flattened shape).
-mat3 normal_transform(mat4x3 world) {
-    vec3 c0 = world[0], c1 = world[1], c2 = world[2];
-    mat3 cofactors = mat3(cross(c1, c2), cross(c2, c0), cross(c0, c1));
-    return dot(c0, cofactors[0]) < 0.0 ? -cofactors : cofactors;
-}
 
 uint value_view(uint value) {
     return (value >> DRAW_VIEW_SHIFT) & DRAW_VIEW_MASK;

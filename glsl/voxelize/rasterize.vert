@@ -32,7 +32,7 @@ void main() {
     mat4x3 world = value_world(in_instance);
     DrawView job = views[value_view(in_instance)];
     vs_position = world * vec4(in_position, 1.0);
-    vs_normal = normal_transform(world) * in_normal;
+    vs_normal = normal_transform(mat3(world)) * in_normal;
     vs_material = value_held(in_instance) ? NO_MATERIAL : value_material(in_instance);
     vs_voxels_min = job.voxels_min;
     vs_voxels_max = job.voxels_max.xyz;

@@ -15,10 +15,14 @@ orthographic xmag/ymag; the node's -z is the view direction, +y up); KHR_lights_
 lights become Lights of their nodes (at the node's origin, shining along its -z): colour x
 intensity, point and spot in candela, directional in lux, over LUMENS_PER_WATT = 683 into
 W/sr and W/m^2; range; a spot's innerConeAngle and outerConeAngle (radians) as its inner and
-outer angles. Animations: each channel that moves a node's translation, rotation or scale
-(LINEAR, STEP, CUBICSPLINE) becomes a Sampler of the node's NodeTracks (engine.scene.animation),
-under the animation's name ("animation N" where it has none); skins and morph targets are
-not played (the rest pose is drawn, with one warning). Extensions the file uses without
+outer angles. Skins: JOINTS_n and WEIGHTS_n (every set, weights scaled to sum to 1) on the
+mesh, the node's skin a Skin (its joints the scene's nodes, inverseBindMatrices, identity
+where absent); morph targets: POSITION, NORMAL and TANGENT displacements, the mesh's weights
+its target_weights, a node's weights its morph_weights (on every node drawing one of its
+primitives). Animations: each channel that moves a node's translation, rotation, scale or
+weights (LINEAR, STEP, CUBICSPLINE) becomes a Sampler of the node's NodeTracks
+(engine.scene.animation), under the animation's name ("animation N" where it has none).
+Extensions the file uses without
 requiring them and vct does not read are left out, as glTF allows, with one warning naming
 them; so are their animation targets (KHR_animation_pointer's), a texture whose image only an
 extension gives (one warning each) and, as the spec says, primitives without POSITION (one
@@ -61,6 +65,8 @@ class GltfFile(GltfContainer, NodeReader, MeshReader, MaterialReader, CameraLigh
         self.sourceless = set()  # the textures without a source image, warned about once each
         self.positionless = []  # the primitives without POSITION, left out (glTF: not drawn)
         self.triangle_count = 0  # of the primitives read so far
+        self.mesh_nodes = {}  # glTF node index -> the Nodes drawing its primitives
+        self.skinned = []  # (glTF node index, skin index) of the skinned nodes
         required = self.json.get(self.doc, "extensionsRequired", "", [], list)
         missing = [str(e) for e in required if e not in GLTF_EXTENSIONS]
         if missing:

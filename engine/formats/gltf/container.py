@@ -18,7 +18,7 @@ from ..json_reader import JsonReader
 COMPONENT_TYPES = {5120: np.int8, 5121: np.uint8, 5122: np.int16, 5123: np.uint16, 5125: np.uint32, 5126: np.float32}
 FLOAT = (5126,)
 INDEX_TYPES = (5121, 5123, 5125)
-WIDTHS = {"SCALAR": 1, "VEC2": 2, "VEC3": 3, "VEC4": 4}
+WIDTHS = {"SCALAR": 1, "VEC2": 2, "VEC3": 3, "VEC4": 4, "MAT4": 16}
 GLB_JSON, GLB_BIN = 0x4E4F534A, 0x004E4942
 
 

@@ -3,7 +3,7 @@ import numpy as np
 
 from ...core.errors import warn
 from ...core.limits import MAX_FILE_TRIANGLES
-from ...scene.model import TEXTURE_FIELDS, Mesh
+from ...scene.model import TEXTURE_FIELDS, Mesh, MorphTarget
 from ..mesh_building import flat_normals, generate_tangents, with_area
 from .container import FLOAT, INDEX_TYPES
 
@@ -24,6 +24,10 @@ class MeshReader:
                 self.fail(f"{field}.primitives", "must not be empty")
             parts = [self.primitive(f"{field}.primitives[{k}]", p) for k, p in enumerate(primitives)]
             self.meshes[index] = [part for part in parts if part is not None]
+            weights = self.json.get(self.element("meshes", index), "weights", field, None, list)
+            for mesh, _ in self.meshes[index]:
+                if mesh.targets and weights is not None:
+                    mesh.target_weights = self.json.vector_value(weights, f"{field}.weights", len(mesh.targets))
         return self.meshes[index]
 
     def primitive(self, field, spec):
@@ -49,6 +53,8 @@ class MeshReader:
                 found[key] = self.accessor(attributes, key, where, types, components)
                 if len(found[key]) != len(positions):
                     self.fail(f"{where}.{key}", f"has {len(found[key])} elements, POSITION {len(positions)}")
+        joints, weights = self.influences(attributes, where, len(positions))
+        targets = self.targets(spec, field, len(positions))
         if "indices" in spec:
             indices = self.accessor(spec, "indices", field, ("SCALAR",), INDEX_TYPES, as_float=False)[:, 0].astype(np.uint32)
             if indices.max() >= len(positions):
@@ -72,15 +78,57 @@ class MeshReader:
             if (texcoords, texcoords1)[uv_set] is None:
                 self.fail(field, f'material "{material.name}" has textures on TEXCOORD_{uv_set} but the primitive has no '
                                  f"TEXCOORD_{uv_set}")
-        if normals is None:
-            positions, normals, triangles, texcoords, tangents, colors, texcoords1 = flat_normals(
-                positions, triangles, texcoords, tangents, colors, texcoords1)
+        if normals is None:  # flat: every corner its own vertex, the targets' normals left out
+            target_arrays = [array for target in targets for array in (target.positions, target.tangents)]
+            positions, normals, triangles, texcoords, tangents, colors, texcoords1, joints, weights, *target_arrays = flat_normals(
+                positions, triangles, texcoords, tangents, colors, texcoords1, joints, weights, *target_arrays)
+            targets = tuple(MorphTarget(target_arrays[2 * k], None, target_arrays[2 * k + 1]) for k in range(len(targets)))
         if material.normal_texture is not None and tangents is None:
             normal_uv = (texcoords, texcoords1)[material.uv_sets.get("normal_texture", 0)]
             tangents = generate_tangents(positions, normals, normal_uv, triangles)
         if len(triangles) == 0:
             return None
-        return Mesh(positions, normals, triangles, texcoords, tangents, colors, texcoords1), material
+        return Mesh(positions, normals, triangles, texcoords, tangents, colors, texcoords1, joints, weights, targets), material
+
+    def influences(self, attributes, where, count):
+        """(joints, weights), (V, 4 k) each, of JOINTS_n and WEIGHTS_n (n = 0 .. k - 1, sets in
+        pairs), the weights of each vertex scaled to sum to 1 (glTF requires it, exporters round);
+        (None, None) where there are none."""
+        sets = 0
+        while f"JOINTS_{sets}" in attributes and f"WEIGHTS_{sets}" in attributes:
+            sets += 1
+        if not sets:
+            return None, None
+        joints, weights = [], []
+        for n in range(sets):
+            joints.append(self.accessor(attributes, f"JOINTS_{n}", where, ("VEC4",), (5121, 5123), as_float=False))
+            weights.append(self.accessor(attributes, f"WEIGHTS_{n}", where, ("VEC4",), FLOAT + NORMALIZED_UV_TYPES))
+            for key, array in ((f"JOINTS_{n}", joints[-1]), (f"WEIGHTS_{n}", weights[-1])):
+                if len(array) != count:
+                    self.fail(f"{where}.{key}", f"has {len(array)} elements, POSITION {count}")
+        joints, weights = np.hstack(joints).astype(np.uint32), np.hstack(weights).astype(np.float32)
+        if np.any(weights < 0):
+            self.fail(f"{where}.WEIGHTS_0", "weights must not be negative")
+        sums = weights.sum(axis=1, keepdims=True)
+        weights = np.divide(weights, sums, out=np.zeros_like(weights), where=sums > 0)
+        weights[sums[:, 0] <= 0, 0] = 1.0  # a vertex no joint moves follows its first joint
+        return joints, weights
+
+    def targets(self, spec, field, count):
+        """The MorphTargets of a primitive (POSITION, NORMAL, TANGENT displacements)."""
+        targets = []
+        for t, target in enumerate(self.json.get(spec, "targets", field, [], list)):
+            where = f"{field}.targets[{t}]"
+            if not isinstance(target, dict):
+                self.fail(where, "must be an object")
+            arrays = []
+            for key in ("POSITION", "NORMAL", "TANGENT"):
+                array = self.accessor(target, key, where, ("VEC3",), FLOAT) if key in target else None
+                if array is not None and len(array) != count:
+                    self.fail(f"{where}.{key}", f"has {len(array)} elements, POSITION {count}")
+                arrays.append(array)
+            targets.append(MorphTarget(*arrays))
+        return tuple(targets)
 
     def unit_normals(self, normals, field, index):
         """The normals scaled to unit length (glTF requires unit normals; some files are off

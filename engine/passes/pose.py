@@ -1,0 +1,114 @@
+"""Posing: skinned and morphed draws posed on the GPU, so that the G-buffer, the shadow maps and
+the voxelizer draw them posed with the programs every draw uses.
+
+Each posed draw has a copy of its mesh of its own in the mesh pool (MeshPool.posed_entry),
+which this pass alone writes: glsl/pose/pose_vertices.comp reads the mesh's rest copy, blends
+its morph targets by the draw's weights and skins it by the draw's joint matrices (the scene
+table's DrawPose), and writes the copy; the copy's clusters take the box the table bounds the
+pose by, for culling. A draw is posed again when the table says its geometry changed (a joint
+moved, its weights were edited), and every posed draw when the pool was packed anew. Per mesh,
+its influences and displacements are uploaded once."""
+import math
+
+import numpy as np
+
+from ..core.constants import LIST_GROUP, struct_dtype
+
+INFLUENCE_DTYPE = struct_dtype("PoseInfluence")
+
+
+class PosePass:
+    def __init__(self, ctx, programs):
+        self.ctx = ctx
+        self.program = programs.compute(
+            "pose/pose_vertices.comp", reads=("SSBO_POSE_INFLUENCES", "SSBO_POSE_TARGETS", "SSBO_POSE_MATRICES", "SSBO_POSE_WEIGHTS"),
+            writes=("SSBO_POSE_VERTICES",))
+        self.meshes = {}  # id(Mesh) -> (its arrays, influences buffer, displacements buffer, influence sets)
+        self.matrices = ctx.buffer(reserve=64)
+        self.weights = ctx.buffer(reserve=16)
+        self.posed_at = None  # (table structure, pool epoch, table stamp) of the last run
+
+    def due(self, table, buffers):
+        """The draws of `table` whose pose changed since the last run (every posed draw after
+        the table was built or the pool packed anew)."""
+        if self.posed_at is not None and self.posed_at[:2] == (table.structure, buffers.pool.epoch):
+            return table.posed_draws[table.geometry_stamp[table.posed_draws] > self.posed_at[2]]
+        return table.posed_draws
+
+    def run(self, table, buffers, draws):
+        """Pose `draws` (due) of `table` into their copies in `buffers`' pool."""
+        pool = buffers.pool
+        if self.posed_at is None or self.posed_at[0] != table.structure:  # the meshes no draw poses any more
+            live = {id(table.meshes[table.draw_mesh[draw]]) for draw in table.posed_draws}
+            for key in [key for key in self.meshes if key not in live]:
+                for buffer in self.meshes.pop(key)[1:3]:
+                    buffer.release()
+        self.posed_at = (table.structure, pool.epoch, table.stamp)
+        if not len(draws):
+            return
+        poses = [table.pose(draw) for draw in draws]
+        matrices = [pose.matrices for pose in poses if pose.matrices is not None]
+        weights = [pose.weights for pose in poses if pose.weights is not None]
+        self.matrices = _holding(self.ctx, self.matrices, np.concatenate(matrices).transpose(0, 2, 1) if matrices else None)
+        self.weights = _holding(self.ctx, self.weights, np.concatenate(weights) if weights else None)
+        first_matrix = first_weight = 0
+        for draw, pose in zip(draws, poses):
+            mesh = table.meshes[table.draw_mesh[draw]]
+            influences, displacements, sets = self._mesh_data(mesh, skinned=pose.matrices is not None)
+            rest, posed = pool.entries[id(mesh)], buffers.draw_entries[draw]
+            count = len(mesh.positions)
+            self.program.set(vertex_count=count, rest_first=rest.base_vertex, posed_first=posed.base_vertex,
+                             influence_sets=sets, target_count=0 if pose.weights is None else len(pose.weights),
+                             first_matrix=first_matrix, first_weight=first_weight)
+            self.program.run(math.ceil(count / LIST_GROUP), SSBO_POSE_VERTICES=pool.vertices, SSBO_POSE_INFLUENCES=influences,
+                             SSBO_POSE_TARGETS=displacements, SSBO_POSE_MATRICES=self.matrices, SSBO_POSE_WEIGHTS=self.weights)
+            pool.set_cluster_bounds(posed, *pose.box)
+            first_matrix += 0 if pose.matrices is None else len(pose.matrices)
+            first_weight += 0 if pose.weights is None else len(pose.weights)
+        self.ctx.memory_barrier(self.ctx.VERTEX_ATTRIB_ARRAY_BARRIER_BIT | self.ctx.SHADER_STORAGE_BARRIER_BIT)
+
+    def _mesh_data(self, mesh, skinned):
+        """(influences, displacements, influence sets) of a mesh, uploaded once for its arrays."""
+        held = self.meshes.get(id(mesh))
+        if held is not None and all(a is b for a, b in zip(held[0], mesh.arrays())):
+            return held[1:]
+        if held is not None:
+            held[1].release()
+            held[2].release()
+        count = len(mesh.positions)
+        sets = mesh.joints.shape[1] // 4 if skinned else 0
+        influences = np.zeros(max(count * sets, 1), INFLUENCE_DTYPE)
+        if sets:
+            influences["joints"] = np.asarray(mesh.joints, np.uint32).reshape(count * sets, 4)
+            influences["weights"] = np.asarray(mesh.weights, np.float32).reshape(count * sets, 4)
+        displacements = np.zeros((max(len(mesh.targets), 1), count, 3, 4), np.float32)
+        for t, target in enumerate(mesh.targets):
+            for k, values in enumerate((target.positions, target.normals, target.tangents)):
+                if values is not None:
+                    displacements[t, :, k, :3] = values
+        data = (mesh.arrays(), self.ctx.buffer(influences.tobytes()), self.ctx.buffer(displacements.tobytes()), sets)
+        self.meshes[id(mesh)] = data
+        return data[1:]
+
+    def memory_bytes(self):
+        return self.matrices.size + self.weights.size + sum(held[1].size + held[2].size for held in self.meshes.values())
+
+    def release(self):
+        for held in self.meshes.values():
+            held[1].release()
+            held[2].release()
+        self.meshes = {}
+        self.matrices.release()
+        self.weights.release()
+
+
+def _holding(ctx, buffer, array):
+    """`buffer`, or a larger one in its place, holding `array` (float32) from its start."""
+    if array is None:
+        return buffer
+    data = np.ascontiguousarray(array, np.float32).tobytes()
+    if buffer.size < len(data):
+        buffer.release()
+        buffer = ctx.buffer(reserve=2 * len(data))
+    buffer.write(data)
+    return buffer
