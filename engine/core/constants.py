@@ -22,6 +22,8 @@ TEXTURE_UNIT = {
     "GBUF_ALBEDO": 2,
     "GBUF_EMISSION": 3,
     "SHADOW_ATLAS": 4,
+    "BLEND_SUMS": 5,        # blended surfaces' weighted sums (rgb: sum w a C, a: sum w a; transparent/)
+    "BLEND_REVEALAGE": 6,   # the share of the opaque image they let through, prod (1 - a)
     "VOXEL_FACES": 11,      # the face views cones read (+x, -x, +y, -y, +z, -z) from mip level 1 up, stacked along z
     "HDR_INPUT": 12,
     "DIRECT_LIGHT": 13,
@@ -50,7 +52,7 @@ IMAGE_UNIT = {
 # Emission is summed in 64 bits: the low word, and a carry word incremented on overflow.
 VOXEL_SUM_CHANNELS = ("COUNT", "ALBEDO_R", "ALBEDO_G", "ALBEDO_B", "NORMAL_X", "NORMAL_Y", "NORMAL_Z", "OFFSET",
                       "EMISSION_R", "EMISSION_G", "EMISSION_B", "EMISSION_CARRY_R", "EMISSION_CARRY_G",
-                      "EMISSION_CARRY_B")
+                      "EMISSION_CARRY_B", "OPACITY")
 
 # Shader storage buffer bindings.
 STORAGE_BINDING = {
@@ -122,6 +124,11 @@ VERTEX_ATTRIBUTES = (("in_position", 3), ("in_normal", 3), ("in_texcoord", 2), (
                      ("in_texcoord1", 2))
 VERTEX_FLOATS: GLSL_INT = sum(size for _, size in VERTEX_ATTRIBUTES)
 VERTEX_NORMAL_AT: GLSL_INT = 3
+# A material record's alpha cut-off (MaterialRecord.emission_cutoff.a): at least 0 for MASK
+# (cut out below it), these for OPAQUE and for BLEND (blended over what lies behind; shadow maps
+# and voxels dissolve it with probability 1 - alpha: lib/material.glsl).
+ALPHA_OPAQUE: GLSL_FLOAT = -1.0
+ALPHA_BLENDED: GLSL_FLOAT = -2.0
 VERTEX_TANGENT_AT: GLSL_INT = 8
 
 # Struct layouts shared with GLSL (vec4 and mat4 fields, so std140 and std430 lay them out

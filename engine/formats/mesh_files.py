@@ -8,8 +8,9 @@
   emission (Ke defaults to 1 with map_Ke, else 0); Ns -> roughness r = (2 / (Ns + 2))^(1/4),
   the inverse of the renderer's Blinn-Phong exponent 2/r^4 - 2 (no Ns: r = 1); Ks not black
   -> specular 0.04 (a dielectric, as glTF's), else 0 (Lambertian); d (or Tr = 1 - d, with a
-  warning where it makes the material fully transparent) and map_d -> alpha, with alpha_mode BLEND (drawn as a cut-out at 0.5; map_d's alpha channel, or
-  its grey level where it has none, becomes the alpha of the base-colour texture). Metalness
+  warning where it makes the material fully transparent) and map_d -> alpha, with alpha_mode
+  BLEND (map_d's alpha channel, or its grey level where it has none, becomes the alpha of the
+  base-colour texture). Metalness
   0, one-sided. Texture options other than -clamp are refused; other statements are ignored.
   Faces of four corners or more are cut into triangles in their plane (concave ones too).
   Normals from the file (vn), else computed, smooth but at creases (mesh_building.py). OBJ's

@@ -35,6 +35,7 @@ from ..passes.pose import PosePass
 from ..passes.shadow import ShadowPass
 from ..passes.sky_light import SkyLightPass
 from ..passes.tonemap import TonemapPass
+from ..passes.transparent import TransparentPass
 from ..passes.voxel_view import VoxelViewPass, shown_values
 from ..passes.voxelize import VoxelizePass
 from ..scene.changes import FrameInputs, HeldDraws, Stage, VoxelUpdate
@@ -125,6 +126,7 @@ class Renderer(WorkItems):
         self.pose = self._add(PosePass(self.ctx, self.programs))
         self.shadow = self._add(ShadowPass(self.ctx, self.programs, self.cull, self.settings.shadow_map_size))
         self.gbuffer = self._add(GBufferPass(self.ctx, self.programs, self.cull, self.size))
+        self.transparent = self._add(TransparentPass(self.ctx, self.programs, self.cull, self.size))
         self.lighting = self._add(LightingPass(self.ctx, self.programs, self.size))
         self.gbuffer_view = self._add(GBufferViewPass(self.ctx, self.programs, self.size))
         self.voxelize = self._add(VoxelizePass(self.ctx, self.programs, self.cull))
@@ -167,14 +169,16 @@ class Renderer(WorkItems):
         with self._creating_targets(self.size):
             for render_pass in (self.gbuffer, self.lighting, self.gbuffer_view, self.cone_trace, self.voxel_view, self.tonemap):
                 render_pass.resize(self.size)
+            self.transparent.resize(self.size, self.gbuffer.target)
 
     @_current
     def voxels(self, name="radiance", level=0):
         """A voxel volume of the last frame as float32 (L n, n, n, 4), indexed [z, y, x] (the
         grid's L levels one after the other along z):
         "radiance" (emission + direct light, a = opacity), "normal" (mean normal, its length
-        the coherence), "albedo", "gathered" (the diffuse light each voxel gathered in the latest
-        bounce, G = sum_j w_j L(p, w_j)); levels above 0 (up to log2 n, one voxel) come from hardware
+        the coherence; a: the surfaces' opacity, a blended one's mean alpha), "albedo",
+        "gathered" (the diffuse light each voxel gathered in the latest bounce,
+        G = sum_j w_j L(p, w_j)); levels above 0 (up to log2 n, one voxel) come from hardware
         mipmaps."""
         if name not in VOXEL_VOLUMES:
             raise VctError(f"must be one of {', '.join(VOXEL_VOLUMES)}, got {name!r}", field="name")
@@ -283,7 +287,7 @@ class Renderer(WorkItems):
         emitters = self._emitters(frame)
         environment = self._environment(frame)
         if not s.shown.uses_voxels(emitters.count > 0 or frame.environment is not None):
-            return direct
+            return self._blended(direct, gbuffer, camera, shadow_maps, s)
         update = self._voxels(frame, s, scene.source, emitters, environment, camera)
         self._hold_values(emitters, environment)
         work = WorkResources(shadow_maps, emitters, environment, s.cone_uniforms())
@@ -299,11 +303,22 @@ class Renderer(WorkItems):
                 volume = self.inspection.dense(self.grid, shown_values(self.grid, self.inject.base, s.mode))
                 return self.voxel_view.render(self.grid, volume, s.mode, s.voxel_mip, self._shown_level(s), camera)
         with self.timed("cone_trace"):
-            return self.cone_trace.render(gbuffer, direct, self.grid, cones=self._cones(), gathered=self._gathered(),
-                                          emitter_irradiance=self.emitter_light.irradiance,
-                                          sky_irradiance=self.sky_light.irradiance, emitters=emitters,
-                                          environment=environment, cone_uniforms=s.cone_uniforms(), camera=camera,
-                                          terms=s.image_terms(), ao_distance=s.ao_distance)
+            image = self.cone_trace.render(gbuffer, direct, self.grid, cones=self._cones(), gathered=self._gathered(),
+                                           emitter_irradiance=self.emitter_light.irradiance,
+                                           sky_irradiance=self.sky_light.irradiance, emitters=emitters,
+                                           environment=environment, cone_uniforms=s.cone_uniforms(), camera=camera,
+                                           terms=s.image_terms(), ao_distance=s.ao_distance)
+        voxels = dict(grid=self.grid, cones=self._cones(), gathered=self._gathered(), sky_irradiance=self.sky_light.irradiance,
+                      emitter_irradiance=self.emitter_light.irradiance, environment=environment, cone_uniforms=s.cone_uniforms())
+        return self._blended(image, gbuffer, camera, shadow_maps, s, voxels)
+
+    def _blended(self, image, gbuffer, camera, shadow_maps, s, voxels=None):
+        """`image` with the blended surfaces over it, where the scene has any and the frame
+        shows light (not AO)."""
+        if not self.scene_buffers.blended_count or s.image_terms().ao:
+            return image
+        with self.timed("transparent"):
+            return self.transparent.render(image, gbuffer, self.scene_buffers, camera, shadow_maps, s.image_terms(), voxels)
 
     def _shown_level(self, s):
         """The level the voxel views show; VctError where the grid has no such level."""

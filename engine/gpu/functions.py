@@ -2,7 +2,7 @@
 of a given internal format (sRGB arrays: moderngl's texture_array has no internal format) and
 their parameters, bound with one call a unit; the viewports of a viewport array; buffer writes
 without a bind (glNamedBufferSubData); a region of a depth texture cleared in one call
-(glClearTexSubImage); uniforms
+(glClearTexSubImage); blending set per draw buffer (glBlendFunci); uniforms
 written to a program without binding it (glProgramUniform*), and compute dispatches that bind
 the program and the indirect buffer only where they are not bound already (engine/gpu/shaders.py).
 
@@ -46,6 +46,7 @@ PROTOTYPES = {
     "glNamedBufferSubData": (None, _u, ctypes.c_ssize_t, ctypes.c_ssize_t, _p),
     "glClearTexSubImage": (None, _u, _i, _i, _i, _i, _i, _i, _i, _u, _u, _p),
     "glPushDebugGroup": (None, _u, _u, _i, ctypes.c_char_p),
+    "glBlendFunci": (None, _u, _u, _u),
     "glPopDebugGroup": (None,),
     "glBindBuffer": (None, _u, _u),
     "glDispatchCompute": (None, _u, _u, _u),

@@ -19,7 +19,7 @@ import math
 
 import numpy as np
 
-from ..core.constants import MATERIAL_TEXTURE_ARRAYS, MAX_DRAWS, SHADER_ENUMS, VERTEX_FLOATS, struct_dtype
+from ..core.constants import ALPHA_BLENDED, ALPHA_OPAQUE, MATERIAL_TEXTURE_ARRAYS, MAX_DRAWS, SHADER_ENUMS, VERTEX_FLOATS, struct_dtype
 from ..core.errors import VctError
 from ..scene.emitters import frame_emitters
 from ..scene.model import IDENTITY_UV, TEXTURE_FIELDS
@@ -35,9 +35,10 @@ DRAW_DTYPE = struct_dtype("DrawRecord")
 MATERIAL_DTYPE = struct_dtype("MaterialRecord")
 # What a draw is drawn with, as bits: its material has a normal map (NORMAL_MAP programs), it
 # has vertex colours, a second texture coordinate set or texture transforms (VERTEX_EXTRAS
-# programs), its material is double-sided (no face culling) or alpha-tested (cut out), its
-# world matrix mirrors (its front faces turn clockwise).
-DRAW_FLAGS = {"normal_mapped": 1, "extras": 2, "double_sided": 4, "alpha_tested": 8, "mirrored": 16}
+# programs), its material is double-sided (no face culling), alpha-tested (cut out, or
+# dissolved) or blended (drawn over the opaque image, not into the G-buffer), its world matrix
+# mirrors (its front faces turn clockwise).
+DRAW_FLAGS = {"normal_mapped": 1, "extras": 2, "double_sided": 4, "alpha_tested": 8, "mirrored": 16, "blended": 32}
 NO_TEXTURE = -1
 # A pool's buffers start with room for this many floats of vertices and indices, and grow by
 # doubling; they are packed anew where more than half of them and this many are left unused.
@@ -350,6 +351,7 @@ class SceneBuffers:
         self.layout = 0
         self.draw_count = 0
         self.draw_flags = np.zeros(0, np.int64)
+        self.blended_count = 0     # draws whose material blends (DRAW_FLAGS "blended")
         self.draw_entries = []     # per draw its mesh's MeshEntry
         self.draw_material = np.zeros(0, np.int64)
         self.draw_calls = 0        # multi-draws issued, counted by the draw lists
@@ -404,6 +406,7 @@ class SceneBuffers:
         changed = anew or np.any(flags != self.draw_flags[draws]) or np.any(table.draw_material[draws] != self.draw_material[draws]) \
             or any(self.draw_entries[draw] is not entry for draw, entry in zip(draws, entries))
         self.draw_flags[draws] = flags
+        self.blended_count = int(np.count_nonzero(self.draw_flags & DRAW_FLAGS["blended"]))
         self.draw_material[draws] = table.draw_material[draws]
         for draw, entry in zip(draws, entries):
             self.draw_entries[draw] = entry
@@ -450,6 +453,8 @@ def draw_flags(draw):
         flags |= DRAW_FLAGS["double_sided"]
     if material.alpha_tested:
         flags |= DRAW_FLAGS["alpha_tested"]
+    if material.alpha_mode == "BLEND":
+        flags |= DRAW_FLAGS["blended"]
     if np.linalg.det(draw.world[:3, :3]) < 0:
         flags |= DRAW_FLAGS["mirrored"]
     return flags
@@ -458,7 +463,8 @@ def draw_flags(draw):
 def material_record(material, textures, record):
     """Fill a MATERIAL_DTYPE record from a scene.Material (glsl/lib/material.glsl)."""
     record["albedo_alpha"] = (*material.albedo, material.alpha)
-    record["emission_cutoff"] = (*material.emission, material.alpha_cutoff if material.alpha_tested else -1.0)
+    cutoff = {"OPAQUE": ALPHA_OPAQUE, "MASK": material.alpha_cutoff, "BLEND": ALPHA_BLENDED}[material.alpha_mode]
+    record["emission_cutoff"] = (*material.emission, cutoff)
     record["surface"] = (material.roughness, material.metalness, material.specular, material.normal_scale)
     for field in TEXTURE_FIELDS:
         map_index = SHADER_ENUMS["MAP"][field.removesuffix("_texture").replace("metallic_roughness", "metal_rough")]

@@ -34,6 +34,12 @@ class GBuffer:
             resource.release()
 
 
+def face_culling(flags):
+    """Per draw's DRAW_FLAGS the index of its face culling in GBufferPass.CULLING: none for a
+    double-sided material, else the back faces (clockwise in front under a mirroring matrix)."""
+    return np.where(flags & DRAW_FLAGS["double_sided"], 0, np.where(flags & DRAW_FLAGS["mirrored"], 2, 1))
+
+
 class GBufferPass:
     """Draws the scene's draw list (engine/passes/cull.py) into the G-buffer: a multi-draw a
     bucket, the buckets being the program variants (normal map or not, vertex extras or not)
@@ -53,15 +59,16 @@ class GBufferPass:
             reads=("UBO_CAMERA", "SSBO_DRAWS", "SSBO_MATERIALS", "TEX_MATERIAL_TEXTURES"))
             for mapped in (False, True) for extras in (False, True)}
         self.buckets = [(mapped, extras, culling) for (mapped, extras) in self.programs for culling in self.CULLING]
-        self.draw_list = DrawList(ctx, self.bucket_of, len(self.buckets))
+        # A last bucket, never drawn, takes the blended draws (engine/passes/transparent.py).
+        self.draw_list = DrawList(ctx, self.bucket_of, len(self.buckets) + 1)
         self.target = GBuffer(ctx, size)
 
     def bucket_of(self, flags):
-        """The bucket of each draw's DRAW_FLAGS (an index of self.buckets)."""
+        """The bucket of each draw's DRAW_FLAGS (an index of self.buckets; past them, blended)."""
         mapped = (flags & DRAW_FLAGS["normal_mapped"]) != 0
         extras = (flags & DRAW_FLAGS["extras"]) != 0
-        culling = np.where(flags & DRAW_FLAGS["double_sided"], 0, np.where(flags & DRAW_FLAGS["mirrored"], 2, 1))
-        return (mapped * 2 + extras) * len(self.CULLING) + culling
+        bucket = (mapped * 2 + extras) * len(self.CULLING) + face_culling(flags)
+        return np.where(flags & DRAW_FLAGS["blended"], len(self.buckets), bucket)
 
     def resize(self, size):
         self.target.release()

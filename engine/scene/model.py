@@ -212,11 +212,10 @@ class Material(Tracked):
       image's top, as glTF), its x and y multiplied by `normal_scale`; the mesh has tangents.
 
     `alpha` is the base-colour alpha factor. `alpha_mode`: OPAQUE ignores alpha; MASK cuts out
-    where alpha < `alpha_cutoff`; BLEND (partial transparency) is drawn as MASK as well, and
-    the loaders set its `alpha_cutoff` to 0.5: voxel cone tracing has no order-independent
-    transparency, most blended materials are leaves, fences or hair with soft edges that cut
-    out at 0.5 as they were drawn, and a half-transparent window drawn opaque would block all
-    the light it should let through. `double_sided`: back faces are drawn too (with the normal
+    where alpha < `alpha_cutoff`; BLEND (partial transparency) is drawn over what lies behind
+    it, covering alpha of it (engine/passes/transparent.py), and stops alpha of the light that
+    crosses it in the shadow maps and the voxels (each of its texels and voxels dissolved with
+    probability 1 - alpha). `double_sided`: back faces are drawn too (with the normal
     flipped), as glTF's doubleSided; otherwise they may be culled.
 
     Materials from glTF files (metallic-roughness), field by field: albedo, alpha =
@@ -226,7 +225,7 @@ class Material(Tracked):
     emissiveFactor x KHR_materials_emissive_strength.emissiveStrength, taken as radiance in
     W/(m^2 sr); emissive_texture = emissiveTexture; normal_texture, normal_scale =
     normalTexture and its scale; alpha_mode, alpha_cutoff, double_sided = alphaMode,
-    alphaCutoff (0.5 for BLEND), doubleSided; uv_sets, uv_transforms = each textureInfo's
+    alphaCutoff (MASK's), doubleSided; uv_sets, uv_transforms = each textureInfo's
     texCoord and KHR_texture_transform (offset, rotation, scale, texCoord). A mesh's COLOR_0
     (RGB; its alpha is not read) multiplies the base colour (Mesh.colors). occlusionTexture is
     not read: the cone-traced occlusion replaces it. From OBJ/MTL files: see
@@ -257,7 +256,7 @@ class Material(Tracked):
 
     @property
     def alpha_tested(self):
-        """Cut out where alpha < alpha_cutoff: MASK, and BLEND drawn as MASK."""
+        """Whether its alpha cuts out (MASK) or dissolves (BLEND) shadow texels and voxels."""
         return self.alpha_mode in ("MASK", "BLEND")
 
     def textures(self):

@@ -28,8 +28,8 @@ void main() {
             uint record = voxel_record(v);
             if (record == NO_RECORD) continue;
             vec3 reflected = unpack_value(voxel_reflected[record]).rgb;
-            vec3 mean_normal = unpack_value(voxel_normal[record]).xyz;
-            for (int f = 0; f < VOXEL_FACES; ++f) mean[f] += 0.125 * voxel_face(reflected, face_coverage(mean_normal, f));
+            vec4 mean_normal = unpack_value(voxel_normal[record]);  // w: its opacity
+            for (int f = 0; f < VOXEL_FACES; ++f) mean[f] += 0.125 * voxel_face(reflected, mean_normal.w * face_coverage(mean_normal.xyz, f));
         }
     } else {
         // The corner the 8 children share, in the finer level's texture coordinates: a

@@ -4,6 +4,7 @@
 // from the emission volume. Level 0 is the voxels' records (their reflected light and mean
 // normal, from which each face follows: voxel_face), the coarser levels a mipmapped volume.
 #include "lib/voxel_surface.glsl"
+#include "lib/hash.glsl"
 
 // The light each voxel's surface reflects (rgb; faces/compose_face_views.comp), a = 1.
 layout(std430, binding = SSBO_VOXEL_REFLECTED) readonly buffer VoxelReflected { uvec2 voxel_reflected[]; };
@@ -99,7 +100,8 @@ vec4 faces_at_level_zero(vec3 uvw, int level, FaceWeights f, float front_share, 
     for (int k = 0; k < 8; ++k) {
         uint record = level_record(clamp(lookup.first + corner_offset(k), ivec3(0), ivec3(voxel_grid - 1)), level);
         if (record == NO_RECORD) continue;
-        float seen = seen_coverage(unpack_value(voxel_normal[record]).xyz, f, front_share, backs, wide);
+        vec4 normal = unpack_value(voxel_normal[record]);  // w: its opacity
+        float seen = normal.w * seen_coverage(normal.xyz, f, front_share, backs, wide);
         sum += trilinear_weight(lookup, k) * voxel_face(unpack_value(voxel_reflected[record]).rgb, seen);
     }
     return sum;
@@ -197,15 +199,6 @@ vec4 level_lookup(vec3 p, int level, float mip, FaceWeights weights, ConeReading
     return vec4(radiance, coverage);
 }
 
-// A number in [0, 1) that is the same for the same point and looks random from one point to the
-// next (a hash of its bits, lowbias32 by Chris Wellons).
-float level_dither(vec3 q) {
-    uvec3 bits = floatBitsToUint(q);
-    uint h = bits.x ^ (bits.y * 0x9e3779b9u) ^ (bits.z * 0x85ebca6bu);
-    h ^= h >> 16; h *= 0x7feb352du; h ^= h >> 15; h *= 0x846ca68bu; h ^= h >> 16;
-    return float(h >> 8) * (1.0 / 16777216.0);
-}
-
 // Radiance (rgb) and opacity (a) gathered along a cone from surface point p with normal n
 // whose voxels are `start_level`'s, starting one of its voxels out along the normal and along
 // the cone, one sample per step, read as `reading` describes. Each lookup reads the level whose
@@ -266,7 +259,7 @@ vec4 trace_cone(vec3 p, vec3 n, int start_level, vec3 direction, float tan_half_
             step_length = cone_step * (reading.step_by_lookup ? diameter : cone_diameter);
             share = level_share(q, level, level_reach(level, reach, 0.0));
             if (reading.dither_levels && share < 1.0) {  // one of the two levels, chosen with odds share : 1 - share
-                if (level_dither(q) >= share) ++level;
+                if (point_hash(q) >= share) ++level;
                 share = 1.0;
             }
         }

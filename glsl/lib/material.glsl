@@ -10,6 +10,7 @@
 // fragments the transforms. A draw list's commands each draw one material, so the texture
 // array a fragment picks is the same across its draw.
 #include "engine_constants.glsl"
+#include "lib/hash.glsl"
 
 layout(binding = TEX_MATERIAL_TEXTURES) uniform sampler2DArray material_textures[MATERIAL_TEXTURE_ARRAYS];
 layout(std430, binding = SSBO_MATERIALS) readonly buffer Materials { MaterialRecord materials[]; };
@@ -59,7 +60,7 @@ struct MaterialSample {
     float metalness;
     vec3 emission;
     float dielectric_f0;
-    float alpha_cutoff;  // cut out where alpha < alpha_cutoff; negative: opaque
+    float alpha_cutoff;  // cut out where alpha < alpha_cutoff; ALPHA_OPAQUE, ALPHA_BLENDED
 };
 
 // The material at the surface's map coordinates with vertex colour `color`, filtered over the
@@ -80,14 +81,21 @@ MaterialSample sample_material(uint material, MapCoordinates coordinates, vec3 c
     return m;
 }
 
-// Whether an alpha-tested material cuts the surface out.
+// Whether an alpha-tested (MASK) material cuts the surface out.
 bool cut_out(MaterialSample m) {
     return m.alpha_cutoff >= 0.0 && m.alpha < m.alpha_cutoff;
 }
 
-// Whether the material cuts anything out (alpha-tested).
+// Whether a blended material is dissolved at a fragment of a shadow map or a voxel: with
+// probability 1 - alpha, by a hash of `place` (its texel, its voxel), so that a surface of alpha
+// a stops a of the light that crosses it on average (stochastic transparency).
+bool dissolved(MaterialSample m, vec3 place) {
+    return m.alpha_cutoff == ALPHA_BLENDED && m.alpha <= point_hash(place);
+}
+
+// Whether the material's alpha cuts anything out or dissolves it (MASK, BLEND).
 bool alpha_tested(uint material) {
-    return materials[material].emission_cutoff.a >= 0.0;
+    return materials[material].emission_cutoff.a != ALPHA_OPAQUE;
 }
 
 // The shading normal of a material with a normal map: its normal in the tangent frame

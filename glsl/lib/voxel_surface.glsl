@@ -3,7 +3,7 @@
 #include "lib/voxel_records.glsl"
 
 layout(std430, binding = SSBO_VOXEL_ALBEDO) readonly buffer VoxelAlbedo { uvec2 voxel_albedo[]; };       // rgb, a = 1
-layout(std430, binding = SSBO_VOXEL_NORMAL) readonly buffer VoxelNormal { uvec2 voxel_normal[]; };       // xyz mean normal, w = 1
+layout(std430, binding = SSBO_VOXEL_NORMAL) readonly buffer VoxelNormal { uvec2 voxel_normal[]; };       // xyz mean normal, w: opacity (blended surfaces' mean alpha, else 1)
 layout(std430, binding = SSBO_VOXEL_EMISSION) readonly buffer VoxelEmission { uvec2 voxel_emission[]; }; // rgb, a = surface offset in voxels
 
 struct VoxelSurface {

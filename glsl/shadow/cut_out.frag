@@ -1,6 +1,6 @@
 #version 450 core
-// Shadow map of alpha-tested materials: light goes through where they are cut out (the
-// rasterizer writes gl_FragCoord.z into the atlas). Opaque materials are drawn without a
+// Shadow map of alpha-tested materials: light goes through where they are cut out, and through
+// 1 - alpha of a blended one's texels (the rasterizer writes gl_FragCoord.z into the atlas). Opaque materials are drawn without a
 // fragment shader (engine/passes/shadow.py).
 #include "lib/material.glsl"
 
@@ -18,5 +18,6 @@ void main() {
 #else
     MapCoordinates coordinates = same_coordinates(texcoord);
 #endif
-    if (cut_out(sample_material(material, coordinates, vec3(1.0)))) discard;
+    MaterialSample m = sample_material(material, coordinates, vec3(1.0));
+    if (cut_out(m) || dissolved(m, vec3(gl_FragCoord.xy, 0.0))) discard;
 }

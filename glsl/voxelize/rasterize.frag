@@ -110,6 +110,8 @@ void main() {
     atomicAdd(voxel_sums[sum_entry(slot, SUM_NORMAL_Y)], unit_fixed(n.y));
     atomicAdd(voxel_sums[sum_entry(slot, SUM_NORMAL_Z)], unit_fixed(n.z));
     atomicAdd(voxel_sums[sum_entry(slot, SUM_OFFSET)], unit_fixed(offset));
+    // A blended surface covers alpha of what lies behind it; every other one all of it.
+    atomicAdd(voxel_sums[sum_entry(slot, SUM_OPACITY)], unit_fixed(m.alpha_cutoff == ALPHA_BLENDED ? m.alpha : 1.0));
     add_emission(slot, SUM_EMISSION_R, SUM_EMISSION_CARRY_R, m.emission.r);
     add_emission(slot, SUM_EMISSION_G, SUM_EMISSION_CARRY_G, m.emission.g);
     add_emission(slot, SUM_EMISSION_B, SUM_EMISSION_CARRY_B, m.emission.b);

@@ -63,6 +63,9 @@ void main() {
         vec3 albedo = vec3(unit_sum(i, SUM_ALBEDO_R), unit_sum(i, SUM_ALBEDO_G), unit_sum(i, SUM_ALBEDO_B)) * to_unit;
         vec3 normal = vec3(unit_sum(i, SUM_NORMAL_X), unit_sum(i, SUM_NORMAL_Y), unit_sum(i, SUM_NORMAL_Z)) * to_unit;
         float offset = unit_sum(i, SUM_OFFSET) * to_unit;
+        // The mean opacity of its surfaces: exactly 1 where all of them are opaque.
+        uint opacity_sum = voxel_sums[sum_entry(i, SUM_OPACITY)];
+        float opacity = opacity_sum == uint(samples * VOXEL_UNIT_SCALE) ? 1.0 : float(opacity_sum) * to_unit;
         vec3 emission = vec3(emission_sum(i, SUM_EMISSION_R, SUM_EMISSION_CARRY_R),
                              emission_sum(i, SUM_EMISSION_G, SUM_EMISSION_CARRY_G),
                              emission_sum(i, SUM_EMISSION_B, SUM_EMISSION_CARRY_B)) / (samples * VOXEL_EMISSION_SCALE);
@@ -73,7 +76,7 @@ void main() {
         float surface_offset = coherence > 0.0 ? clamp(offset / coherence, -0.87, 0.87) : 0.0;
         if (record != NO_RECORD) {
             albedo_out[record] = pack_value(vec4(albedo, 1.0));
-            normal_out[record] = pack_value(vec4(normal, 1.0));
+            normal_out[record] = pack_value(vec4(normal, opacity));
             emission_out[record] = pack_value(vec4(emission, surface_offset));
         }
     }
