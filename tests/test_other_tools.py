@@ -6,6 +6,7 @@ own: framed, and lit by the studio sky where nothing lights it."""
 import json
 import struct
 import warnings
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -194,3 +195,32 @@ def test_a_model_file_alone_renders_under_the_studio_sky_or_black_when_asked(tmp
                  "--mode", "direct", "--width", "64", "--height", "64", "--environment", "none")
     assert result.returncode == 0 and "no light" in result.stderr
     assert np.load(tmp_path / "black.npy").max() == 0.0
+
+
+def test_the_conformance_tool_renders_each_model_and_names_what_it_refused(tmp_path):
+    """tools/conformance.py over a folder laid out as the Khronos Sample Assets: a model that
+    renders (its image on the contact sheet), one refused with vct's error line in the table."""
+    import subprocess
+    import sys
+
+    from PIL import Image
+
+    models = tmp_path / "Models"
+    (models / "Quad" / "glTF").mkdir(parents=True)
+    g = Gltf()
+    g.doc["meshes"].append({"primitives": [g.quad()]})
+    g.doc["nodes"].append({"name": "Quad", "mesh": 0})
+    g.doc["scenes"][0]["nodes"] = [0]
+    g.write(models / "Quad" / "glTF" / "Quad.gltf")
+    (models / "Broken" / "glTF-Binary").mkdir(parents=True)
+    (models / "Broken" / "glTF-Binary" / "Broken.glb").write_bytes(b"glTF" + bytes(8))
+    out = tmp_path / "out"
+    done = subprocess.run([sys.executable, "tools/conformance.py", str(models), "--out", str(out), "--size", "48",
+                           "--mode", "direct"], cwd=Path(__file__).resolve().parent.parent, capture_output=True, text=True,
+                          timeout=300)
+    assert done.returncode == 0, done.stderr
+    rows = {row["model"]: row for row in json.loads((out / "results.json").read_text())}
+    assert rows["Quad"]["result"] == "rendered" and any("studio sky" in w for w in rows["Quad"]["warnings"])
+    assert rows["Broken"]["result"] == "refused" and "Broken.glb" in rows["Broken"]["detail"]
+    assert Image.open(out / "contact_sheet.png").size == (2 * 48, 48 + 14)
+    assert "1 rendered, 1 refused" in (out / "results.md").read_text()
