@@ -38,8 +38,9 @@ from ..scene.emitters import scene_emits
 FRAME_KINDS = ("static", "camera", "light", "object", "animated")
 ANIMATION_FPS = 30.0  # animation time per frame of the animated and camera kinds: 1/30 s
 WALKING_SPEED = 1.4   # m/s, the camera kind's
-PASS_ORDER = ("shadow", "gbuffer", "lighting", "emitters", "environment", "voxelize", "emission_mipmap", "emitter_light",
-              "sky_light", "inject", "classes", "gather", "faces", "mipmap", "totals", "cone_trace", "voxel_view", "gbuffer_view")
+PASS_ORDER = ("pose", "shadow", "gbuffer", "lighting", "emitters", "environment", "voxelize", "emission_mipmap",
+              "emitter_light", "sky_light", "inject", "classes", "gather", "faces", "mipmap", "totals", "cone_trace", "transparent",
+              "voxel_view", "gbuffer_view")
 SETTLE_FRAMES = 400  # progressive frames allowed for the radiance to settle before timing
 # The GL calls that do a frame's work where the GPU is the CPU (llvmpipe runs draws and
 # dispatches as they are issued, and a memory barrier waits for them): left out of the host time.
