@@ -20,15 +20,24 @@ STRIP_WEIGHTS = np.array([[1, 0, 0, 0]] * 2 + [[0.5, 0.5, 0, 0]] * 2 + [[0, 1, 0
 BEND = [0.0, 0.0, math.sin(math.pi / 4), math.cos(math.pi / 4)]  # 90 degrees about +z
 
 
-def skinned_strip(path):
+def skinned_strip(path, sets=1):
     """The strip skinned to a root joint and an elbow joint (its child, at y = 1), its inverse
     bind matrices the inverse of the joints' rest world matrices; an animation bends the
-    elbow by 90 degrees about +z over one second and holds it for one more. The strip's own node is placed 5 m away:
-    glTF says a skinned mesh ignores it."""
+    elbow by 90 degrees about +z over one second and holds it for one more. The strip's own
+    node is placed 5 m away: glTF says a skinned mesh ignores it. With `sets` 2 each joint's
+    influence comes in a set of its own (JOINTS_0/WEIGHTS_0, JOINTS_1/WEIGHTS_1)."""
     g = Gltf()
-    primitive = {"attributes": {"POSITION": g.accessor(STRIP), "NORMAL": g.accessor(np.tile([0, 0, 1], (6, 1))),
-                                "JOINTS_0": g.accessor(STRIP_JOINTS, 5121), "WEIGHTS_0": g.accessor(STRIP_WEIGHTS)},
-                 "indices": g.accessor(STRIP_INDICES, 5125)}
+    attributes = {"POSITION": g.accessor(STRIP), "NORMAL": g.accessor(np.tile([0, 0, 1], (6, 1)))}
+    if sets == 1:
+        attributes.update(JOINTS_0=g.accessor(STRIP_JOINTS, 5121), WEIGHTS_0=g.accessor(STRIP_WEIGHTS))
+    else:
+        for joint in range(2):
+            joints = np.zeros((6, 4), np.uint8)
+            joints[:, 0] = joint
+            weights = np.zeros((6, 4), np.float32)
+            weights[:, 0] = STRIP_WEIGHTS[:, joint]
+            attributes.update({f"JOINTS_{joint}": g.accessor(joints, 5121), f"WEIGHTS_{joint}": g.accessor(weights)})
+    primitive = {"attributes": attributes, "indices": g.accessor(STRIP_INDICES, 5125)}
     g.doc["meshes"].append({"primitives": [primitive]})
     inverse_bind = np.stack([np.eye(4), np.linalg.inv(_translation([0, 1, 0]))]).transpose(0, 2, 1).reshape(2, 16)
     g.doc["nodes"] = [{"name": "Strip", "mesh": 0, "skin": 0, "translation": [5, 0, 0]},
@@ -83,11 +92,13 @@ def camera_on(scene):
     return scene
 
 
-def test_a_skinned_mesh_follows_its_joints_as_the_spec_poses_it(tmp_path):
+@pytest.mark.parametrize("sets", [1, 2])
+def test_a_skinned_mesh_follows_its_joints_as_the_spec_poses_it(tmp_path, sets):
     """At rest the strip stands where its joints hold it (not 5 m away at its node); bent by
     the animation every point the camera sees lies on the strip posed by the spec, and the
-    top of the strip, rotated 90 degrees about the elbow, points along -x."""
-    scene = camera_on(engine.load_scene(skinned_strip(tmp_path / "strip.gltf")))
+    top of the strip, rotated 90 degrees about the elbow, points along -x; the same with its
+    influences in two sets of four."""
+    scene = camera_on(engine.load_scene(skinned_strip(tmp_path / "strip.gltf", sets)))
     with engine.Renderer(96, 96) as r:
         for t, quaternion in ((0.0, [0, 0, 0, 1]), (1.0, BEND)):
             r.render(scene.pose_at(t), mode="albedo")
@@ -98,16 +109,25 @@ def test_a_skinned_mesh_follows_its_joints_as_the_spec_poses_it(tmp_path):
     assert np.nanmax(positions[..., 1]) < 1.3   # and nothing stands up to y = 2 any more
 
 
-def test_a_bent_pose_is_voxelized_as_a_fresh_render_of_it(tmp_path):
-    """Posing re-voxelizes what moved: the voxels and the image after the bend equal those of
-    a new renderer given the bent scene, bit for bit."""
+def with_floor_and_sun(scene):
+    """A floor under the strip and a sun at an angle: the strip's shadow falls on the floor."""
+    floor = engine.Node("Floor", mesh=engine.quad_mesh([[-3, 0, 3], [3, 0, 3], [3, 0, -3], [-3, 0, -3]]),
+                        material=engine.Material("floor"))
+    sun = engine.Node("Sun", light=engine.Light("directional", np.full(3, 2.0), direction=np.array([0.5, -1.0, -0.5])))
+    scene.root.children += [floor, sun]
+    return scene
+
+
+def test_a_bent_pose_is_voxelized_and_shadowed_as_a_fresh_render_of_it(tmp_path):
+    """Posing re-voxelizes what moved and redraws its shadow: the voxels and the image after
+    the bend equal those of a new renderer given the bent scene, bit for bit."""
     path = skinned_strip(tmp_path / "strip.gltf")
-    scene = camera_on(engine.load_scene(path))
+    scene = with_floor_and_sun(camera_on(engine.load_scene(path)))
     with engine.Renderer(64, 64) as r:
         r.render(scene.pose_at(0.0), grid=32, bounces=1)
         image = r.render(scene.pose_at(0.6), grid=32, bounces=1)
         voxels = [r.voxels(name) for name in ("albedo", "normal")]
-    fresh_scene = camera_on(engine.load_scene(path)).pose_at(0.6)
+    fresh_scene = with_floor_and_sun(camera_on(engine.load_scene(path))).pose_at(0.6)
     with engine.Renderer(64, 64) as fresh:
         expected = fresh.render(fresh_scene, grid=32, bounces=1)
         assert all(np.array_equal(v, fresh.voxels(name)) for v, name in zip(voxels, ("albedo", "normal")))
