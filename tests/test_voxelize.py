@@ -4,6 +4,7 @@ import numpy as np
 import pytest
 
 import engine
+from engine.core.constants import VOXEL_SIDES
 from engine.voxels import grid as voxel_grid
 from conftest import SCENES
 
@@ -155,14 +156,14 @@ def test_voxel_memory_is_what_the_grid_holds_with_light_arrays_only_where_the_sc
     """The voxel memory a renderer reports (vct bench, the viewer's overlay) is the GPU bytes its
     grid and passes hold: a scene under a sky holds two arrays of values more than the Cornell
     box (the sky's irradiance at the voxels, traced and filtered: an RGBA16F value for each
-    covered voxel the lists have room for), released when the sky goes; a voxel view adds an
-    n^3 volume with its mip chain."""
+    side of each covered voxel the lists have room for), released when the sky goes; a voxel
+    view adds an n^3 volume with its mip chain."""
     cornell = engine.load_scene(SCENES / "cornell_box.json")
     sky = engine.load_scene(SCENES / "references" / "open_box_sky.json")
     with engine.Renderer(16, 16) as r:
         r.render(cornell, grid=32, bounces=1)
         alone = r.voxel_memory_bytes()
-        values = 8 * r.voxel_layout.list_room
+        values = 8 * VOXEL_SIDES * r.voxel_layout.list_room
         r.render(sky, grid=32, bounces=1)
         assert r.voxel_memory_bytes() - alone == 2 * values
         r.render(cornell, grid=32, bounces=1)

@@ -47,9 +47,25 @@ IMAGE_UNIT = {
     "DIFFUSE_IN": 2,        # the diffuse cones' gather at the anchor pixels that traced them (a = 1; half resolution)
 }
 
+# A covered voxel keeps its surfaces by orientation, in up to VOXEL_SIDES sides: side 0 the
+# fragments of the orientation most of them have (the sign of each fragment normal's dominant
+# component), side 1 those of the opposite one where they face apart (the back of a sheet, the
+# far face of a slab thinner than a voxel). Each side has its own surface and light: a value
+# per record and side.
+VOXEL_SIDES: GLSL_INT = 2
+# The orientations of a voxel's fragments make two sides where their mean normals face apart,
+# cos(angle between them) < -SIDES_APART; else one side holds them all (a floor meeting a wall).
+SIDES_APART: GLSL_FLOAT = 0.5
+SIDES_GAP: GLSL_FLOAT = 0.05  # voxels between the two sides' planes, at least (glsl/voxelize/resolve_sums.comp)
+# The cones a side of a two-sided voxel traces itself (its gather, the sky's light at it) start
+# this many voxels further along its normal: the cells around the voxel hold its other side's
+# light, which cones starting nearer read as if in front (the thin sheet's reference scene:
+# 2 voxels left its camera side 2.7x bright at 128^3, 4 within 1.4x).
+TWO_SIDED_START: GLSL_FLOAT = 4.0
 # Per-voxel fixed-point sums the voxelizer accumulates with atomics, a record of these channels
-# per touched voxel (lib/voxel_sums.glsl). Normal and offset sums are signed (two's complement).
-# Emission is summed in 64 bits: the low word, and a carry word incremented on overflow.
+# per touched voxel and orientation (lib/voxel_sums.glsl). Normal and offset sums are signed
+# (two's complement). Emission is summed in 64 bits: the low word, and a carry word incremented
+# on overflow.
 VOXEL_SUM_CHANNELS = ("COUNT", "ALBEDO_R", "ALBEDO_G", "ALBEDO_B", "NORMAL_X", "NORMAL_Y", "NORMAL_Z", "OFFSET",
                       "EMISSION_R", "EMISSION_G", "EMISSION_B", "EMISSION_CARRY_R", "EMISSION_CARRY_G",
                       "EMISSION_CARRY_B", "OPACITY")

@@ -22,7 +22,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..core.constants import (DRAW_HELD, DRAW_TEST_BOX, DRAW_VIEW_SHIFT, LIST_GROUP, NO_MATERIAL, SHADER_ENUMS, VOXEL_FACES,
-                              VOXEL_SUM_CHANNELS)
+                              VOXEL_SIDES, VOXEL_SUM_CHANNELS)
 from ..gpu.scene_buffers import DRAW_FLAGS, draw_records
 from ..scene.changes import VoxelUpdate
 from ..voxels.clipmap import entered_slabs
@@ -81,7 +81,7 @@ class VoxelizePass:
             return
         self._scratch.release()
         ctx, room = self.ctx, sum_room(n, grid.levels)
-        self.sums = ctx.buffer(data=bytes(4 * len(VOXEL_SUM_CHANNELS) * room))
+        self.sums = ctx.buffer(data=bytes(4 * VOXEL_SIDES * len(VOXEL_SUM_CHANNELS) * room))
         self.front_keys = ctx.buffer(data=bytes(4 * VOXEL_FACES * room))
         self.touched_records = ctx.buffer(reserve=4 * grid.touched_room)
         self.framebuffer = ctx.empty_framebuffer((n, n))

@@ -44,7 +44,7 @@ import moderngl
 import numpy as np
 
 from ..core.constants import (GL_IMAGE_FORMAT, GRID_SIZES, LIST_GROUP, MAX_VOXEL_LEVELS, VOXEL_FACES, VOXEL_FORMAT,
-                              VOXEL_MEMORY_BUDGET, VOXEL_PACK_BITS, VOXEL_SUM_CHANNELS)
+                              VOXEL_MEMORY_BUDGET, VOXEL_PACK_BITS, VOXEL_SIDES, VOXEL_SUM_CHANNELS)
 from ..core.errors import VctError
 from ..gpu.bindings import Image
 from .lists import SEGMENT, CellLists, Epoch, VoxelList
@@ -77,8 +77,8 @@ def voxel_memory_bytes(n, levels=1):
     lists = 2 * 4 / 7 + 2 * 4 / 8                            # cells, stamps; level-1 cells' classes, cells by class
     room = new_grid_room(n, levels)
     listed = 4 * 9 * room                                     # touched x2 and their records x2, covered x2, stale, classes, anchors
-    records = (VALUE_BYTES * len(RECORD_ARRAYS) + 4) * room   # the arrays and the pool
-    sums = 4 * (len(VOXEL_SUM_CHANNELS) + VOXEL_FACES) * sum_room(n, levels)  # and the front-layer keys
+    records = (VALUE_BYTES * VOXEL_SIDES * len(RECORD_ARRAYS) + 4) * room   # the arrays and the pool
+    sums = 4 * (VOXEL_SIDES * len(VOXEL_SUM_CHANNELS) + VOXEL_FACES) * sum_room(n, levels)  # and the front-layer keys
     return int(voxels * (per_voxel + volumes + lists) + listed + records + sums)
 
 
@@ -255,7 +255,8 @@ class VoxelGrid(Placement):
         self.records.hold(coords)
         self.hold_cone_emission(np.any(emission != 0.0))
         for array, rgb, a in ((self.albedo, albedo, flag), (self.normal, normal, flag), (self.emission, emission, 0.0 * flag)):
-            values = np.concatenate([np.asarray(rgb, np.float32), a], axis=-1)[z, y, x]
+            values = np.zeros((len(z), VOXEL_SIDES, 4), np.float32)  # each surface its voxel's side 0
+            values[:, 0] = np.concatenate([np.asarray(rgb, np.float32), a], axis=-1)[z, y, x]
             array.write(values.astype(VOXEL_FORMAT).tobytes())
         if self.cone_emission is not None:  # its level 1: the mean of each cell's 8 voxels
             level_one = np.concatenate([emission * flag, flag], axis=-1).reshape(depth // 2, 2, n // 2, 2, n // 2, 2, 4).mean(axis=(1, 3, 5))
@@ -277,8 +278,8 @@ class VoxelGrid(Placement):
             raise VctError(f"must be an array of shape ({depth}, {n}, {n}, 4), got {np.shape(volume)}", field="volume")
         index = np.frombuffer(self.records.index.read(), "u4").reshape(depth, n, n)
         held = index > 0
-        data = np.zeros((self.records.room, 4), VOXEL_FORMAT)
-        data[index[held] - 1] = np.asarray(volume, np.float32)[held]
+        data = np.zeros((self.records.room, VOXEL_SIDES, 4), VOXEL_FORMAT)  # side 0, as `load` holds the surfaces
+        data[index[held] - 1, 0] = np.asarray(volume, np.float32)[held]
         values.write(data.tobytes())
 
     def hold_cone_emission(self, emits):

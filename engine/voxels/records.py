@@ -4,13 +4,16 @@ take room for the voxels surfaces cover rather than for all n^3 (glsl/lib/voxel_
 - `index`: per voxel of the grid (of every level), its record + 1, or 0 where no surface covers it;
 - `pool`: the records no voxel holds, a stack: its height (int), how many records a
   voxelization asked of it in vain (uint), then the free records;
-- the arrays of values (`array()`): an RGBA16F value per record, two halves to a uint.
+- the arrays of values (`array()`): an RGBA16F value per record and side (VOXEL_SIDES: a
+  voxel's surfaces by orientation), two halves to a uint.
 
 The voxelizer's resolve (glsl/voxelize/resolve_sums.comp) gives a voxel a record from the pool
 when a surface first covers it and returns it when the last one leaves; a voxel keeps its
 record, and so its values, while it stays covered. The pool has room for as many records as
 the grid's lists have for covered voxels."""
 import numpy as np
+
+from ..core.constants import VOXEL_SIDES
 
 VALUE_BYTES = 8  # an RGBA16F value
 POOL_HEADER = 2  # the stack's height, the records asked for in vain
@@ -64,8 +67,8 @@ class VoxelRecords:
         self.pool = ctx.buffer(data=pool_words(room).tobytes())
 
     def array(self):
-        """An array of values, one per record, zero."""
-        return self.ctx.buffer(data=bytes(VALUE_BYTES * self.room))
+        """An array of values, one per record and side, zero."""
+        return self.ctx.buffer(data=bytes(VALUE_BYTES * VOXEL_SIDES * self.room))
 
     def resources(self):
         """The index and the pool, as a program that hands out or frees records binds them."""

@@ -49,19 +49,21 @@ void main() {
     if (!in_level_mask(lit_levels, v)) return;
     uint record = voxel_record(v);
     if (record == NO_RECORD) return;  // a touched voxel the voxelization emptied
-    VoxelSurface s = voxel_surface(v, record);
-    vec3 shadowed = vec3(0.0), unshadowed = vec3(0.0);
-    if (dot(s.mean_normal, s.mean_normal) > 0.0) {
-        vec3 n = normalize(s.mean_normal);
-        for (int i = 0; i < emitter_patch_count; ++i) {
-            EmitterPatch e = emitter_patches[i];
-            vec3 irradiance = patch_irradiance(s.position, n, e);
-            if (any(greaterThan(irradiance, vec3(0.0)))) {
-                unshadowed += irradiance;
-                shadowed += irradiance * patch_visibility(s.position, n, voxel_level(v), e);
+    for (int side = 0; side < VOXEL_SIDES; ++side) {  // each side lit through its own normal
+        VoxelSurface s = voxel_surface(v, record, side);
+        vec3 shadowed = vec3(0.0), unshadowed = vec3(0.0);
+        if (dot(s.mean_normal, s.mean_normal) > 0.0) {
+            vec3 n = normalize(s.mean_normal);
+            for (int i = 0; i < emitter_patch_count; ++i) {
+                EmitterPatch e = emitter_patches[i];
+                vec3 irradiance = patch_irradiance(s.position, n, e);
+                if (any(greaterThan(irradiance, vec3(0.0)))) {
+                    unshadowed += irradiance;
+                    shadowed += irradiance * patch_visibility(s.position, n, voxel_level(v), e);
+                }
             }
         }
+        float total = unshadowed.r + unshadowed.g + unshadowed.b;
+        emitter_irradiance_out[side_value(record, side)] = pack_value(vec4(shadowed, total > 0.0 ? (shadowed.r + shadowed.g + shadowed.b) / total : 1.0));
     }
-    float total = unshadowed.r + unshadowed.g + unshadowed.b;
-    emitter_irradiance_out[record] = pack_value(vec4(shadowed, total > 0.0 ? (shadowed.r + shadowed.g + shadowed.b) / total : 1.0));
 }

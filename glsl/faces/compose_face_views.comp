@@ -23,7 +23,11 @@ void main() {
     if (!segment_voxel(gl_GlobalInvocationID.x, v) || !in_level_mask(composed_levels, v)) return;
     uint record = voxel_record(v);
     if (record == NO_RECORD) return;
-    vec3 radiance = max(unpack_value(voxel_base[record]).rgb - unpack_value(voxel_emission[record]).rgb, vec3(0.0));
-    if (include_gathered) radiance += unpack_value(voxel_albedo[record]).rgb * unpack_value(voxel_gathered[record]).rgb;
-    reflected_out[record] = pack_value(vec4(radiance, 1.0));
+    int sides = sides_of(unpack_value(voxel_normal[side_value(record, 0)]));
+    for (int side = 0; side < sides; ++side) {
+        uint at = side_value(record, side);
+        vec3 radiance = max(unpack_value(voxel_base[at]).rgb - unpack_value(voxel_emission[at]).rgb, vec3(0.0));
+        if (include_gathered) radiance += unpack_value(voxel_albedo[at]).rgb * unpack_value(voxel_gathered[at]).rgb;
+        reflected_out[at] = pack_value(vec4(radiance, 1.0));
+    }
 }

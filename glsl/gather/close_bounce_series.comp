@@ -15,7 +15,10 @@ void main() {
     uint record = gl_GlobalInvocationID.x;
     ivec3 v;
     if (!covered_voxel(record, v)) return;
-    vec4 current = unpack_value(latest[record]);
-    vec3 previous = unpack_value(older[record]).rgb;
-    older[record] = pack_value(vec4(current.rgb + (current.rgb - previous) * gain, current.a));
+    for (int side = 0; side < VOXEL_SIDES; ++side) {
+        uint at = side_value(record, side);
+        vec4 current = unpack_value(latest[at]);
+        vec3 previous = unpack_value(older[at]).rgb;
+        older[at] = pack_value(vec4(current.rgb + (current.rgb - previous) * gain, current.a));
+    }
 }

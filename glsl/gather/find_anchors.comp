@@ -25,12 +25,13 @@ void main() {
         v = unpack_voxel(stale[k]);
         record = voxel_record(v);
     }
-    vec3 n = unpack_value(voxel_normal[record]).xyz;
+    vec3 n = unpack_value(voxel_normal[side_value(record, 0)]).xyz;
     uint anchors = 0u;
-    if (reflects_light(record, n)) {
+    bool back = back_reflects_light(record);
+    if (reflects_light(side_value(record, 0), n) || back) {
         if (beneath_finer_level(v)) {
             anchors = ANCHOR_FINER;
-        } else if (on_anchor_lattice(v, n)) {
+        } else if (back || on_anchor_lattice(v, n)) {  // a two-sided voxel traces both sides
             anchors = ANCHOR_SELF;
         } else {
             vec3 unit = normalize(n);
@@ -39,9 +40,9 @@ void main() {
                 ivec3 u = neighbour(v, k);
                 uint u_record = neighbour_record(v, u);
                 if (u_record == NO_RECORD) continue;
-                vec3 n_u = unpack_value(voxel_normal[u_record]).xyz;
+                vec3 n_u = unpack_value(voxel_normal[side_value(u_record, 0)]).xyz;
                 if (dot(n, n_u) <= 0.0 || !on_anchor_lattice(u, n_u) || beneath_finer_level(u)
-                    || !reflects_light(u_record, n_u)) continue;
+                    || !reflects_light(side_value(u_record, 0), n_u)) continue;
                 anchors |= 1u << k;
                 total += anchor_weight(v, unit, u, n_u);
             }

@@ -22,17 +22,17 @@ void main() {
     uint anchors = gather_anchors[record] & ANCHOR_NEIGHBOURS;
     vec4 result = vec4(0.0);
     if (anchors != 0u) {
-        vec3 n = normalize(unpack_value(voxel_normal[record]).xyz);
+        vec3 n = normalize(unpack_value(voxel_normal[side_value(record, 0)]).xyz);
         vec3 sum = vec3(0.0);
         float total = 0.0;
         for (; anchors != 0u; anchors &= anchors - 1u) {
             ivec3 u = neighbour(v, findLSB(anchors));
             uint anchor = voxel_record(u);  // recorded anchors are covered
-            float weight = anchor_weight(v, n, u, unpack_value(voxel_normal[anchor]).xyz);
-            sum += weight * unpack_value(gathered[anchor]).rgb;
+            float weight = anchor_weight(v, n, u, unpack_value(voxel_normal[side_value(anchor, 0)]).xyz);
+            sum += weight * unpack_value(gathered[side_value(anchor, 0)]).rgb;
             total += weight;
         }
         result = vec4(sum / total, 1.0);  // total >= MIN_ANCHOR_WEIGHT
     }
-    gathered[record] = pack_value(result);
+    gathered[side_value(record, 0)] = pack_value(result);  // a voxel that interpolates has one side
 }

@@ -19,10 +19,14 @@ uniform int level;
 void add_finer(ivec3 finer, vec3 n, inout vec4 faced, inout vec4 plain) {
     uint record = level_record(finer, level - 1);
     if (record == NO_RECORD) return;
-    vec4 g = unpack_value(gathered[record]);
-    if (g.a <= 0.0) return;  // reflects no light
-    faced += facing_weight(n, unpack_value(voxel_normal[record]).xyz) * vec4(g.rgb, 1.0);
-    plain += vec4(g.rgb, 1.0);
+    for (int side = 0; side < VOXEL_SIDES; ++side) {
+        uint at = side_value(record, side);
+        vec4 g = unpack_value(gathered[at]);
+        vec3 n_u = unpack_value(voxel_normal[at]).xyz;
+        if (g.a <= 0.0 || dot(n_u, n_u) <= 0.0) continue;  // reflects no light, or no surface of this side
+        faced += facing_weight(n, n_u) * vec4(g.rgb, 1.0);
+        plain += vec4(g.rgb, 1.0);
+    }
 }
 
 void main() {
@@ -31,20 +35,24 @@ void main() {
     if (voxel_level(v) != level) return;
     uint record = voxel_record(v);
     if (record == NO_RECORD || (gather_anchors[record] & ANCHOR_FINER) == 0u) return;
-    vec3 n = normalize(unpack_value(voxel_normal[record]).xyz);
     ivec3 first = first_finer_voxel(v);
-    vec4 faced = vec4(0.0);  // weighted sum of the finer gathers (rgb) and of the weights (a)
-    vec4 plain = vec4(0.0);
-    for (int k = 0; k < 8; ++k) add_finer(first + corner_offset(k), n, faced, plain);
-    if (plain.a == 0.0) {
-        // None of the 8 reflects light (a surface on V's side that the finer voxelization put
-        // in the voxels beyond): the 56 finer voxels around them.
-        for (int k = 0; k < 64; ++k) {
-            ivec3 offset = ivec3(k & 3, (k >> 2) & 3, k >> 4) - 1;  // -1..2 per axis
-            bool around = any(lessThan(offset, ivec3(0))) || any(greaterThan(offset, ivec3(1)));
-            if (around) add_finer(first + offset, n, faced, plain);
+    for (int side = 0; side < VOXEL_SIDES; ++side) {
+        vec3 n_side = unpack_value(voxel_normal[side_value(record, side)]).xyz;
+        if (dot(n_side, n_side) <= 0.0) continue;  // no surface of this side
+        vec3 n = normalize(n_side);
+        vec4 faced = vec4(0.0);  // weighted sum of the finer gathers (rgb) and of the weights (a)
+        vec4 plain = vec4(0.0);
+        for (int k = 0; k < 8; ++k) add_finer(first + corner_offset(k), n, faced, plain);
+        if (plain.a == 0.0) {
+            // None of the 8 reflects light (a surface on V's side that the finer voxelization put
+            // in the voxels beyond): the 56 finer voxels around them.
+            for (int k = 0; k < 64; ++k) {
+                ivec3 offset = ivec3(k & 3, (k >> 2) & 3, k >> 4) - 1;  // -1..2 per axis
+                bool around = any(lessThan(offset, ivec3(0))) || any(greaterThan(offset, ivec3(1)));
+                if (around) add_finer(first + offset, n, faced, plain);
+            }
         }
+        vec4 sum = faced.a > 0.0 ? faced : plain;
+        gathered[side_value(record, side)] = pack_value(sum.a > 0.0 ? vec4(sum.rgb / sum.a, 1.0) : vec4(0.0));
     }
-    vec4 sum = faced.a > 0.0 ? faced : plain;
-    gathered[record] = pack_value(sum.a > 0.0 ? vec4(sum.rgb / sum.a, 1.0) : vec4(0.0));
 }

@@ -20,6 +20,12 @@ void main() {
     ivec3 v = unpack_voxel(class_list[segment_first() + gl_GlobalInvocationID.x]);
     uint record = voxel_record(v);
     if (record == NO_RECORD || (gather_anchors[record] & ANCHOR_SELF) == 0u) return;  // empty, or interpolated (GatherPass.fill)
-    VoxelSurface s = voxel_surface(v, record);
-    gathered_out[record] = pack_value(vec4(trace_diffuse(s.position, normalize(s.mean_normal), voxel_level(v), 1e9, VOXEL_DIFFUSE_READING).rgb, 1.0));
+    int sides = sides_of(unpack_value(voxel_normal[side_value(record, 0)]));
+    for (int side = 0; side < sides; ++side) {  // each side from its own surface
+        VoxelSurface s = voxel_surface(v, record, side);
+        if (dot(s.mean_normal, s.mean_normal) <= 0.0) continue;  // no surface of this side
+        vec3 n = normalize(s.mean_normal);
+        vec3 start = side_cone_start(s, n, v, sides);
+        gathered_out[side_value(record, side)] = pack_value(vec4(trace_diffuse(start, n, voxel_level(v), 1e9, VOXEL_DIFFUSE_READING).rgb, 1.0));
+    }
 }

@@ -21,15 +21,19 @@ void main() {
     if (!segment_voxel(gl_GlobalInvocationID.x, v)) return;
     uint record = voxel_record(v);
     if (record == NO_RECORD) return;  // a touched voxel the voxelization emptied
-    VoxelSurface s = voxel_surface(v, record);
-    vec3 irradiance = vec3(0.0);
-    if (dot(s.mean_normal, s.mean_normal) > 0.0 && any(greaterThan(s.albedo, vec3(0.0)))) {
-        for (int i = 0; i < light_count; ++i) {
-            vec3 l;
-            irradiance += light_irradiance(i, s.position, s.mean_normal, l);
+    int sides = sides_of(unpack_value(voxel_normal[side_value(record, 0)]));
+    for (int side = 0; side < sides; ++side) {  // each side lit by its own normal and shadow lookup
+        VoxelSurface s = voxel_surface(v, record, side);
+        uint at = side_value(record, side);
+        vec3 irradiance = vec3(0.0);
+        if (dot(s.mean_normal, s.mean_normal) > 0.0 && any(greaterThan(s.albedo, vec3(0.0)))) {
+            for (int i = 0; i < light_count; ++i) {
+                vec3 l;
+                irradiance += light_irradiance(i, s.position, s.mean_normal, l);
+            }
+            if (voxel_emitters) irradiance += unpack_value(voxel_emitter_irradiance[at]).rgb;
+            if (voxel_sky) irradiance += unpack_value(voxel_sky_irradiance[at]).rgb;
         }
-        if (voxel_emitters) irradiance += unpack_value(voxel_emitter_irradiance[record]).rgb;
-        if (voxel_sky) irradiance += unpack_value(voxel_sky_irradiance[record]).rgb;
+        base_out[at] = pack_value(vec4(s.emission + s.albedo / PI * irradiance, 1.0));
     }
-    base_out[record] = pack_value(vec4(s.emission + s.albedo / PI * irradiance, 1.0));
 }

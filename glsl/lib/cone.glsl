@@ -100,9 +100,16 @@ vec4 faces_at_level_zero(vec3 uvw, int level, FaceWeights f, float front_share, 
     for (int k = 0; k < 8; ++k) {
         uint record = level_record(clamp(lookup.first + corner_offset(k), ivec3(0), ivec3(voxel_grid - 1)), level);
         if (record == NO_RECORD) continue;
-        vec4 normal = unpack_value(voxel_normal[record]);  // w: its opacity
-        float seen = normal.w * seen_coverage(normal.xyz, f, front_share, backs, wide);
-        sum += trilinear_weight(lookup, k) * voxel_face(unpack_value(voxel_reflected[record]).rgb, seen);
+        // Each side seen through the faces it faces (the second where the voxel has two).
+        vec4 normal = unpack_value(voxel_normal[side_value(record, 0)]);  // w: its opacity
+        float weight = trilinear_weight(lookup, k);
+        sum += weight * voxel_face(unpack_value(voxel_reflected[side_value(record, 0)]).rgb,
+                                   abs(normal.w) * seen_coverage(normal.xyz, f, front_share, backs, wide));
+        if (sides_of(normal) > 1) {
+            vec4 back = unpack_value(voxel_normal[side_value(record, 1)]);
+            sum += weight * voxel_face(unpack_value(voxel_reflected[side_value(record, 1)]).rgb,
+                                       back.w * seen_coverage(back.xyz, f, front_share, backs, wide));
+        }
     }
     return sum;
 }

@@ -16,15 +16,17 @@
 // anchors depend on it, its neighbours and where the finer level lies only: after a
 // voxelization, gather/mark_stale_anchors.comp marks those around the voxels it touched
 // ANCHOR_STALE, and only those are found again; after a scroll, those of the scrolled levels
-// and of the next coarser ones (GatherPass.find_anchors).
+// and of the next coarser ones (GatherPass.find_anchors). A voxel whose side 1 reflects light
+// (the back of a sheet: few voxels) is an anchor and traces both sides' gathers, and a voxel
+// beneath a finer level takes both from it; interpolation from anchors is side 0's alone.
 #include "lib/voxel_surface.glsl"
 
 layout(std430, binding = SSBO_GATHER_ANCHORS) buffer GatherAnchors { uint gather_anchors[]; };
 
-// Voxels whose surface reflects no light gather nothing (a covered voxel's record, and its mean
-// normal n).
-bool reflects_light(uint record, vec3 n) {
-    vec4 albedo = unpack_value(voxel_albedo[record]);
+// Voxels whose surface reflects no light gather nothing (a covered voxel's side, side_value,
+// and its mean normal n).
+bool reflects_light(uint at, vec3 n) {  // at: a record's side (side_value)
+    vec4 albedo = unpack_value(voxel_albedo[at]);
     return albedo.a > 0.0 && any(greaterThan(albedo.rgb, vec3(0.0))) && dot(n, n) > 1e-6;
 }
 
@@ -87,4 +89,10 @@ float anchor_weight(ivec3 v, vec3 n, ivec3 u, vec3 n_u) {
     vec3 d = abs(vec3(u - v));
     float tent = (1.0 - 0.5 * d.x) * (1.0 - 0.5 * d.y) * (1.0 - 0.5 * d.z);
     return tent * facing_weight(n, n_u);
+}
+
+// Whether side 1 of a voxel (its surfaces facing opposite to most of them) reflects light.
+bool back_reflects_light(uint record) {
+    uint at = side_value(record, 1);
+    return reflects_light(at, unpack_value(voxel_normal[at]).xyz);
 }

@@ -28,6 +28,23 @@ struct VoxelSums {
     float gathered_total, visibility, surface_total;
 };
 
+// Add a side of a voxel (`at`: side_value, its mean normal n_v) at the weight `weight`, times
+// how it faces s.
+void add_side(inout VoxelSums sums, Surface s, uint at, vec3 n_v, float weight, bool want_gathered, bool want_visibility,
+              bool want_sky) {
+    vec4 g = want_gathered ? unpack_value(voxel_gathered[at]) : vec4(0.0);
+    if (g.a <= 0.0 && !want_visibility && !want_sky) return;  // none that reflects diffuse light
+    if (dot(n_v, n_v) <= 0.0) return;  // no surface
+    float facing = weight * facing_weight(s.normal, n_v);
+    if (g.a > 0.0) {
+        sums.gathered += facing * g.rgb;
+        sums.gathered_total += facing;
+    }
+    if (want_visibility) sums.visibility += facing * unpack_value(voxel_emitter_irradiance[at]).a;
+    if (want_sky) sums.sky += facing * unpack_value(voxel_sky_irradiance[at]).rgb;
+    sums.surface_total += facing;
+}
+
 // Add the 8 voxels of `level` around s.position, their weights times `share`.
 void add_level_voxels(inout VoxelSums sums, Surface s, int level, float share, bool want_gathered, bool want_visibility,
                       bool want_sky) {
@@ -35,18 +52,13 @@ void add_level_voxels(inout VoxelSums sums, Surface s, int level, float share, b
     for (int k = 0; k < 8; ++k) {
         uint record = level_record(lookup.first + corner_offset(k), level);
         if (record == NO_RECORD) continue;  // no surface
-        vec4 g = want_gathered ? unpack_value(voxel_gathered[record]) : vec4(0.0);
-        if (g.a <= 0.0 && !want_visibility && !want_sky) continue;  // none that reflects diffuse light
-        vec3 n_v = unpack_value(voxel_normal[record]).xyz;
-        if (dot(n_v, n_v) <= 0.0) continue;  // no surface
-        float weight = share * trilinear_weight(lookup, k) * facing_weight(s.normal, n_v);
-        if (g.a > 0.0) {
-            sums.gathered += weight * g.rgb;
-            sums.gathered_total += weight;
+        vec4 side_0_normal = unpack_value(voxel_normal[side_value(record, 0)]);
+        float weight = share * trilinear_weight(lookup, k);
+        add_side(sums, s, side_value(record, 0), side_0_normal.xyz, weight, want_gathered, want_visibility, want_sky);
+        if (sides_of(side_0_normal) > 1) {  // a voxel with two sides: its other one too
+            uint back = side_value(record, 1);
+            add_side(sums, s, back, unpack_value(voxel_normal[back]).xyz, weight, want_gathered, want_visibility, want_sky);
         }
-        if (want_visibility) sums.visibility += weight * unpack_value(voxel_emitter_irradiance[record]).a;
-        if (want_sky) sums.sky += weight * unpack_value(voxel_sky_irradiance[record]).rgb;
-        sums.surface_total += weight;
     }
 }
 

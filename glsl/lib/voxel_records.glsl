@@ -27,6 +27,11 @@ uint neighbour_record(ivec3 v, ivec3 u) {
     return voxel_record(u);
 }
 
+// Where a record's value of side `side` lies in an array of values (VOXEL_SIDES per record).
+uint side_value(uint record, int side) {
+    return record * uint(VOXEL_SIDES) + uint(side);
+}
+
 vec4 unpack_value(uvec2 halves) {
     return vec4(unpackHalf2x16(halves.x), unpackHalf2x16(halves.y));
 }

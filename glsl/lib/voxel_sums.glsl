@@ -6,12 +6,12 @@
 // often and in whatever order it is rebuilt.
 #include "lib/voxel_slots.glsl"
 
-layout(std430, binding = SSBO_VOXEL_SUMS) buffer VoxelSums { uint voxel_sums[]; };  // VOXEL_SUM_CHANNELS per slot
+layout(std430, binding = SSBO_VOXEL_SUMS) buffer VoxelSums { uint voxel_sums[]; };  // VOXEL_SUM_CHANNELS per slot and orientation
 layout(std430, binding = SSBO_FRONT_KEYS) buffer FrontKeys { uint front_keys[]; };  // VOXEL_FACES per slot
 uniform uint chunk_first;
 
 uint sum_room() {
-    return uint(voxel_sums.length()) / uint(VOXEL_SUM_CHANNELS);
+    return uint(voxel_sums.length()) / uint(VOXEL_SIDES * VOXEL_SUM_CHANNELS);
 }
 
 // The slot of a place on the touched list in this chunk's sums; -1 where it lies in another.
@@ -28,8 +28,10 @@ int sum_slot(ivec3 v) {
     return (word & TOUCHED_FLAG) == 0u || place == UNLISTED_PLACE ? -1 : chunk_slot(place);
 }
 
-uint sum_entry(int slot, int channel) {
-    return uint(slot) * uint(VOXEL_SUM_CHANNELS) + uint(channel);
+// A channel of the sums of the fragments of one orientation (0: the dominant component of their
+// normal positive, 1: negative); the resolve makes the orientation most of them have side 0.
+uint sum_entry(int slot, int orientation, int channel) {
+    return (uint(slot) * uint(VOXEL_SIDES) + uint(orientation)) * uint(VOXEL_SUM_CHANNELS) + uint(channel);
 }
 
 uint key_entry(int slot, int face) {

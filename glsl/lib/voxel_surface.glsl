@@ -3,7 +3,9 @@
 #include "lib/voxel_records.glsl"
 
 layout(std430, binding = SSBO_VOXEL_ALBEDO) readonly buffer VoxelAlbedo { uvec2 voxel_albedo[]; };       // rgb, a = 1
-layout(std430, binding = SSBO_VOXEL_NORMAL) readonly buffer VoxelNormal { uvec2 voxel_normal[]; };       // xyz mean normal, w: opacity (blended surfaces' mean alpha, else 1)
+// xyz mean normal, w: opacity (blended surfaces' mean alpha, else 1), negative at side 0 of a
+// voxel that has a side 1 (sides_of)
+layout(std430, binding = SSBO_VOXEL_NORMAL) readonly buffer VoxelNormal { uvec2 voxel_normal[]; };
 layout(std430, binding = SSBO_VOXEL_EMISSION) readonly buffer VoxelEmission { uvec2 voxel_emission[]; }; // rgb, a = surface offset in voxels
 
 struct VoxelSurface {
@@ -14,14 +16,29 @@ struct VoxelSurface {
 };
 
 // The surface of covered voxel v, which holds `record`.
-VoxelSurface voxel_surface(ivec3 v, uint record) {
+// Side `side` of voxel v's surfaces (a zero mean normal: no surface of that side).
+VoxelSurface voxel_surface(ivec3 v, uint record, int side) {
     VoxelSurface s;
-    vec4 emission = unpack_value(voxel_emission[record]);
-    s.albedo = unpack_value(voxel_albedo[record]).rgb;
-    s.mean_normal = unpack_value(voxel_normal[record]).xyz;
+    uint at = side_value(record, side);
+    vec4 emission = unpack_value(voxel_emission[at]);
+    s.albedo = unpack_value(voxel_albedo[at]).rgb;
+    s.mean_normal = unpack_value(voxel_normal[at]).xyz;
     s.emission = emission.rgb;
     float length_n = length(s.mean_normal);
     // Surface point = centre + n * mean(dot(p_i - centre, n_i)): the centre projected onto a plane.
     s.position = voxel_center(v) + (length_n > 0.0 ? s.mean_normal / length_n * emission.a * voxel_extent(v) : vec3(0.0));
     return s;
+}
+
+// How many sides a voxel has, from its side 0's normal (normal.w < 0: a side 1 too): loops over
+// a voxel's sides read side 1 only where it has one.
+int sides_of(vec4 side_0_normal) {
+    return side_0_normal.w < 0.0 ? 2 : 1;
+}
+
+// Where the cones a side traces itself start from: its surface point, TWO_SIDED_START voxels
+// further along its normal n in a voxel with two sides (`sides`), whose near cells hold its
+// other side's light.
+vec3 side_cone_start(VoxelSurface s, vec3 n, ivec3 v, int sides) {
+    return s.position + (sides > 1 ? TWO_SIDED_START * voxel_extent(v) : 0.0) * n;
 }

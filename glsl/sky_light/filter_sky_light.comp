@@ -27,27 +27,32 @@ void main() {
     if (!near_lit_box(voxel_center(v), float(SKY_FILTER_RADIUS + 1) * voxel_extent(v))) return;  // its neighbours and their anchors
     uint record = voxel_record(v);
     if (record == NO_RECORD) return;  // a touched voxel the voxelization emptied
-    vec3 n_v = unpack_value(voxel_normal[record]).xyz;
-    vec3 sum = vec3(0.0);
-    float total = 0.0;
-    if (dot(n_v, n_v) > 0.0) {
-        vec3 n = normalize(n_v);
-        const float reach = float(SKY_FILTER_RADIUS + 1);
-        for (int dz = -SKY_FILTER_RADIUS; dz <= SKY_FILTER_RADIUS; ++dz)
-        for (int dy = -SKY_FILTER_RADIUS; dy <= SKY_FILTER_RADIUS; ++dy)
-        for (int dx = -SKY_FILTER_RADIUS; dx <= SKY_FILTER_RADIUS; ++dx) {
-            ivec3 u = v + ivec3(dx, dy, dz);
-            uint neighbour = neighbour_record(v, u);
-            if (neighbour == NO_RECORD) continue;  // no surface
-            vec4 traced = unpack_value(sky_traced[neighbour]);
-            if (traced.a <= 0.0) continue;  // not lit by the sky: a surface that reflects nothing
-            vec3 n_u = unpack_value(voxel_normal[neighbour]).xyz;
-            if (dot(n_u, n_u) <= 0.0) continue;
-            vec3 tent = 1.0 - abs(vec3(dx, dy, dz)) / reach;
-            float weight = tent.x * tent.y * tent.z * facing_weight(n, n_u);
-            sum += weight * traced.rgb;
-            total += weight;
+    for (int side = 0; side < VOXEL_SIDES; ++side) {  // each side from its neighbours' sides that face alike
+        vec3 n_v = unpack_value(voxel_normal[side_value(record, side)]).xyz;
+        vec3 sum = vec3(0.0);
+        float total = 0.0;
+        if (dot(n_v, n_v) > 0.0) {
+            vec3 n = normalize(n_v);
+            const float reach = float(SKY_FILTER_RADIUS + 1);
+            for (int dz = -SKY_FILTER_RADIUS; dz <= SKY_FILTER_RADIUS; ++dz)
+            for (int dy = -SKY_FILTER_RADIUS; dy <= SKY_FILTER_RADIUS; ++dy)
+            for (int dx = -SKY_FILTER_RADIUS; dx <= SKY_FILTER_RADIUS; ++dx) {
+                ivec3 u = v + ivec3(dx, dy, dz);
+                uint neighbour = neighbour_record(v, u);
+                if (neighbour == NO_RECORD) continue;  // no surface
+                vec3 tent = 1.0 - abs(vec3(dx, dy, dz)) / reach;
+                for (int neighbour_side = 0; neighbour_side < VOXEL_SIDES; ++neighbour_side) {
+                    uint at = side_value(neighbour, neighbour_side);
+                    vec4 traced = unpack_value(sky_traced[at]);
+                    if (traced.a <= 0.0) continue;  // not lit by the sky: a surface that reflects nothing
+                    vec3 n_u = unpack_value(voxel_normal[at]).xyz;
+                    if (dot(n_u, n_u) <= 0.0) continue;
+                    float weight = tent.x * tent.y * tent.z * facing_weight(n, n_u);
+                    sum += weight * traced.rgb;
+                    total += weight;
+                }
+            }
         }
+        sky_irradiance_out[side_value(record, side)] = pack_value(vec4(total > 0.0 ? sum / total : vec3(0.0), total > 0.0 ? 1.0 : 0.0));
     }
-    sky_irradiance_out[record] = pack_value(vec4(total > 0.0 ? sum / total : vec3(0.0), total > 0.0 ? 1.0 : 0.0));
 }

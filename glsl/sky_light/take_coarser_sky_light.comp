@@ -21,25 +21,30 @@ void main() {
     if (!in_level_mask(lit_levels, v)) return;
     uint record = voxel_record(v);
     if (record == NO_RECORD) return;  // a touched voxel the voxelization emptied
-    VoxelSurface s = voxel_surface(v, record);
-    vec3 sum = vec3(0.0);
-    float total = 0.0;
-    if (dot(s.mean_normal, s.mean_normal) > 0.0) {
-        vec3 n = normalize(s.mean_normal);
-        int coarser = voxel_level(v) + 1;
-        TrilinearVoxels lookup = trilinear_voxels(level_uvw(s.position, coarser));
-        for (int k = 0; k < 8; ++k) {
-            uint neighbour = level_record(lookup.first + corner_offset(k), coarser);
-            if (neighbour == NO_RECORD) continue;  // no surface, or outside the coarser cube
-            vec4 coarse = unpack_value(sky_irradiance[neighbour]);
-            vec3 n_u = unpack_value(voxel_normal[neighbour]).xyz;
-            if (coarse.a <= 0.0 || dot(n_u, n_u) <= 0.0) continue;
-            float weight = trilinear_weight(lookup, k) * facing_weight(n, n_u);
-            sum += weight * coarse.rgb;
-            total += weight;
+    for (int side = 0; side < VOXEL_SIDES; ++side) {
+        VoxelSurface s = voxel_surface(v, record, side);
+        vec3 sum = vec3(0.0);
+        float total = 0.0;
+        if (dot(s.mean_normal, s.mean_normal) > 0.0) {
+            vec3 n = normalize(s.mean_normal);
+            int coarser = voxel_level(v) + 1;
+            TrilinearVoxels lookup = trilinear_voxels(level_uvw(s.position, coarser));
+            for (int k = 0; k < 8; ++k) {
+                uint neighbour = level_record(lookup.first + corner_offset(k), coarser);
+                if (neighbour == NO_RECORD) continue;  // no surface, or outside the coarser cube
+                for (int neighbour_side = 0; neighbour_side < VOXEL_SIDES; ++neighbour_side) {
+                    uint at = side_value(neighbour, neighbour_side);
+                    vec4 coarse = unpack_value(sky_irradiance[at]);
+                    vec3 n_u = unpack_value(voxel_normal[at]).xyz;
+                    if (coarse.a <= 0.0 || dot(n_u, n_u) <= 0.0) continue;
+                    float weight = trilinear_weight(lookup, k) * facing_weight(n, n_u);
+                    sum += weight * coarse.rgb;
+                    total += weight;
+                }
+            }
         }
+        uvec2 light = pack_value(total > 0.0 ? vec4(sum / total, 1.0) : vec4(0.0));
+        sky_traced_out[side_value(record, side)] = light;
+        sky_irradiance[side_value(record, side)] = light;
     }
-    uvec2 light = pack_value(total > 0.0 ? vec4(sum / total, 1.0) : vec4(0.0));
-    sky_traced_out[record] = light;
-    sky_irradiance[record] = light;
 }

@@ -48,22 +48,26 @@ void main() {
     if (!near_lit_box(voxel_center(v), 0.0)) return;
     uint record = voxel_record(v);
     if (record == NO_RECORD || (gather_anchors[record] & ANCHOR_SELF) == 0u) return;  // empty, or interpolated (GatherPass.fill)
-    VoxelSurface s = voxel_surface(v, record);
-    vec3 irradiance = vec3(0.0);
-    if (dot(s.mean_normal, s.mean_normal) > 0.0) {
-        vec3 n = normalize(s.mean_normal);
-        mat3 frame = tangent_frame(n);
-        float tan_half = tan(SKY_CONE_HALF_ANGLE);
-        vec2 jitter = cone_jitter(v);
-        float cosine_sum = 0.0;
-        for (int j = 0; j < SKY_CONE_COUNT; ++j) {
-            vec3 local = sky_cone(j, jitter);
-            vec3 w = frame * local;
-            float opacity = trace_cone(s.position, n, voxel_level(v), w, tan_half, 1e9, SKY_READING).a;
-            irradiance += local.z * (1.0 - min(opacity, 1.0)) * environment_radiance(w, SKY_CONE_HALF_ANGLE);
-            cosine_sum += local.z;
+    int sides = sides_of(unpack_value(voxel_normal[side_value(record, 0)]));
+    for (int side = 0; side < sides; ++side) {  // each side from its own surface
+        VoxelSurface s = voxel_surface(v, record, side);
+        vec3 irradiance = vec3(0.0);
+        if (dot(s.mean_normal, s.mean_normal) > 0.0) {
+            vec3 n = normalize(s.mean_normal);
+            vec3 start = side_cone_start(s, n, v, sides);
+            mat3 frame = tangent_frame(n);
+            float tan_half = tan(SKY_CONE_HALF_ANGLE);
+            vec2 jitter = cone_jitter(v);
+            float cosine_sum = 0.0;
+            for (int j = 0; j < SKY_CONE_COUNT; ++j) {
+                vec3 local = sky_cone(j, jitter);
+                vec3 w = frame * local;
+                float opacity = trace_cone(start, n, voxel_level(v), w, tan_half, 1e9, SKY_READING).a;
+                irradiance += local.z * (1.0 - min(opacity, 1.0)) * environment_radiance(w, SKY_CONE_HALF_ANGLE);
+                cosine_sum += local.z;
+            }
+            irradiance *= PI / cosine_sum;  // E = pi x the cosine-weighted mean radiance
         }
-        irradiance *= PI / cosine_sum;  // E = pi x the cosine-weighted mean radiance
+        sky_traced_out[side_value(record, side)] = pack_value(vec4(irradiance, dot(s.mean_normal, s.mean_normal) > 0.0 ? 1.0 : 0.0));
     }
-    sky_traced_out[record] = pack_value(vec4(irradiance, 1.0));
 }

@@ -19,15 +19,18 @@ layout(std430, binding = SSBO_VOXEL_TRACED_SKY_IRRADIANCE) writeonly buffer Voxe
 void main() {
     if (gl_GlobalInvocationID.x >= LISTED(new_count, newly_covered)) return;
     uint record = voxel_record(unpack_voxel(newly_covered[gl_GlobalInvocationID.x]));
-    // One store a statement: a chained assignment reads the stores' value back from the
-    // writeonly buffers, which NVIDIA's compiler refuses.
-    base_out[record] = uvec2(0u);
-    gathered_out[record] = uvec2(0u);
-    previous_gathered_out[record] = uvec2(0u);
-    reflected_out[record] = uvec2(0u);
-    if (voxel_emitters) emitter_irradiance_out[record] = uvec2(0u);
-    if (voxel_sky) {
-        traced_sky_out[record] = uvec2(0u);
-        sky_irradiance_out[record] = uvec2(0u);
+    for (int side = 0; side < VOXEL_SIDES; ++side) {
+        uint at = side_value(record, side);
+        // One store a statement: a chained assignment reads the stores' value back from the
+        // writeonly buffers, which NVIDIA's compiler refuses.
+        base_out[at] = uvec2(0u);
+        gathered_out[at] = uvec2(0u);
+        previous_gathered_out[at] = uvec2(0u);
+        reflected_out[at] = uvec2(0u);
+        if (voxel_emitters) emitter_irradiance_out[at] = uvec2(0u);
+        if (voxel_sky) {
+            traced_sky_out[at] = uvec2(0u);
+            sky_irradiance_out[at] = uvec2(0u);
+        }
     }
 }

@@ -17,7 +17,8 @@ void main() {
     vec4 sum = vec4(0.0);
     for (int k = 0; k < 8; ++k) {
         uint record = voxel_record(2 * cell + corner_offset(k));
-        if (record != NO_RECORD) sum += vec4(unpack_value(voxel_emission[record]).rgb, 1.0);
+        if (record != NO_RECORD)  // what both sides emit
+            sum += vec4(unpack_value(voxel_emission[side_value(record, 0)]).rgb + unpack_value(voxel_emission[side_value(record, 1)]).rgb, 1.0);
     }
     imageStore(cone_emission_out, cell, sum / 8.0);
 }

@@ -52,11 +52,11 @@ uint unit_fixed(float x) {  // two's complement of round(x * VOXEL_UNIT_SCALE), 
 }
 
 // Adds emission to a 64-bit sum: the low word, and its carry word when the low word wraps.
-void add_emission(int slot, int low_channel, int carry_channel, float radiance) {
+void add_emission(int slot, int orientation, int low_channel, int carry_channel, float radiance) {
     uint x = uint(clamp(radiance, 0.0, VOXEL_MAX_EMISSION) * VOXEL_EMISSION_SCALE + 0.5);
     if (x == 0u) return;
-    uint before = atomicAdd(voxel_sums[sum_entry(slot, low_channel)], x);
-    if (before + x < before) atomicAdd(voxel_sums[sum_entry(slot, carry_channel)], 1u);
+    uint before = atomicAdd(voxel_sums[sum_entry(slot, orientation, low_channel)], x);
+    if (before + x < before) atomicAdd(voxel_sums[sum_entry(slot, orientation, carry_channel)], 1u);
 }
 
 void main() {
@@ -97,22 +97,24 @@ void main() {
     }
     if (layer_key(offset + LAYER_TOLERANCE) < front_keys[key]) return;  // behind the front layer
 
-    uint earlier_fragments = atomicAdd(voxel_sums[sum_entry(slot, SUM_COUNT)], 1u);
+    // Summed apart by orientation: the sign of the dominant component of the fragment's normal.
+    int orientation = n[dominant_axis(n)] < 0.0 ? 1 : 0;
+    uint earlier_fragments = atomicAdd(voxel_sums[sum_entry(slot, orientation, SUM_COUNT)], 1u);
     if (earlier_fragments >= VOXEL_MAX_FRAGMENTS) return;  // headroom of the signed sums
     // A voxel keeps no direction, so what the specular layer reflects bounces on as a Lambertian
     // lobe: the reflectance is the layered model's hemispherical albedo (a gold sphere passes its
     // light on instead of absorbing it).
     vec3 reflectance = layered_albedo(m.albedo, m.roughness, m.metalness, m.dielectric_f0);
-    atomicAdd(voxel_sums[sum_entry(slot, SUM_ALBEDO_R)], unit_fixed(reflectance.r));
-    atomicAdd(voxel_sums[sum_entry(slot, SUM_ALBEDO_G)], unit_fixed(reflectance.g));
-    atomicAdd(voxel_sums[sum_entry(slot, SUM_ALBEDO_B)], unit_fixed(reflectance.b));
-    atomicAdd(voxel_sums[sum_entry(slot, SUM_NORMAL_X)], unit_fixed(n.x));
-    atomicAdd(voxel_sums[sum_entry(slot, SUM_NORMAL_Y)], unit_fixed(n.y));
-    atomicAdd(voxel_sums[sum_entry(slot, SUM_NORMAL_Z)], unit_fixed(n.z));
-    atomicAdd(voxel_sums[sum_entry(slot, SUM_OFFSET)], unit_fixed(offset));
+    atomicAdd(voxel_sums[sum_entry(slot, orientation, SUM_ALBEDO_R)], unit_fixed(reflectance.r));
+    atomicAdd(voxel_sums[sum_entry(slot, orientation, SUM_ALBEDO_G)], unit_fixed(reflectance.g));
+    atomicAdd(voxel_sums[sum_entry(slot, orientation, SUM_ALBEDO_B)], unit_fixed(reflectance.b));
+    atomicAdd(voxel_sums[sum_entry(slot, orientation, SUM_NORMAL_X)], unit_fixed(n.x));
+    atomicAdd(voxel_sums[sum_entry(slot, orientation, SUM_NORMAL_Y)], unit_fixed(n.y));
+    atomicAdd(voxel_sums[sum_entry(slot, orientation, SUM_NORMAL_Z)], unit_fixed(n.z));
+    atomicAdd(voxel_sums[sum_entry(slot, orientation, SUM_OFFSET)], unit_fixed(offset));
     // A blended surface covers alpha of what lies behind it; every other one all of it.
-    atomicAdd(voxel_sums[sum_entry(slot, SUM_OPACITY)], unit_fixed(m.alpha_cutoff == ALPHA_BLENDED ? m.alpha : 1.0));
-    add_emission(slot, SUM_EMISSION_R, SUM_EMISSION_CARRY_R, m.emission.r);
-    add_emission(slot, SUM_EMISSION_G, SUM_EMISSION_CARRY_G, m.emission.g);
-    add_emission(slot, SUM_EMISSION_B, SUM_EMISSION_CARRY_B, m.emission.b);
+    atomicAdd(voxel_sums[sum_entry(slot, orientation, SUM_OPACITY)], unit_fixed(m.alpha_cutoff == ALPHA_BLENDED ? m.alpha : 1.0));
+    add_emission(slot, orientation, SUM_EMISSION_R, SUM_EMISSION_CARRY_R, m.emission.r);
+    add_emission(slot, orientation, SUM_EMISSION_G, SUM_EMISSION_CARRY_G, m.emission.g);
+    add_emission(slot, orientation, SUM_EMISSION_B, SUM_EMISSION_CARRY_B, m.emission.b);
 }

@@ -4,8 +4,8 @@
 // left give their records back to the pool (engine/voxels/records.py), and the covered list
 // reads NO_VOXEL at them; then each covered voxel takes a record where it had none (the covered
 // list holds it at that record, and it is listed as newly covered), and the
-// fixed-point sums divided by the fragment count become its surface: albedo, mean normal,
-// emission with the surface offset in a. Both zero the sums and front-layer keys
+// fixed-point sums divided by the fragment count become its surfaces, a side per orientation
+// (VOXEL_SIDES): albedo, mean normal and opacity, emission with the surface offset in a. Both zero the sums and front-layer keys
 // for the next update and put back the voxel's word of the record index (its record now, or
 // none: lib/voxel_slots.glsl), so that cones see at once the surfaces it holds, and none where
 // it holds none (level 0 is the records: lib/cone.glsl). Freeing first
@@ -23,12 +23,67 @@ layout(std430, binding = SSBO_VOXEL_EMISSION) writeonly buffer VoxelEmission { u
 layout(std430, binding = SSBO_NEWLY_COVERED) buffer NewlyCovered { uint new_count; uint newly_covered[]; };
 uniform bool freeing;
 
-float unit_sum(int i, int channel) {
-    return float(int(voxel_sums[sum_entry(i, channel)]));
+float emission_sum(uint low, uint carry) {
+    return float(carry) * 4294967296.0 + float(low);
 }
 
-float emission_sum(int i, int low_channel, int carry_channel) {
-    return float(voxel_sums[sum_entry(i, carry_channel)]) * 4294967296.0 + float(voxel_sums[sum_entry(i, low_channel)]);
+// Side `side` of the voxel's record: the surface of the fragments of the orientations in
+// `orientations` (bit k: orientation k), their sums divided by their count (zero where they
+// have none).
+void resolve_side(int i, uint orientations, uint record, int side, bool two_sides) {
+    uint sums[VOXEL_SUM_CHANNELS];
+    for (int channel = 0; channel < VOXEL_SUM_CHANNELS; ++channel) {
+        sums[channel] = 0u;
+        for (int orientation = 0; orientation < VOXEL_SIDES; ++orientation)
+            if ((orientations & (1u << orientation)) != 0u) sums[channel] += voxel_sums[sum_entry(i, orientation, channel)];
+    }
+    uint at = side_value(record, side);
+    uint count = sums[SUM_COUNT];
+    if (count == 0u) {
+        albedo_out[at] = uvec2(0u);
+        normal_out[at] = uvec2(0u);
+        emission_out[at] = uvec2(0u);
+        return;
+    }
+    float samples = float(min(count, VOXEL_MAX_FRAGMENTS));
+    float to_unit = 1.0 / (samples * VOXEL_UNIT_SCALE);
+    vec3 albedo = vec3(float(int(sums[SUM_ALBEDO_R])), float(int(sums[SUM_ALBEDO_G])), float(int(sums[SUM_ALBEDO_B]))) * to_unit;
+    vec3 normal = vec3(float(int(sums[SUM_NORMAL_X])), float(int(sums[SUM_NORMAL_Y])), float(int(sums[SUM_NORMAL_Z]))) * to_unit;
+    float offset = float(int(sums[SUM_OFFSET])) * to_unit;
+    // The mean opacity of its surfaces: exactly 1 where all of them are opaque.
+    float opacity = sums[SUM_OPACITY] == uint(samples * VOXEL_UNIT_SCALE) ? 1.0 : float(sums[SUM_OPACITY]) * to_unit;
+    vec3 emission = vec3(emission_sum(sums[SUM_EMISSION_R], sums[SUM_EMISSION_CARRY_R]),
+                         emission_sum(sums[SUM_EMISSION_G], sums[SUM_EMISSION_CARRY_G]),
+                         emission_sum(sums[SUM_EMISSION_B], sums[SUM_EMISSION_CARRY_B])) / (samples * VOXEL_EMISSION_SCALE);
+    // The mean normal keeps its length (|mean of unit normals| < 1: spread normals). The
+    // surface point c + n t along the normalized mean normal n has mean(dot(p_i - c - n t,
+    // n_i)) = 0, so t = mean(offset_i) / |mean normal|, within the voxel.
+    float coherence = length(normal);
+    float surface_offset = coherence > 0.0 ? clamp(offset / coherence, -0.87, 0.87) : 0.0;
+    albedo_out[at] = pack_value(vec4(albedo, 1.0));
+    normal_out[at] = pack_value(vec4(normal, two_sides ? -opacity : opacity));
+    emission_out[at] = pack_value(vec4(emission, surface_offset));
+}
+
+// The sum of the unit normals of the fragments of one orientation (xyz, fixed point) and of
+// their offsets along them (w).
+vec4 orientation_sums(int i, int orientation) {
+    return vec4(float(int(voxel_sums[sum_entry(i, orientation, SUM_NORMAL_X)])), float(int(voxel_sums[sum_entry(i, orientation, SUM_NORMAL_Y)])),
+                float(int(voxel_sums[sum_entry(i, orientation, SUM_NORMAL_Z)])), float(int(voxel_sums[sum_entry(i, orientation, SUM_OFFSET)])));
+}
+
+// Whether the surfaces of the two orientations face apart with room between them: their mean
+// normals opposed (cos < -SIDES_APART) and the plane of orientation 0 in front of the plane of
+// orientation 1 along its normal by more than SIDES_GAP voxels (a sheet's two faces, a thin
+// slab). Surfaces that touch (a box standing on a floor: the floor under it and its bottom)
+// are one side, as what lies between them is closed.
+bool sides_apart(vec4 a, vec4 b) {
+    float length_a = length(a.xyz), length_b = length(b.xyz);
+    if (length_a <= 0.0 || length_b <= 0.0 || dot(a.xyz, b.xyz) >= -SIDES_APART * length_a * length_b) return false;
+    vec3 n_a = a.xyz / length_a, n_b = b.xyz / length_b;
+    // Each plane at centre + n t, t = sum of offsets / |sum of normals| (as resolve_side places it).
+    float gap = a.w / length_a - b.w / length_b * dot(n_b, n_a);
+    return gap > SIDES_GAP;
 }
 
 void main() {
@@ -37,7 +92,8 @@ void main() {
     int i = chunk_slot(place);
     if (i < 0) return;  // resolved with its own chunk
     ivec3 v = unpack_voxel(touched[place]);
-    uint count = voxel_sums[sum_entry(i, SUM_COUNT)];
+    uint counts[2] = uint[2](voxel_sums[sum_entry(i, 0, SUM_COUNT)], voxel_sums[sum_entry(i, 1, SUM_COUNT)]);
+    uint count = counts[0] + counts[1];
     if ((count == 0u) != freeing) return;  // resolved in the other dispatch
     uint record = touched_records[place] - 1u;  // NO_RECORD where the voxel was empty
     if (count == 0u) {  // every surface left this voxel
@@ -58,29 +114,18 @@ void main() {
                 atomicAdd(short_count, 1u);
             }
         }
-        float samples = float(min(count, VOXEL_MAX_FRAGMENTS));
-        float to_unit = 1.0 / (samples * VOXEL_UNIT_SCALE);
-        vec3 albedo = vec3(unit_sum(i, SUM_ALBEDO_R), unit_sum(i, SUM_ALBEDO_G), unit_sum(i, SUM_ALBEDO_B)) * to_unit;
-        vec3 normal = vec3(unit_sum(i, SUM_NORMAL_X), unit_sum(i, SUM_NORMAL_Y), unit_sum(i, SUM_NORMAL_Z)) * to_unit;
-        float offset = unit_sum(i, SUM_OFFSET) * to_unit;
-        // The mean opacity of its surfaces: exactly 1 where all of them are opaque.
-        uint opacity_sum = voxel_sums[sum_entry(i, SUM_OPACITY)];
-        float opacity = opacity_sum == uint(samples * VOXEL_UNIT_SCALE) ? 1.0 : float(opacity_sum) * to_unit;
-        vec3 emission = vec3(emission_sum(i, SUM_EMISSION_R, SUM_EMISSION_CARRY_R),
-                             emission_sum(i, SUM_EMISSION_G, SUM_EMISSION_CARRY_G),
-                             emission_sum(i, SUM_EMISSION_B, SUM_EMISSION_CARRY_B)) / (samples * VOXEL_EMISSION_SCALE);
-        // The mean normal keeps its length (|mean of unit normals| < 1: spread normals). The
-        // surface point c + n t along the normalized mean normal n has mean(dot(p_i - c - n t,
-        // n_i)) = 0, so t = mean(offset_i) / |mean normal|, within the voxel.
-        float coherence = length(normal);
-        float surface_offset = coherence > 0.0 ? clamp(offset / coherence, -0.87, 0.87) : 0.0;
         if (record != NO_RECORD) {
-            albedo_out[record] = pack_value(vec4(albedo, 1.0));
-            normal_out[record] = pack_value(vec4(normal, opacity));
-            emission_out[record] = pack_value(vec4(emission, surface_offset));
+            // Two sides where the orientations' surfaces face apart (sides_apart), side 0 the
+            // orientation most fragments have (the positive on a tie); one side, both
+            // orientations together, where they do not (an edge where a floor meets a wall).
+            bool apart = counts[0] > 0u && counts[1] > 0u && sides_apart(orientation_sums(i, 0), orientation_sums(i, 1));
+            int first = counts[1] > counts[0] ? 1 : 0;
+            resolve_side(i, apart ? 1u << first : 3u, record, 0, apart);
+            resolve_side(i, apart ? 1u << (1 - first) : 0u, record, 1, false);
         }
     }
-    for (int channel = 0; channel < VOXEL_SUM_CHANNELS; ++channel) voxel_sums[sum_entry(i, channel)] = 0u;
+    for (int orientation = 0; orientation < VOXEL_SIDES; ++orientation)
+        for (int channel = 0; channel < VOXEL_SUM_CHANNELS; ++channel) voxel_sums[sum_entry(i, orientation, channel)] = 0u;
     voxel_records[voxel_index(v)] = record + 1u;  // its record, no longer flagged (0: none)
     for (int f = 0; f < VOXEL_FACES; ++f) front_keys[key_entry(i, f)] = 0u;
 }
