@@ -87,10 +87,11 @@ def test_a_thin_panel_seen_from_behind_is_lit_by_its_own_cones_like_the_path_tra
     """A double-sided panel whose voxels face the light, seen from its other side, which only
     reflected light reaches: no voxel faces those pixels, so their diffuse cones are traced at
     every other pixel in x and y and shared with the pixels between. The image is within 7 %
-    of the path tracer (measured 0.057 at 128^3); the back side receives no direct light and
-    reads 8 % bright (measured 1.076: cones that start beside a one-voxel sheet lit on its other
-    side read some of that light, docs/ACCURACY.md); a back side without its indirect light, or
-    lit as if it faced the light, fails."""
+    of the path tracer (measured 0.052 at 128^3); the back side receives no direct light and
+    reads 6 % dark (measured 0.938: its voxels hold the double-sided panel's two sides, the
+    back one lit, gathering and seen on its own; with one side 1.076, its cones reading some of
+    the front's light); a back side without its indirect light, or lit as if it faced the
+    light, fails."""
     scene = engine.load_scene(REFERENCES / "thin_panel.json")
     with engine.Renderer(256, 256) as r:
         direct = r.render(scene, mode="direct")

@@ -68,7 +68,7 @@ TWO_SIDED_START: GLSL_FLOAT = 4.0
 # on overflow.
 VOXEL_SUM_CHANNELS = ("COUNT", "ALBEDO_R", "ALBEDO_G", "ALBEDO_B", "NORMAL_X", "NORMAL_Y", "NORMAL_Z", "OFFSET",
                       "EMISSION_R", "EMISSION_G", "EMISSION_B", "EMISSION_CARRY_R", "EMISSION_CARRY_G",
-                      "EMISSION_CARRY_B", "OPACITY")
+                      "EMISSION_CARRY_B", "OPACITY", "DOUBLE_SIDED")
 
 # Shader storage buffer bindings.
 STORAGE_BINDING = {
@@ -181,9 +181,9 @@ GLSL_STRUCTS = {
     # (a); emission (rgb) and alpha cut-off (a, negative: opaque); roughness, metalness,
     # dielectric F0 and normal scale; per map (MAP_*) its texture (array << 16 | layer; -1:
     # none), its texture coordinate set, and its coordinate transform as two rows (a, b, c, 0),
-    # (d, e, f, 0): (u, v) -> (a u + b v + c, d u + e v + f).
+    # (d, e, f, 0): (u, v) -> (a u + b v + c, d u + e v + f); whether it is double-sided (sides.x).
     "MaterialRecord": (("vec4", "albedo_alpha"), ("vec4", "emission_cutoff"), ("vec4", "surface"), ("ivec4", "maps"),
-                       ("ivec4", "uv_sets"), ("vec4", "uv_rows", 8)),
+                       ("ivec4", "uv_sets"), ("vec4", "uv_rows", 8), ("uvec4", "sides")),
     # A cluster of a mesh's triangles: its bounds in the mesh's frame (xyz of lo, hi) and its
     # indices: first index and count in the shared index buffer, the mesh's base vertex.
     "Cluster": (("vec4", "lo"), ("vec4", "hi"), ("uvec4", "indices")),

@@ -466,6 +466,7 @@ def material_record(material, textures, record):
     cutoff = {"OPAQUE": ALPHA_OPAQUE, "MASK": material.alpha_cutoff, "BLEND": ALPHA_BLENDED}[material.alpha_mode]
     record["emission_cutoff"] = (*material.emission, cutoff)
     record["surface"] = (material.roughness, material.metalness, material.specular, material.normal_scale)
+    record["sides"][0] = int(material.double_sided)
     for field in TEXTURE_FIELDS:
         map_index = SHADER_ENUMS["MAP"][field.removesuffix("_texture").replace("metallic_roughness", "metal_rough")]
         record["maps"][map_index] = textures.slot(getattr(material, field))

@@ -59,6 +59,39 @@ void add_emission(int slot, int orientation, int low_channel, int carry_channel,
     if (before + x < before) atomicAdd(voxel_sums[sum_entry(slot, orientation, carry_channel)], 1u);
 }
 
+// A fragment of normal n and offset `offset` along it into voxel slot `slot`: its front-layer
+// key (VOXELIZE_FRONT), then, where it lies in the front layer of its facing, its sums.
+void add_fragment(int slot, vec3 n, float offset, MaterialSample m, vec3 emission, bool double_sided) {
+    uint key = key_entry(slot, facing_face(n));
+    if (stage == VOXELIZE_FRONT) {
+        atomicMax(front_keys[key], layer_key(offset));
+        return;
+    }
+    if (layer_key(offset + LAYER_TOLERANCE) < front_keys[key]) return;  // behind the front layer
+
+    // Summed apart by orientation: the sign of the dominant component of the fragment's normal.
+    int orientation = n[dominant_axis(n)] < 0.0 ? 1 : 0;
+    uint earlier_fragments = atomicAdd(voxel_sums[sum_entry(slot, orientation, SUM_COUNT)], 1u);
+    if (earlier_fragments >= VOXEL_MAX_FRAGMENTS) return;  // headroom of the signed sums
+    // A voxel keeps no direction, so what the specular layer reflects bounces on as a Lambertian
+    // lobe: the reflectance is the layered model's hemispherical albedo (a gold sphere passes its
+    // light on instead of absorbing it).
+    vec3 reflectance = layered_albedo(m.albedo, m.roughness, m.metalness, m.dielectric_f0);
+    atomicAdd(voxel_sums[sum_entry(slot, orientation, SUM_ALBEDO_R)], unit_fixed(reflectance.r));
+    atomicAdd(voxel_sums[sum_entry(slot, orientation, SUM_ALBEDO_G)], unit_fixed(reflectance.g));
+    atomicAdd(voxel_sums[sum_entry(slot, orientation, SUM_ALBEDO_B)], unit_fixed(reflectance.b));
+    atomicAdd(voxel_sums[sum_entry(slot, orientation, SUM_NORMAL_X)], unit_fixed(n.x));
+    atomicAdd(voxel_sums[sum_entry(slot, orientation, SUM_NORMAL_Y)], unit_fixed(n.y));
+    atomicAdd(voxel_sums[sum_entry(slot, orientation, SUM_NORMAL_Z)], unit_fixed(n.z));
+    atomicAdd(voxel_sums[sum_entry(slot, orientation, SUM_OFFSET)], unit_fixed(offset));
+    // A blended surface covers alpha of what lies behind it; every other one all of it.
+    atomicAdd(voxel_sums[sum_entry(slot, orientation, SUM_OPACITY)], unit_fixed(m.alpha_cutoff == ALPHA_BLENDED ? m.alpha : 1.0));
+    add_emission(slot, orientation, SUM_EMISSION_R, SUM_EMISSION_CARRY_R, emission.r);
+    add_emission(slot, orientation, SUM_EMISSION_G, SUM_EMISSION_CARRY_G, emission.g);
+    add_emission(slot, orientation, SUM_EMISSION_B, SUM_EMISSION_CARRY_B, emission.b);
+    if (double_sided) atomicAdd(voxel_sums[sum_entry(slot, orientation, SUM_DOUBLE_SIDED)], 1u);
+}
+
 void main() {
     // Marking needs the material only where it cuts out (uniform control flow: the derivatives
     // of the lookups before any discard still have their neighbours).
@@ -90,31 +123,9 @@ void main() {
     if (slot < 0) discard;
     vec3 n = normalize(gs_normal);
     float offset = dot(gs_position - voxel_center(voxel), n) / voxel_extent(voxel);  // in [-0.87, 0.87]
-    uint key = key_entry(slot, facing_face(n));
-    if (stage == VOXELIZE_FRONT) {
-        atomicMax(front_keys[key], layer_key(offset));
-        return;
-    }
-    if (layer_key(offset + LAYER_TOLERANCE) < front_keys[key]) return;  // behind the front layer
-
-    // Summed apart by orientation: the sign of the dominant component of the fragment's normal.
-    int orientation = n[dominant_axis(n)] < 0.0 ? 1 : 0;
-    uint earlier_fragments = atomicAdd(voxel_sums[sum_entry(slot, orientation, SUM_COUNT)], 1u);
-    if (earlier_fragments >= VOXEL_MAX_FRAGMENTS) return;  // headroom of the signed sums
-    // A voxel keeps no direction, so what the specular layer reflects bounces on as a Lambertian
-    // lobe: the reflectance is the layered model's hemispherical albedo (a gold sphere passes its
-    // light on instead of absorbing it).
-    vec3 reflectance = layered_albedo(m.albedo, m.roughness, m.metalness, m.dielectric_f0);
-    atomicAdd(voxel_sums[sum_entry(slot, orientation, SUM_ALBEDO_R)], unit_fixed(reflectance.r));
-    atomicAdd(voxel_sums[sum_entry(slot, orientation, SUM_ALBEDO_G)], unit_fixed(reflectance.g));
-    atomicAdd(voxel_sums[sum_entry(slot, orientation, SUM_ALBEDO_B)], unit_fixed(reflectance.b));
-    atomicAdd(voxel_sums[sum_entry(slot, orientation, SUM_NORMAL_X)], unit_fixed(n.x));
-    atomicAdd(voxel_sums[sum_entry(slot, orientation, SUM_NORMAL_Y)], unit_fixed(n.y));
-    atomicAdd(voxel_sums[sum_entry(slot, orientation, SUM_NORMAL_Z)], unit_fixed(n.z));
-    atomicAdd(voxel_sums[sum_entry(slot, orientation, SUM_OFFSET)], unit_fixed(offset));
-    // A blended surface covers alpha of what lies behind it; every other one all of it.
-    atomicAdd(voxel_sums[sum_entry(slot, orientation, SUM_OPACITY)], unit_fixed(m.alpha_cutoff == ALPHA_BLENDED ? m.alpha : 1.0));
-    add_emission(slot, orientation, SUM_EMISSION_R, SUM_EMISSION_CARRY_R, m.emission.r);
-    add_emission(slot, orientation, SUM_EMISSION_G, SUM_EMISSION_CARRY_G, m.emission.g);
-    add_emission(slot, orientation, SUM_EMISSION_B, SUM_EMISSION_CARRY_B, m.emission.b);
+    // A double-sided material's surface is seen from both sides: its fragment adds its back,
+    // facing the other way, as a surface of its own (which does not emit).
+    bool double_sided = gs_material != NO_MATERIAL && materials[gs_material].sides.x != 0u;
+    add_fragment(slot, n, offset, m, m.emission, double_sided);
+    if (double_sided) add_fragment(slot, -n, -offset, m, vec3(0.0), true);
 }

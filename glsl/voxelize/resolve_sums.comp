@@ -72,18 +72,19 @@ vec4 orientation_sums(int i, int orientation) {
                 float(int(voxel_sums[sum_entry(i, orientation, SUM_NORMAL_Z)])), float(int(voxel_sums[sum_entry(i, orientation, SUM_OFFSET)])));
 }
 
-// Whether the surfaces of the two orientations face apart with room between them: their mean
-// normals opposed (cos < -SIDES_APART) and the plane of orientation 0 in front of the plane of
-// orientation 1 along its normal by more than SIDES_GAP voxels (a sheet's two faces, a thin
-// slab). Surfaces that touch (a box standing on a floor: the floor under it and its bottom)
-// are one side, as what lies between them is closed.
-bool sides_apart(vec4 a, vec4 b) {
+// Whether the surfaces of the two orientations face apart: their mean normals opposed (cos <
+// -SIDES_APART), and either the plane of orientation 0 in front of the plane of orientation 1
+// along its normal by more than SIDES_GAP voxels (a sheet's two faces, a thin slab) or most of
+// both from double-sided materials (a leaf, a banner: one surface seen from both sides).
+// Other surfaces that touch (a box standing on a floor: the floor under it and its bottom) are
+// one side, as what lies between them is closed.
+bool sides_apart(vec4 a, vec4 b, bool double_sided) {
     float length_a = length(a.xyz), length_b = length(b.xyz);
     if (length_a <= 0.0 || length_b <= 0.0 || dot(a.xyz, b.xyz) >= -SIDES_APART * length_a * length_b) return false;
     vec3 n_a = a.xyz / length_a, n_b = b.xyz / length_b;
     // Each plane at centre + n t, t = sum of offsets / |sum of normals| (as resolve_side places it).
     float gap = a.w / length_a - b.w / length_b * dot(n_b, n_a);
-    return gap > SIDES_GAP;
+    return gap > SIDES_GAP || double_sided;
 }
 
 void main() {
@@ -118,7 +119,10 @@ void main() {
             // Two sides where the orientations' surfaces face apart (sides_apart), side 0 the
             // orientation most fragments have (the positive on a tie); one side, both
             // orientations together, where they do not (an edge where a floor meets a wall).
-            bool apart = counts[0] > 0u && counts[1] > 0u && sides_apart(orientation_sums(i, 0), orientation_sums(i, 1));
+            bool double_sided = 2u * voxel_sums[sum_entry(i, 0, SUM_DOUBLE_SIDED)] >= counts[0]
+                                && 2u * voxel_sums[sum_entry(i, 1, SUM_DOUBLE_SIDED)] >= counts[1];
+            bool apart = counts[0] > 0u && counts[1] > 0u
+                         && sides_apart(orientation_sums(i, 0), orientation_sums(i, 1), double_sided);
             int first = counts[1] > counts[0] ? 1 : 0;
             resolve_side(i, apart ? 1u << first : 3u, record, 0, apart);
             resolve_side(i, apart ? 1u << (1 - first) : 0u, record, 1, false);
