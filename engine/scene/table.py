@@ -399,7 +399,10 @@ class SceneTable:
     def _repose(self, subtree, edited_rows):
         """The posed draws whose pose changed: those whose joints lie in `subtree` (rows whose
         world matrices were just updated) and those of the edited rows (their weights)."""
-        candidates = {draw for row in subtree.tolist() for draw in self.posed_by_row.get(row, ())}
+        if not self.poses:  # a scene without skins or morph targets: nothing to look at
+            return np.zeros(0, np.int64)
+        joint_rows = np.fromiter(self.posed_by_row, np.int64, len(self.posed_by_row))
+        candidates = {draw for row in joint_rows[np.isin(joint_rows, subtree)].tolist() for draw in self.posed_by_row[row]}
         for row in np.asarray(edited_rows).tolist():
             draw = int(self.draw_of_row[row])
             if draw in self.poses:
