@@ -23,7 +23,7 @@ TEXTURE_UNIT = {
     "GBUF_EMISSION": 3,
     "SHADOW_ATLAS": 4,
     "BLEND_SUMS": 5,        # blended surfaces' weighted sums (rgb: sum w a C, a: sum w a; transparent/)
-    "BLEND_REVEALAGE": 6,   # the share of the opaque image they let through, prod (1 - a)
+    "BLEND_COVERAGE": 6,    # the share of the opaque image they cover, 1 - prod (1 - a)
     "VOXEL_FACES": 11,      # the face views cones read (+x, -x, +y, -y, +z, -z) from mip level 1 up, stacked along z
     "HDR_INPUT": 12,
     "DIRECT_LIGHT": 13,

@@ -18,7 +18,7 @@ from .cull import DrawList, view_records
 from .gbuffer import GBufferPass, face_culling
 from .target import ScreenTarget
 
-GL_ZERO, GL_ONE, GL_ONE_MINUS_SRC_COLOR = 0, 1, 0x0301
+GL_ONE, GL_ONE_MINUS_SRC_COLOR = 1, 0x0301
 DRAW_READS = ("UBO_CAMERA", "SSBO_DRAWS", "SSBO_MATERIALS", "TEX_MATERIAL_TEXTURES", "UBO_LIGHTS", "UBO_SHADOW_VIEWS",
               "TEX_SHADOW_ATLAS")
 VOXEL_READS = (*VoxelGrid.CONE_READS, "TEX_VOXEL_CONE_EMISSION", "SSBO_VOXEL_GATHERED", "SSBO_VOXEL_SKY_IRRADIANCE",
@@ -30,10 +30,10 @@ class TransparentPass:
         self.ctx, self.library, self.cull = ctx, programs, cull
         self.programs = {}  # (voxels, sky) -> the blended surfaces' program, made on first use
         self.composite = programs.program(vertex_shader="lib/fullscreen.vert", fragment_shader="transparent/composite.frag",
-                                          reads=("TEX_HDR_INPUT", "TEX_BLEND_SUMS", "TEX_BLEND_REVEALAGE"))
+                                          reads=("TEX_HDR_INPUT", "TEX_BLEND_SUMS", "TEX_BLEND_COVERAGE"))
         # A bucket per face culling (GBufferPass.CULLING); past them, the draws that do not blend.
         self.draw_list = DrawList(ctx, self.bucket_of, len(GBufferPass.CULLING) + 1)
-        self.sums = self.revealage = self.framebuffer = None
+        self.sums = self.coverage = self.framebuffer = None
         self.target = ScreenTarget(ctx, size)
         self.resize(size, None)
 
@@ -44,11 +44,11 @@ class TransparentPass:
     def resize(self, size, gbuffer):
         """Targets of `size`, depth-tested against `gbuffer` (made where it is given)."""
         self.target.resize(size)
-        for resource in (self.framebuffer, self.sums, self.revealage):
+        for resource in (self.framebuffer, self.sums, self.coverage):
             if resource is not None:
                 resource.release()
         self.sums = self.ctx.texture(size, 4, dtype="f4")
-        self.revealage = self.ctx.texture(size, 1, dtype="f2")
+        self.coverage = self.ctx.texture(size, 1, dtype="f2")
         self.framebuffer = None
         self.depth_of = None
         if gbuffer is not None:
@@ -58,7 +58,7 @@ class TransparentPass:
         if self.depth_of is not gbuffer.depth:
             if self.framebuffer is not None:
                 self.framebuffer.release()
-            self.framebuffer = self.ctx.framebuffer(color_attachments=[self.sums, self.revealage],
+            self.framebuffer = self.ctx.framebuffer(color_attachments=[self.sums, self.coverage],
                                                     depth_attachment=gbuffer.depth)
             self.depth_of = gbuffer.depth
         return self.framebuffer
@@ -97,14 +97,13 @@ class TransparentPass:
         framebuffer = self._framebuffer(gbuffer)
         framebuffer.use()
         self.ctx.viewport = (0, 0, *self.target.size)
-        self.sums.write(bytes(self.sums.width * self.sums.height * 16))
+        framebuffer.depth_mask = False  # the G-buffer's depth is read, neither cleared nor written
+        framebuffer.clear(0.0, 0.0, 0.0, 0.0)
         self.ctx.enable_only(self.ctx.DEPTH_TEST | self.ctx.BLEND)
         self.ctx.depth_func = "<"
-        framebuffer.depth_mask = False
         gl = gl_functions(self.ctx)
         gl.glBlendFunci(0, GL_ONE, GL_ONE)                      # sums += w a (C, 1)
-        gl.glBlendFunci(1, GL_ZERO, GL_ONE_MINUS_SRC_COLOR)     # revealage *= 1 - a
-        self.revealage.write(np.ones(self.revealage.width * self.revealage.height, "f2").tobytes())
+        gl.glBlendFunci(1, GL_ONE, GL_ONE_MINUS_SRC_COLOR)      # coverage = a + coverage (1 - a) = 1 - prod (1 - a)
         try:
             for bucket, culling in enumerate(GBufferPass.CULLING):
                 if culling != "none":
@@ -119,11 +118,11 @@ class TransparentPass:
             self.ctx.blend_func = self.ctx.SRC_ALPHA, self.ctx.ONE_MINUS_SRC_ALPHA
             self.ctx.disable(self.ctx.BLEND | self.ctx.DEPTH_TEST)
         self.target.draw(self.composite, {"TEX_HDR_INPUT": opaque.texture, "TEX_BLEND_SUMS": self.sums,
-                                          "TEX_BLEND_REVEALAGE": self.revealage})
+                                          "TEX_BLEND_COVERAGE": self.coverage})
         return self.target
 
     def release(self):
         for resource in (*self.programs.values(), self.composite, self.draw_list, self.target, self.framebuffer, self.sums,
-                         self.revealage):
+                         self.coverage):
             if resource is not None:
                 resource.release()

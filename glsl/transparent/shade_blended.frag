@@ -4,8 +4,9 @@
 // (emission, the lights' direct light through their shadow maps and, where the frame has
 // voxels, the diffuse light they gathered, the sky's light through them and a specular cone)
 // is added to the sums with its coverage a and a weight w falling with its distance z:
-//   sums += w a (C, 1),  revealage *= 1 - a,  w = clamp(10 / (1e-5 + (z/5)^2 + (z/200)^6), 1e-2, 3e3)
-// (their equation 9); transparent/composite.frag divides them out. The G-buffer's depth hides
+//   sums += w a (C, 1),  w = clamp(10 / (1e-5 + (z/5)^2 + (z/200)^6), 1e-2, 3e3)  (their equation 9),
+//   coverage = a + coverage (1 - a)  (1 - the revealage prod (1 - a): both targets start at zero);
+// transparent/composite.frag divides them out. The G-buffer's depth hides
 // what lies behind the opaque surfaces.
 #include "lib/material.glsl"
 #include "lib/lights.glsl"
@@ -33,7 +34,7 @@ uniform bool include_direct;
 uniform bool include_diffuse;
 uniform bool include_specular;
 layout(location = 0) out vec4 out_sums;
-layout(location = 1) out vec4 out_revealage;
+layout(location = 1) out vec4 out_coverage;
 
 void main() {
     MapCoordinates coordinates = MapCoordinates(map_coordinates01, map_coordinates23);
@@ -62,5 +63,5 @@ void main() {
     float z = distance(camera.position.xyz, s.position);
     float w = a * clamp(10.0 / (1e-5 + pow(z / 5.0, 2.0) + pow(z / 200.0, 6.0)), 1e-2, 3e3);
     out_sums = w * vec4(radiance, 1.0);
-    out_revealage = vec4(a);
+    out_coverage = vec4(a);
 }
