@@ -2,6 +2,8 @@
 roughness, albedo + metalness and emission + dielectric F0 targets (material factors times
 textures), with a depth buffer; back faces of single-sided materials are culled. Returns the
 GBuffer the screen passes read."""
+from contextlib import contextmanager
+
 import numpy as np
 
 from ..core.constants import DRAW_TEST_FRUSTUM, HDR_FORMAT
@@ -32,6 +34,21 @@ class GBuffer:
     def release(self):
         for resource in [self.framebuffer, self.depth, *self.textures]:
             resource.release()
+
+
+@contextmanager
+def culling_faces(ctx, culling):
+    """Draws inside cull faces as `culling` (one of GBufferPass.CULLING) says: none, or the
+    back faces with "ccw" or "cw" in front; the default state (no culling, ccw) after."""
+    if culling != "none":
+        ctx.front_face = culling
+        ctx.enable(ctx.CULL_FACE)
+    try:
+        yield
+    finally:
+        if culling != "none":
+            ctx.disable(ctx.CULL_FACE)
+            ctx.front_face = "ccw"
 
 
 def face_culling(flags):
@@ -92,14 +109,8 @@ class GBufferPass:
         for bucket, (mapped, extras, culling) in enumerate(self.buckets):
             if not self.draw_list.bucket_ranges[bucket][1]:
                 continue
-            program = self.programs[mapped, extras]
-            if culling != "none":
-                self.ctx.front_face = culling
-                self.ctx.enable(self.ctx.CULL_FACE)
-            self.draw_list.draw(bucket, program, buffers, resources)
-            if culling != "none":
-                self.ctx.disable(self.ctx.CULL_FACE)
-                self.ctx.front_face = "ccw"
+            with culling_faces(self.ctx, culling):
+                self.draw_list.draw(bucket, self.programs[mapped, extras], buffers, resources)
         return gbuffer
 
     def release(self):

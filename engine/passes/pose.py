@@ -13,6 +13,7 @@ import math
 import numpy as np
 
 from ..core.constants import LIST_GROUP, struct_dtype
+from .cull import buffer_holding
 
 INFLUENCE_DTYPE = struct_dtype("PoseInfluence")
 
@@ -49,8 +50,10 @@ class PosePass:
         poses = [table.pose(draw) for draw in draws]
         matrices = [pose.matrices for pose in poses if pose.matrices is not None]
         weights = [pose.weights for pose in poses if pose.weights is not None]
-        self.matrices = _holding(self.ctx, self.matrices, np.concatenate(matrices).transpose(0, 2, 1) if matrices else None)
-        self.weights = _holding(self.ctx, self.weights, np.concatenate(weights) if weights else None)
+        if matrices:
+            self.matrices = buffer_holding(self.ctx, self.matrices, np.concatenate(matrices).transpose(0, 2, 1).astype("f4"), keep=True)
+        if weights:
+            self.weights = buffer_holding(self.ctx, self.weights, np.concatenate(weights).astype("f4"), keep=True)
         first_matrix = first_weight = 0
         for draw, pose in zip(draws, poses):
             mesh = table.meshes[table.draw_mesh[draw]]
@@ -101,14 +104,3 @@ class PosePass:
         self.matrices.release()
         self.weights.release()
 
-
-def _holding(ctx, buffer, array):
-    """`buffer`, or a larger one in its place, holding `array` (float32) from its start."""
-    if array is None:
-        return buffer
-    data = np.ascontiguousarray(array, np.float32).tobytes()
-    if buffer.size < len(data):
-        buffer.release()
-        buffer = ctx.buffer(reserve=2 * len(data))
-    buffer.write(data)
-    return buffer

@@ -15,7 +15,7 @@ from ..gpu.functions import gl_functions
 from ..gpu.scene_buffers import DRAW_FLAGS
 from ..voxels.grid import VoxelGrid
 from .cull import DrawList, view_records
-from .gbuffer import GBufferPass, face_culling
+from .gbuffer import GBufferPass, culling_faces, face_culling
 from .target import ScreenTarget
 
 GL_ONE, GL_ONE_MINUS_SRC_COLOR = 1, 0x0301
@@ -106,13 +106,8 @@ class TransparentPass:
         gl.glBlendFunci(1, GL_ONE, GL_ONE_MINUS_SRC_COLOR)      # coverage = a + coverage (1 - a) = 1 - prod (1 - a)
         try:
             for bucket, culling in enumerate(GBufferPass.CULLING):
-                if culling != "none":
-                    self.ctx.front_face = culling
-                    self.ctx.enable(self.ctx.CULL_FACE)
-                self.draw_list.draw(bucket, program, buffers, resources)
-                if culling != "none":
-                    self.ctx.disable(self.ctx.CULL_FACE)
-                    self.ctx.front_face = "ccw"
+                with culling_faces(self.ctx, culling):
+                    self.draw_list.draw(bucket, program, buffers, resources)
         finally:
             framebuffer.depth_mask = True
             self.ctx.blend_func = self.ctx.SRC_ALPHA, self.ctx.ONE_MINUS_SRC_ALPHA
