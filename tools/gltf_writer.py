@@ -1,5 +1,5 @@
 """A small glTF 2.0 (GLB) writer for the tools that make the project's test models
-(make_textured_box.py, make_gltf_room.py): arrays into one binary buffer, PNG images embedded."""
+(make_textured_box.py, make_gltf_room.py, make_leaf_screen.py): arrays into one binary buffer, PNG images embedded."""
 import io
 import json
 import struct
@@ -71,3 +71,20 @@ class Gltf:
         blob = bytes(self.blob) + b"\0" * (-len(self.blob) % 4)
         chunks = struct.pack("<II", len(text), 0x4E4F534A) + text + struct.pack("<II", len(blob), 0x004E4942) + blob
         return struct.pack("<4sII", b"glTF", 2, 12 + len(chunks)) + chunks
+
+
+def unit_quad():
+    """(positions, normals, texcoords, indices) of a unit square in the xy plane facing +z, its
+    image's top at +y and left at -x (glTF texture coordinates: (0, 0) the image's top-left)."""
+    positions = np.array([[-0.5, 0.5, 0], [-0.5, -0.5, 0], [0.5, -0.5, 0], [0.5, 0.5, 0]], float)
+    texcoords = np.array([[0, 0], [0, 1], [1, 1], [1, 0]], float)
+    return positions, np.tile([0.0, 0.0, 1.0], (4, 1)), texcoords, np.array([0, 1, 2, 0, 2, 3])
+
+
+def write_models(models):
+    """Write each (path, GLB bytes) of `models`, making the folders, and say so."""
+    for path, data in models:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        path.write_bytes(data)
+        print(f"wrote {path} ({path.stat().st_size} bytes)")
+

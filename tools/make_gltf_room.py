@@ -28,7 +28,7 @@ from pathlib import Path
 
 import numpy as np
 
-from gltf_writer import Gltf  # tools/ is on sys.path when a tool runs
+from gltf_writer import Gltf, write_models  # tools/ is on sys.path when a tool runs
 
 OUT = Path(__file__).resolve().parent.parent / "scenes" / "references" / "gltf_room.glb"
 SPHERES = OUT.with_name("gltf_spheres.glb")
@@ -191,10 +191,7 @@ def build_spheres():
 
 
 def main():
-    OUT.parent.mkdir(parents=True, exist_ok=True)
-    for path, data in ((OUT, build()), (SPHERES, build_spheres()), (ANIMATED, build(animated=True))):
-        path.write_bytes(data)
-        print(f"wrote {path} ({path.stat().st_size} bytes)")
+    write_models([(OUT, build()), (SPHERES, build_spheres()), (ANIMATED, build(animated=True))])
 
 
 if __name__ == "__main__":

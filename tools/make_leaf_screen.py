@@ -14,7 +14,7 @@ from pathlib import Path
 
 import numpy as np
 
-from gltf_writer import Gltf  # tools/ is on sys.path when a tool runs
+from gltf_writer import Gltf, unit_quad, write_models  # tools/ is on sys.path when a tool runs
 
 OUT = Path(__file__).resolve().parent.parent / "scenes" / "references" / "leaf_screen.glb"
 LEAF_GREEN = (60, 150, 50)
@@ -35,29 +35,20 @@ def leaves():
     return image
 
 
-def quad():
-    """Unit square in the xy plane facing +z, image top at +y, image left at -x."""
-    positions = np.array([[-0.5, 0.5, 0], [-0.5, -0.5, 0], [0.5, -0.5, 0], [0.5, 0.5, 0]], float)
-    texcoords = np.array([[0, 0], [0, 1], [1, 1], [1, 0]], float)
-    return positions, np.tile([0.0, 0.0, 1.0], (4, 1)), texcoords, np.array([0, 1, 2, 0, 2, 3])
-
-
 def build():
     g = Gltf("tools/make_leaf_screen.py")
     g.add("samplers", {"wrapS": 10497, "wrapT": 10497})
     material = g.add("materials", {"name": "Leaves", "alphaMode": "MASK", "alphaCutoff": 0.5, "doubleSided": True,
                                    "pbrMetallicRoughness": {"baseColorTexture": {"index": g.texture(leaves(), "leaves")},
                                                             "metallicFactor": 0.0, "roughnessFactor": 1.0}})
-    mesh = g.mesh("Leaves", quad(), material)
+    mesh = g.mesh("Leaves", unit_quad(), material)
     g.add("nodes", {"name": "Leaves", "mesh": mesh, "translation": [0.0, -0.35, -0.2101], "scale": [0.9, 1.3, 1.0]})
     g.doc["scenes"][0]["nodes"] = [0]
     return g.glb()
 
 
 def main():
-    OUT.parent.mkdir(parents=True, exist_ok=True)
-    OUT.write_bytes(build())
-    print(f"wrote {OUT} ({OUT.stat().st_size} bytes)")
+    write_models([(OUT, build())])
 
 
 if __name__ == "__main__":

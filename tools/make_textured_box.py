@@ -22,7 +22,7 @@ from pathlib import Path
 
 import numpy as np
 
-from gltf_writer import Gltf  # tools/ is on sys.path when a tool runs
+from gltf_writer import Gltf, unit_quad, write_models  # tools/ is on sys.path when a tool runs
 
 OUT = Path(__file__).resolve().parent.parent / "scenes" / "references" / "textured_box.glb"
 
@@ -79,13 +79,6 @@ def cube():
     return np.array(positions), np.array(normals), np.array(texcoords, float), np.array(indices)
 
 
-def quad():
-    """Unit square in the xy plane facing +z, image top at +y, image left at -x."""
-    positions = np.array([[-0.5, 0.5, 0], [-0.5, -0.5, 0], [0.5, -0.5, 0], [0.5, 0.5, 0]], float)
-    texcoords = np.array([[0, 0], [0, 1], [1, 1], [1, 0]], float)
-    return positions, np.tile([0.0, 0.0, 1.0], (4, 1)), texcoords, np.array([0, 1, 2, 0, 2, 3])
-
-
 def y_rotation(degrees):
     """glTF quaternion (x, y, z, w) of a rotation about +y."""
     half = math.radians(degrees) / 2
@@ -101,7 +94,7 @@ def build():
                                           "pbrMetallicRoughness": {"baseColorTexture": {"index": g.texture(grille(), "grille")},
                                                                    "metallicFactor": 0.0, "roughnessFactor": 1.0}})
     box = g.mesh("Painted Box", cube(), painted_material)
-    lattice = g.mesh("Grille", quad(), grille_material)
+    lattice = g.mesh("Grille", unit_quad(), grille_material)
     g.add("nodes", {"name": "Painted Box", "mesh": box, "translation": [0.4, -0.65, -0.5], "rotation": y_rotation(30.0),
                     "scale": [0.5, 0.7, 0.5]})
     g.add("nodes", {"name": "Grille", "mesh": lattice, "translation": [0.25, 0.4, -0.5], "scale": [0.5, 0.5, 1.0]})
@@ -110,9 +103,7 @@ def build():
 
 
 def main():
-    OUT.parent.mkdir(parents=True, exist_ok=True)
-    OUT.write_bytes(build())
-    print(f"wrote {OUT} ({OUT.stat().st_size} bytes)")
+    write_models([(OUT, build())])
 
 
 if __name__ == "__main__":
