@@ -302,13 +302,14 @@ class Renderer(WorkItems):
             with self.timed("voxel_view"):
                 volume = self.inspection.dense(self.grid, shown_values(self.grid, self.inject.base, s.mode))
                 return self.voxel_view.render(self.grid, volume, s.mode, s.voxel_mip, self._shown_level(s), camera)
+        cones, gathered = self._cones(), self._gathered()
         with self.timed("cone_trace"):
-            image = self.cone_trace.render(gbuffer, direct, self.grid, cones=self._cones(), gathered=self._gathered(),
+            image = self.cone_trace.render(gbuffer, direct, self.grid, cones=cones, gathered=gathered,
                                            emitter_irradiance=self.emitter_light.irradiance,
                                            sky_irradiance=self.sky_light.irradiance, emitters=emitters,
                                            environment=environment, cone_uniforms=s.cone_uniforms(), camera=camera,
                                            terms=s.image_terms(), ao_distance=s.ao_distance)
-        voxels = dict(grid=self.grid, cones=self._cones(), gathered=self._gathered(), sky_irradiance=self.sky_light.irradiance,
+        voxels = dict(grid=self.grid, cones=cones, gathered=gathered, sky_irradiance=self.sky_light.irradiance,
                       emitter_irradiance=self.emitter_light.irradiance, environment=environment, cone_uniforms=s.cone_uniforms())
         return self._blended(image, gbuffer, camera, shadow_maps, s, voxels)
 

@@ -20,9 +20,10 @@ void main() {
     ivec3 v = unpack_voxel(class_list[segment_first() + gl_GlobalInvocationID.x]);
     uint record = voxel_record(v);
     if (record == NO_RECORD || (gather_anchors[record] & ANCHOR_SELF) == 0u) return;  // empty, or interpolated (GatherPass.fill)
-    int sides = sides_of(unpack_value(voxel_normal[side_value(record, 0)]));
+    VoxelSurface s = voxel_surface(v, record, 0);  // side 0 says how many sides there are
+    int sides = s.sides;
     for (int side = 0; side < sides; ++side) {  // each side from its own surface
-        VoxelSurface s = voxel_surface(v, record, side);
+        if (side > 0) s = voxel_surface(v, record, side);
         if (dot(s.mean_normal, s.mean_normal) <= 0.0) continue;  // no surface of this side
         vec3 n = normalize(s.mean_normal);
         vec3 start = side_cone_start(s, n, v, sides);

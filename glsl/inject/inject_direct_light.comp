@@ -21,9 +21,10 @@ void main() {
     if (!segment_voxel(gl_GlobalInvocationID.x, v)) return;
     uint record = voxel_record(v);
     if (record == NO_RECORD) return;  // a touched voxel the voxelization emptied
-    int sides = sides_of(unpack_value(voxel_normal[side_value(record, 0)]));
+    VoxelSurface s = voxel_surface(v, record, 0);  // side 0 says how many sides there are
+    int sides = s.sides;
     for (int side = 0; side < sides; ++side) {  // each side lit by its own normal and shadow lookup
-        VoxelSurface s = voxel_surface(v, record, side);
+        if (side > 0) s = voxel_surface(v, record, side);
         uint at = side_value(record, side);
         vec3 irradiance = vec3(0.0);
         if (dot(s.mean_normal, s.mean_normal) > 0.0 && any(greaterThan(s.albedo, vec3(0.0)))) {

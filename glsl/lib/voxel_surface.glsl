@@ -8,11 +8,18 @@ layout(std430, binding = SSBO_VOXEL_ALBEDO) readonly buffer VoxelAlbedo { uvec2 
 layout(std430, binding = SSBO_VOXEL_NORMAL) readonly buffer VoxelNormal { uvec2 voxel_normal[]; };
 layout(std430, binding = SSBO_VOXEL_EMISSION) readonly buffer VoxelEmission { uvec2 voxel_emission[]; }; // rgb, a = surface offset in voxels
 
+// How many sides a voxel has, from its side 0's normal (normal.w < 0: a side 1 too): loops over
+// a voxel's sides read side 1 only where it has one.
+int sides_of(vec4 side_0_normal) {
+    return side_0_normal.w < 0.0 ? 2 : 1;
+}
+
 struct VoxelSurface {
     vec3 albedo;       // reflectance (lib/brdf.glsl layered_albedo), averaged over the voxel's fragments
     vec3 mean_normal;  // mean of the fragments' unit normals: its length is their coherence
     vec3 position;     // the voxel centre moved along the normal onto the (mean) surface
     vec3 emission;     // radiance of the front sides, W/(m^2 sr)
+    int sides;         // read at side 0: how many sides the voxel has (sides_of)
 };
 
 // The surface of covered voxel v, which holds `record`.
@@ -22,7 +29,9 @@ VoxelSurface voxel_surface(ivec3 v, uint record, int side) {
     uint at = side_value(record, side);
     vec4 emission = unpack_value(voxel_emission[at]);
     s.albedo = unpack_value(voxel_albedo[at]).rgb;
-    s.mean_normal = unpack_value(voxel_normal[at]).xyz;
+    vec4 normal = unpack_value(voxel_normal[at]);
+    s.mean_normal = normal.xyz;
+    s.sides = sides_of(normal);
     s.emission = emission.rgb;
     float length_n = length(s.mean_normal);
     // Surface point = centre + n * mean(dot(p_i - centre, n_i)): the centre projected onto a plane.
@@ -30,11 +39,6 @@ VoxelSurface voxel_surface(ivec3 v, uint record, int side) {
     return s;
 }
 
-// How many sides a voxel has, from its side 0's normal (normal.w < 0: a side 1 too): loops over
-// a voxel's sides read side 1 only where it has one.
-int sides_of(vec4 side_0_normal) {
-    return side_0_normal.w < 0.0 ? 2 : 1;
-}
 
 // Where the cones a side traces itself start from: its surface point, TWO_SIDED_START voxels
 // further along its normal n in a voxel with two sides (`sides`), whose near cells hold its

@@ -48,9 +48,10 @@ void main() {
     if (!near_lit_box(voxel_center(v), 0.0)) return;
     uint record = voxel_record(v);
     if (record == NO_RECORD || (gather_anchors[record] & ANCHOR_SELF) == 0u) return;  // empty, or interpolated (GatherPass.fill)
-    int sides = sides_of(unpack_value(voxel_normal[side_value(record, 0)]));
+    VoxelSurface s = voxel_surface(v, record, 0);  // side 0 says how many sides there are
+    int sides = s.sides;
     for (int side = 0; side < sides; ++side) {  // each side from its own surface
-        VoxelSurface s = voxel_surface(v, record, side);
+        if (side > 0) s = voxel_surface(v, record, side);
         vec3 irradiance = vec3(0.0);
         if (dot(s.mean_normal, s.mean_normal) > 0.0) {
             vec3 n = normalize(s.mean_normal);
