@@ -57,8 +57,8 @@ VOXEL_SIDES: GLSL_INT = 2
 # cos(angle between them) < -SIDES_APART; else one side holds them all (a floor meeting a wall).
 SIDES_APART: GLSL_FLOAT = 0.5
 SIDES_GAP: GLSL_FLOAT = 0.05  # voxels between the two sides' planes, at least (glsl/voxelize/resolve_sums.comp)
-# The cones a side of a two-sided voxel traces itself (its gather, the sky's light at it) start
-# this many voxels further along its normal: the cells around the voxel hold its other side's
+# The cones a side of a two-sided voxel traces itself (its gather, the sky's light at it) start up to
+# this many voxels further along its normal (short of any other surface there): the cells around the voxel hold its other side's
 # light, which cones starting nearer read as if in front (the thin sheet's reference scene:
 # 2 voxels left its camera side 2.7x bright at 128^3, 4 within 1.4x).
 TWO_SIDED_START: GLSL_FLOAT = 4.0

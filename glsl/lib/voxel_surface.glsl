@@ -40,9 +40,19 @@ VoxelSurface voxel_surface(ivec3 v, uint record, int side) {
 }
 
 
-// Where the cones a side traces itself start from: its surface point, TWO_SIDED_START voxels
-// further along its normal n in a voxel with two sides (`sides`), whose near cells hold its
-// other side's light.
+// Where the cones a side traces itself start from: its surface point, in a voxel with two
+// sides (`sides`), whose near cells hold its other side's light, moved further along its normal
+// n by up to TWO_SIDED_START voxels, whole voxels at a time while they hold no other surface
+// (a curtain's fold above a floor starts over the floor, not under it).
 vec3 side_cone_start(VoxelSurface s, vec3 n, ivec3 v, int sides) {
-    return s.position + (sides > 1 ? TWO_SIDED_START * voxel_extent(v) : 0.0) * n;
+    if (sides < 2) return s.position;
+    int level = voxel_level(v);
+    float extent = voxel_extent(v);
+    float free_voxels = 0.0;
+    for (float k = 1.0; k <= TWO_SIDED_START; k += 1.0) {
+        ivec3 u = level_voxel(ivec3(floor(level_uvw(s.position + k * extent * n, level) * float(voxel_grid))), level);
+        if (u != v && neighbour_record(v, u) != NO_RECORD) break;
+        free_voxels = k;
+    }
+    return s.position + free_voxels * extent * n;
 }
