@@ -3,12 +3,15 @@ path-traced references (relative MAE, relative MSE, mean-luminance ratio).
 
     .venv/bin/python tools/accuracy.py [--grids 32,64,128,256] [--bounces 1,0] [--json out.json]
     .venv/bin/python tools/accuracy.py --scenes all --bounces 0
+    .venv/bin/python tools/accuracy.py --samples 1     # the pixel centres, no anti-aliasing
 
 The Cornell box is compared with ../shared/reference (`bounces 1` with cornell_box_1bounce.npy,
 every other count with cornell_box_gi.npy, and direct light alone with cornell_box_direct.npy);
 the scenes of scenes/references (scene files, and glTF files without one) with their
 NAME_gi.npy and NAME_direct.npy (direct light alone: from lights and emissive surfaces, at the
-renderer's default grid where surfaces emit, since the voxels shadow their light). 0 bounces means iterate to convergence."""
+renderer's default grid where surfaces emit, since the voxels shadow their light). 0 bounces means iterate to convergence.
+Images are anti-aliased as `vct render` makes them (--samples, default HEADLESS_SAMPLES): the
+references' pixels are box-filtered."""
 import argparse
 import json
 import time
@@ -18,6 +21,7 @@ import numpy as np
 
 import engine
 from engine.app.bench import relative_errors
+from engine.frame.settings import HEADLESS_SAMPLES
 from engine.scene.emitters import scene_emits
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -46,6 +50,7 @@ def main():
     parser.add_argument("--scenes", default="cornell_box", help='"all", or scene names separated by commas')
     parser.add_argument("--grids", default="32,64,128,256")
     parser.add_argument("--bounces", default="1,0")
+    parser.add_argument("--samples", type=int, default=HEADLESS_SAMPLES, help="jittered samples a pixel (1: its centre)")
     parser.add_argument("--json", help="also write the rows as JSON")
     args = parser.parse_args()
     rows = []
@@ -60,7 +65,7 @@ def main():
             if "direct" in references:
                 # Emitters' shadows are cones through the voxels: their direct light depends on the grid.
                 grid = renderer.settings.grid if scene_emits(scene) else None
-                direct = renderer.render(scene, mode="direct")
+                direct = renderer.render(scene, mode="direct", samples=args.samples)
                 row = {"scene": name, "grid": grid, "bounces": "direct", "reference": "direct",
                        **relative_errors(direct, references["direct"])}
                 print(f"| {name} | {f'{grid}^3' if grid else '-'} | direct only | direct | {row['rel_mae']:.4f} | "
@@ -72,7 +77,7 @@ def main():
                     if kind not in references or (bounces == 1 and kind == "gi"):
                         continue
                     start = time.perf_counter()
-                    radiance = renderer.render(scene, mode="gi", grid=grid, bounces=bounces)
+                    radiance = renderer.render(scene, mode="gi", grid=grid, bounces=bounces, samples=args.samples)
                     seconds = time.perf_counter() - start
                     row = {"scene": name, "grid": grid, "bounces": bounces or "converged", "reference": kind,
                            "seconds": seconds, "bounce_iterations": renderer.bounce_iterations,

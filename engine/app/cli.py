@@ -17,7 +17,7 @@ from pathlib import Path
 
 from ..core.constants import MAX_VOXEL_LEVELS
 from ..core.errors import VctError, VctWarning, one_line
-from ..frame.settings import MAX_BOUNCES, MAX_EXPOSURE, MODES, TONEMAPS, RenderSettings
+from ..frame.settings import HEADLESS_SAMPLES, MAX_BOUNCES, MAX_EXPOSURE, MAX_SAMPLES, MODES, TONEMAPS, RenderSettings
 
 
 class OneLineErrorParser(argparse.ArgumentParser):
@@ -128,7 +128,7 @@ def settings_from_args(args):
                           cone_step=args.cone_step, cone_offset=args.cone_offset, ao_distance=args.ao_distance,
                           direct=not args.no_direct, indirect_diffuse=not args.no_diffuse,
                           indirect_specular=not args.no_specular, exposure=args.exposure,
-                          tonemap=args.tonemap).validate()
+                          tonemap=args.tonemap, samples=getattr(args, "samples", 1)).validate()
 
 
 def build_parser():
@@ -153,6 +153,10 @@ def build_parser():
     render.add_argument("--video", help="also write the frames as an H.264 video, FILE.mp4")
     render.add_argument("--orbit", action="store_true",
                         help="turn the camera once about the vertical axis through its look-at point over the frames")
+    render.add_argument("--samples", type=_whole_number(1, MAX_SAMPLES), default=HEADLESS_SAMPLES,
+                        help="anti-aliasing: jittered samples a pixel averages, a box filter; the voxels and "
+                             f"their light are computed once for all of them (default {HEADLESS_SAMPLES}; 1: the pixel "
+                             "centres, no anti-aliasing)")
     _add_animation_argument(render)
     _add_quiet_argument(render)
     _add_settings_arguments(render)

@@ -43,6 +43,7 @@ IMAGE_UNIT = {
     "CONE_EMISSION_OUT": 4,
     "INSPECT_OUT": 0,       # a dense volume made from a record array, for inspection
     "IMAGE_OUT": 0,         # a screen target a compute pass adds to
+    "AVERAGE_OUT": 0,       # the mean of a frame's jittered samples (average_samples/)
     "SPECULAR_IN": 1,       # the specular cones' incoming radiance at the anchor pixels (half resolution)
     "DIFFUSE_IN": 2,        # the diffuse cones' gather at the anchor pixels that traced them (a = 1; half resolution)
 }
@@ -253,6 +254,7 @@ LEVEL_BLEND_VOXELS: GLSL_FLOAT = 2.0
 # Compute shader local sizes: passes over a list of voxels, and over a whole volume.
 LIST_GROUP: GLSL_INT = 64
 VOLUME_GROUP: GLSL_INT = 4
+SCREEN_GROUP: GLSL_INT = 8  # a side of the square of pixels a screen pass's group takes
 # The progressive bounce updates 1 interleave class of voxels in K per frame, K <=
 # MAX_INTERLEAVE: a voxel's class is the position of its level-1 cell in the 2x2 block of
 # cells along its surface, then the cell's layer (glsl/lib/gather_anchors.glsl, voxel_class).

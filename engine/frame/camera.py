@@ -14,6 +14,25 @@ NEAR_PLANE = 0.01
 CAMERA_DTYPE = struct_dtype("FrameCamera")
 
 
+def pixel_offsets(samples):
+    """Where in its pixel each of a frame's `samples` samples lies, (x, y) in -0.5..0.5 (x right,
+    y up): the pixel centre for one; else the first points of the Halton sequence in bases 2
+    and 3, which cover the pixel evenly for any count (their mean is a box filter)."""
+    if samples == 1:
+        return [(0.0, 0.0)]
+    return [(_radical_inverse(k, 2) - 0.5, _radical_inverse(k, 3) - 0.5) for k in range(1, samples + 1)]
+
+
+def _radical_inverse(k, base):
+    """k's digits in `base` mirrored about the point: the Halton sequence's k-th coordinate."""
+    value, scale = 0.0, 1.0 / base
+    while k:
+        k, digit = divmod(k, base)
+        value += digit * scale
+        scale /= base
+    return value
+
+
 @dataclasses.dataclass(frozen=True)
 class FrameCamera:
     """The camera's position, unit forward direction and view-projection for the frame's image,
@@ -60,13 +79,18 @@ class CameraBlock:
         self.buffer.release()
 
 
-def frame_camera(camera, size, bounds):
-    """The camera's matrices for an image of `size`; the far plane lies past the farthest
-    corner of the scene's bounds."""
+def frame_camera(camera, size, bounds, pixel_offset=(0.0, 0.0)):
+    """The camera's matrices for an image of `size`, its pixels' centres moved by `pixel_offset`
+    (x right, y up, in pixels: a jittered sample); the far plane lies past the farthest corner
+    of the scene's bounds."""
     corners = transforms.box_corners(*bounds)
     far = float(np.max(np.linalg.norm(corners - camera.position, axis=1))) * 1.1 + 1.0
     forward = camera.look_at - camera.position
     projection = camera.projection_matrix(size[0] / size[1], NEAR_PLANE, far)
+    # Clip space shifted by the offset in normalized device coordinates: x' = x + 2 dx / W w.
+    shift = np.eye(4)
+    shift[:2, 3] = 2.0 * np.asarray(pixel_offset, float) / np.asarray(size, float)
+    projection = shift @ projection
     orthographic = camera.projection == "orthographic"
     pixel_angle = 0.0 if orthographic else 2.0 * math.tan(math.radians(camera.vertical_fov_deg) / 2.0) / size[1]
     return FrameCamera(np.asarray(camera.position, float), forward / np.linalg.norm(forward),

@@ -22,6 +22,7 @@ from ..gpu.functions import GL_DEBUG_SOURCE_APPLICATION, gl_functions
 from ..gpu.scene_buffers import EmitterBuffers, EnvironmentMap, SceneBuffers
 from ..gpu.shaders import GLSL_ROOT, ProgramLibrary
 from ..gpu.timing import PassTimer
+from ..passes.average_samples import AverageSamplesPass
 from ..passes.cone_trace import ConeTracePass
 from ..passes.cull import CullPass
 from ..passes.emitter_light import EmitterLightPass
@@ -46,7 +47,7 @@ from ..voxels.clipmap import frame_levels, level_shift, moved_levels, scrolled_r
 from ..voxels.grid import VoxelGrid
 from ..voxels.inspection import VoxelInspection, read_lists
 from . import schedule
-from .camera import CameraBlock, frame_camera
+from .camera import CameraBlock, frame_camera, pixel_offsets
 from .settings import RenderSettings
 from .work_items import WorkItems, WorkResources
 
@@ -137,6 +138,7 @@ class Renderer(WorkItems):
         self.faces = self._add(FaceViewsPass(self.ctx, self.programs))
         self.cone_trace = self._add(ConeTracePass(self.ctx, self.programs, self.size))
         self.voxel_view = self._add(VoxelViewPass(self.ctx, self.programs, self.size))
+        self.average_samples = self._add(AverageSamplesPass(self.ctx, self.programs, self.size))
         self.tonemap = self._add(TonemapPass(self.ctx, self.programs, self.size))
 
     @staticmethod
@@ -167,7 +169,8 @@ class Renderer(WorkItems):
         self._check_size(size)
         self.size = size
         with self._creating_targets(self.size):
-            for render_pass in (self.gbuffer, self.lighting, self.gbuffer_view, self.cone_trace, self.voxel_view, self.tonemap):
+            for render_pass in (self.gbuffer, self.lighting, self.gbuffer_view, self.cone_trace, self.voxel_view,
+                                self.average_samples, self.tonemap):
                 render_pass.resize(self.size)
             self.transparent.resize(self.size, self.gbuffer.target)
 
@@ -268,14 +271,29 @@ class Renderer(WorkItems):
         frame = FrameInputs(scene, self.table)
         if self.measure:
             with self.pass_timer.frame():
-                self.output = self._frame(frame, scene, s)
+                self.output = self._samples(frame, scene, s)
         else:
-            self.output = self._frame(frame, scene, s)
+            self.output = self._samples(frame, scene, s)
         return self.output
 
-    def _frame(self, frame, scene, s):
-        """The passes of one frame; returns the target holding its image."""
-        camera = self.camera_block.write(frame_camera(scene.camera, self.size, frame.bounds))
+    def _samples(self, frame, scene, s):
+        """The frame's image: seen through the pixels' centres, or the mean of `s.samples` images
+        seen through points spread over each pixel (a box filter; data views take the centres).
+        The voxels and their light do not depend on the point: the first sample brings them up
+        to date, the others run the screen passes alone."""
+        offsets = pixel_offsets(1 if s.shown.data else s.samples)
+        if len(offsets) == 1:
+            return self._frame(frame, scene, s, offsets[0])
+        for count, offset in enumerate(offsets, start=1):
+            image = self._frame(frame, scene, s, offset)
+            with self.timed("average_samples"):
+                mean = self.average_samples.add(image, count)
+        return mean
+
+    def _frame(self, frame, scene, s, pixel_offset):
+        """The passes of one frame seen through `pixel_offset` in each pixel; returns the target
+        holding its image."""
+        camera = self.camera_block.write(frame_camera(scene.camera, self.size, frame.bounds, pixel_offset))
         resting = self.eye is not None and np.array_equal(camera.position, self.eye)
         self.eye = camera.position
         shadow_maps = self._shadows(frame, scene.source)
