@@ -103,10 +103,12 @@ def read_png(path):
 # ---- the window ------------------------------------------------------------------------------
 
 def test_view_frames_screenshot_equals_headless_render(display, tmp_path):
+    """A still view, its frames blended by temporal anti-aliasing, shows what `vct render` makes
+    with its jittered samples."""
     env = dict(os.environ, DISPLAY=display)
     view_png, render_png = tmp_path / "view.png", tmp_path / "render.png"
     size = ["--mode", "direct", "--grid", "32", "--width", SMALL[0], "--height", SMALL[1]]
-    viewed = vct("view", SCENE, "--frames", 3, "--screenshot", view_png, *size, env=env)
+    viewed = vct("view", SCENE, "--frames", 20, "--screenshot", view_png, *size, env=env)
     assert viewed.returncode == 0, viewed.stderr
     rendered = vct("render", SCENE, "--out", render_png, *size)
     assert rendered.returncode == 0, rendered.stderr
@@ -382,13 +384,14 @@ def test_the_fly_camera_takes_over_from_an_animated_camera_until_reset(on_displa
 
 def test_view_frames_plays_the_animations_as_render_poses_them(display, tmp_path):
     """`vct view --frames N`: frame i shows t = i / 30 s, so its screenshot is `vct render
-    --time (N-1)/30` (the camera dollies and the objects move, so no other time matches)."""
+    --time (N-1)/30` (the camera dollies and the objects move, so no other time matches). Both
+    see the pixel centres: the last frame alone, not a history of the frames before it."""
     env = dict(os.environ, DISPLAY=display)
     view_png, render_png = tmp_path / "view.png", tmp_path / "render.png"
     size = ["--mode", "direct", "--width", SMALL[0], "--height", SMALL[1]]
-    viewed = vct("view", ANIMATED, "--frames", 16, "--screenshot", view_png, *size, env=env)
+    viewed = vct("view", ANIMATED, "--frames", 16, "--screenshot", view_png, "--no-temporal-aa", *size, env=env)
     assert viewed.returncode == 0, viewed.stderr
-    assert vct("render", ANIMATED, "--time", 0.5, "--out", render_png, *size).returncode == 0
+    assert vct("render", ANIMATED, "--time", 0.5, "--samples", "1", "--out", render_png, *size).returncode == 0
     a, b = read_png(view_png), read_png(render_png)
     assert np.abs(a - b).mean() < 1.0 and a.std() > 10
 

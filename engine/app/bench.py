@@ -40,7 +40,7 @@ ANIMATION_FPS = 30.0  # animation time per frame of the animated and camera kind
 WALKING_SPEED = 1.4   # m/s, the camera kind's
 PASS_ORDER = ("pose", "shadow", "gbuffer", "lighting", "emitters", "environment", "voxelize", "emission_mipmap",
               "emitter_light", "sky_light", "inject", "classes", "gather", "faces", "mipmap", "totals", "cone_trace", "transparent",
-              "voxel_view", "gbuffer_view")
+              "temporal", "voxel_view", "gbuffer_view")
 SETTLE_FRAMES = 400  # progressive frames allowed for the radiance to settle before timing
 # The GL calls that do a frame's work where the GPU is the CPU (llvmpipe runs draws and
 # dispatches as they are issued, and a memory barrier waits for them): left out of the host time.
@@ -227,7 +227,7 @@ def benchmark(scene, renderer, settings, grids, frames, warmup, kinds=FRAME_KIND
             rows.append(record)
         if reference is not None and uses_voxels:  # the accuracy of this grid, converged within one frame
             renderer.progressive = False
-            renderer.render_frame(scene, s)
+            renderer.render_frame(scene, s.replace(temporal_aa=False))
             for record in rows[-len(kinds):]:
                 record.update(relative_errors(renderer.radiance(), reference))
     return rows

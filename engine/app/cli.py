@@ -122,13 +122,18 @@ def _add_settings_arguments(parser, default_mode="gi"):
     parser.add_argument("--tonemap", choices=TONEMAPS, default=d.tonemap, help=f"tone curve for the PNG (default {d.tonemap})")
 
 
+def _add_temporal_argument(parser, help):
+    parser.add_argument("--no-temporal-aa", dest="temporal_aa", action="store_false", help=help)
+
+
 def settings_from_args(args):
     return RenderSettings(mode=args.mode, grid=args.grid, clipmap_levels=args.clipmap, bounces=args.bounces,
                           bounce_interleave=args.bounce_interleave, voxel_mip=args.mip, voxel_level=args.level,
                           cone_step=args.cone_step, cone_offset=args.cone_offset, ao_distance=args.ao_distance,
                           direct=not args.no_direct, indirect_diffuse=not args.no_diffuse,
                           indirect_specular=not args.no_specular, exposure=args.exposure,
-                          tonemap=args.tonemap, samples=getattr(args, "samples", 1)).validate()
+                          tonemap=args.tonemap, samples=getattr(args, "samples", 1),
+                          temporal_aa=getattr(args, "temporal_aa", False)).validate()
 
 
 def build_parser():
@@ -170,6 +175,7 @@ def build_parser():
                       help=f"render this many frames (at most {MAX_VIEW_FRAMES}), then exit")
     view.add_argument("--screenshot", help="with --frames: save the last frame (without panels) to this PNG")
     view.add_argument("--no-panels", action="store_true", help="start with the panels hidden")
+    _add_temporal_argument(view, "start with temporal anti-aliasing off (a toggle in the Renderer panel)")
     _add_animation_argument(view)
     _add_settings_arguments(view)
 
@@ -191,6 +197,7 @@ def build_parser():
                        help="comma-separated grid sizes, each at most once (default 16,32,64,128,256)")
     bench.add_argument("--json", help="also write the records as a JSON list to this file")
     bench.add_argument("--reference", help="a reference radiance .npy to report the error of each grid's converged image against")
+    _add_temporal_argument(bench, "time the frames without temporal anti-aliasing (the viewer's default is on)")
     _add_quiet_argument(bench)
     _add_settings_arguments(bench)
     return parser

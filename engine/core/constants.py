@@ -25,6 +25,9 @@ TEXTURE_UNIT = {
     "BLEND_SUMS": 5,        # blended surfaces' weighted sums (rgb: sum w a C, a: sum w a; transparent/)
     "BLEND_COVERAGE": 6,    # the share of the opaque image they cover, 1 - prod (1 - a)
     "VOXEL_FACES": 11,      # the face views cones read (+x, -x, +y, -y, +z, -z) from mip level 1 up, stacked along z
+    "HISTORY": 8,           # temporal anti-aliasing's image of the frames before (temporal/)
+    "HISTORY_DISTANCE": 9,  # and the distance from the camera of what each of its pixels saw (0: the sky)
+    "GBUF_PREVIOUS": 10,    # where each pixel's surface point was at the frame before (the G-buffer's motion)
     "HDR_INPUT": 12,
     "DIRECT_LIGHT": 13,
     "VOXEL_INSPECT": 14,    # the volume a voxel view or a readback reads
@@ -133,6 +136,8 @@ STORAGE_BINDING = {
     "POSE_TARGETS": 58,
     "POSE_MATRICES": 59,
     "POSE_WEIGHTS": 60,
+    "POSE_PREVIOUS": 62,      # per vertex of the pool, a posed draw's position at the frame before (vec4)
+    "DRAW_MOTIONS": 61,       # per draw W_prev W^-1: a world point to where it was at the last frame (temporal/)
 }
 
 # A vertex of the mesh pool (engine/gpu/scene_buffers.py): interleaved float32 attributes,
@@ -175,8 +180,8 @@ GLSL_STRUCTS = {
     # direction (xyz).
     "FrameCamera": (("mat4", "view_projection"), ("mat4", "inverse_view_projection"), ("vec4", "position"),
                     ("vec4", "forward")),
-    # A draw: its world matrix (normals go by its cofactors, glsl/lib/draws.glsl) and its
-    # material's index (info.x).
+    # A draw: its world matrix (normals go by its cofactors, glsl/lib/draws.glsl), its
+    # material's index (info.x) and whether it is posed (info.y: 1, its own copy of its mesh).
     "DrawRecord": (("mat4", "world"), ("uvec4", "info")),
     # A material (engine.scene.model.Material, glsl/lib/material.glsl): albedo (rgb) and alpha factor
     # (a); emission (rgb) and alpha cut-off (a, negative: opaque); roughness, metalness,
@@ -255,6 +260,13 @@ LEVEL_BLEND_VOXELS: GLSL_FLOAT = 2.0
 LIST_GROUP: GLSL_INT = 64
 VOLUME_GROUP: GLSL_INT = 4
 SCREEN_GROUP: GLSL_INT = 8  # a side of the square of pixels a screen pass's group takes
+# Temporal anti-aliasing (engine/passes/temporal.py): the jitter cycles through this many points
+# of the Halton sequence, and a pixel's history counts at most this many frames (its weight
+# 1 / n: a still view's mean of the last TEMPORAL_FRAMES jittered samples).
+TEMPORAL_FRAMES: GLSL_INT = 16
+# A history pixel whose distance from the camera differs from the reprojected point's by more
+# than this share of it saw another surface: dropped (disoccluded).
+DISOCCLUSION_TOLERANCE: GLSL_FLOAT = 0.02
 # The progressive bounce updates 1 interleave class of voxels in K per frame, K <=
 # MAX_INTERLEAVE: a voxel's class is the position of its level-1 cell in the 2x2 block of
 # cells along its surface, then the cell's layer (glsl/lib/gather_anchors.glsl, voxel_class).

@@ -14,25 +14,6 @@ NEAR_PLANE = 0.01
 CAMERA_DTYPE = struct_dtype("FrameCamera")
 
 
-def pixel_offsets(samples):
-    """Where in its pixel each of a frame's `samples` samples lies, (x, y) in -0.5..0.5 (x right,
-    y up): the pixel centre for one; else the first points of the Halton sequence in bases 2
-    and 3, which cover the pixel evenly for any count (their mean is a box filter)."""
-    if samples == 1:
-        return [(0.0, 0.0)]
-    return [(_radical_inverse(k, 2) - 0.5, _radical_inverse(k, 3) - 0.5) for k in range(1, samples + 1)]
-
-
-def _radical_inverse(k, base):
-    """k's digits in `base` mirrored about the point: the Halton sequence's k-th coordinate."""
-    value, scale = 0.0, 1.0 / base
-    while k:
-        k, digit = divmod(k, base)
-        value += digit * scale
-        scale /= base
-    return value
-
-
 @dataclasses.dataclass(frozen=True)
 class FrameCamera:
     """The camera's position, unit forward direction and view-projection for the frame's image,
@@ -42,6 +23,7 @@ class FrameCamera:
     forward: np.ndarray
     view_projection: np.ndarray
     far: float
+    centred_view_projection: np.ndarray  # the view-projection through the pixels' centres (no pixel offset)
     pixel_angle: float  # radians between neighbouring pixels' rays, at the image centre (0: orthographic)
     orthographic: bool = False
     buffer: object = None  # the uniform buffer the frame's camera is written into (CameraBlock)
@@ -90,8 +72,8 @@ def frame_camera(camera, size, bounds, pixel_offset=(0.0, 0.0)):
     # Clip space shifted by the offset in normalized device coordinates: x' = x + 2 dx / W w.
     shift = np.eye(4)
     shift[:2, 3] = 2.0 * np.asarray(pixel_offset, float) / np.asarray(size, float)
-    projection = shift @ projection
+    view_projection = projection @ camera.view_matrix()
     orthographic = camera.projection == "orthographic"
     pixel_angle = 0.0 if orthographic else 2.0 * math.tan(math.radians(camera.vertical_fov_deg) / 2.0) / size[1]
     return FrameCamera(np.asarray(camera.position, float), forward / np.linalg.norm(forward),
-                       projection @ camera.view_matrix(), far, pixel_angle, orthographic)
+                       shift @ view_projection, far, view_projection, pixel_angle, orthographic)

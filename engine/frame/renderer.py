@@ -15,6 +15,7 @@ import numpy as np
 
 from ..core.constants import SKY_NEAR_REACH
 from ..core.errors import VctError
+from ..core.sampling import pixel_offsets
 from ..formats.output import save_png
 from ..gpu.bindings import forget_bindings
 from ..gpu.context import create_headless_context
@@ -35,6 +36,7 @@ from ..passes.lighting import LightingPass
 from ..passes.pose import PosePass
 from ..passes.shadow import ShadowPass
 from ..passes.sky_light import SkyLightPass
+from ..passes.temporal import TemporalPass
 from ..passes.tonemap import TonemapPass
 from ..passes.transparent import TransparentPass
 from ..passes.voxel_view import VoxelViewPass, shown_values
@@ -47,10 +49,13 @@ from ..voxels.clipmap import frame_levels, level_shift, moved_levels, scrolled_r
 from ..voxels.grid import VoxelGrid
 from ..voxels.inspection import VoxelInspection, read_lists
 from . import schedule
-from .camera import CameraBlock, frame_camera, pixel_offsets
+from .camera import CameraBlock, frame_camera
 from .settings import RenderSettings
 from .work_items import WorkItems, WorkResources
 
+# The passes a frame runs whatever changed (their inputs are not tracked): a frame that ran no
+# other draws what the last one drew.
+EVERY_FRAME_PASSES = {"cone_trace", "transparent"}
 VOXEL_VOLUMES = {"radiance": "voxels", "normal": "voxel-normals", "albedo": "voxel-albedo", "gathered": None}
 
 
@@ -139,6 +144,7 @@ class Renderer(WorkItems):
         self.cone_trace = self._add(ConeTracePass(self.ctx, self.programs, self.size))
         self.voxel_view = self._add(VoxelViewPass(self.ctx, self.programs, self.size))
         self.average_samples = self._add(AverageSamplesPass(self.ctx, self.programs, self.size))
+        self.temporal = self._add(TemporalPass(self.ctx, self.programs, self.size))
         self.tonemap = self._add(TonemapPass(self.ctx, self.programs, self.size))
 
     @staticmethod
@@ -170,7 +176,7 @@ class Renderer(WorkItems):
         self.size = size
         with self._creating_targets(self.size):
             for render_pass in (self.gbuffer, self.lighting, self.gbuffer_view, self.cone_trace, self.voxel_view,
-                                self.average_samples, self.tonemap):
+                                self.average_samples, self.temporal, self.tonemap):
                 render_pass.resize(self.size)
             self.transparent.resize(self.size, self.gbuffer.target)
 
@@ -265,9 +271,9 @@ class Renderer(WorkItems):
         self.table.sync(scene, rebuild=not self.track_changes)
         self.scene_buffers.sync(self.table)
         posed = self.pose.due(self.table, self.scene_buffers)
-        if len(posed):
+        if self.pose.busy(posed, motion=s.temporal):
             with self.timed("pose"):
-                self.pose.run(self.table, self.scene_buffers, posed)
+                self.pose.run(self.table, self.scene_buffers, posed, motion=s.temporal)
         frame = FrameInputs(scene, self.table)
         if self.measure:
             with self.pass_timer.frame():
@@ -280,24 +286,39 @@ class Renderer(WorkItems):
         """The frame's image: seen through the pixels' centres, or the mean of `s.samples` images
         seen through points spread over each pixel (a box filter; data views take the centres).
         The voxels and their light do not depend on the point: the first sample brings them up
-        to date, the others run the screen passes alone."""
+        to date, the others run the screen passes alone. With `s.temporal_aa` one sample, seen
+        through the point of the pixel this frame's turn gives, blended into the frames before
+        (TemporalPass)."""
+        def seen_through(pixel_offset):
+            return self.camera_block.write(frame_camera(scene.camera, self.size, frame.bounds, pixel_offset))
+
+        if s.temporal:
+            resting = self.temporal.converged(s)
+            offset = self.temporal.pixel_offset()
+            camera = seen_through(offset)
+            first = len(self.passes_ran)
+            image = self._frame(frame, scene, s, camera)
+            if resting and set(self.passes_ran[first:]) <= EVERY_FRAME_PASSES and self.idle:
+                return self.temporal.held()  # the last frame's sample again: the history stands
+            with self.timed("temporal"):
+                return self.temporal.resolve(image, self.gbuffer.target, self.scene_buffers, camera, s, offset)
+        self.temporal.forget()
         offsets = pixel_offsets(1 if s.shown.data else s.samples)
         if len(offsets) == 1:
-            return self._frame(frame, scene, s, offsets[0])
+            return self._frame(frame, scene, s, seen_through(offsets[0]))
         for count, offset in enumerate(offsets, start=1):
-            image = self._frame(frame, scene, s, offset)
+            image = self._frame(frame, scene, s, seen_through(offset))
             with self.timed("average_samples"):
                 mean = self.average_samples.add(image, count)
         return mean
 
-    def _frame(self, frame, scene, s, pixel_offset):
-        """The passes of one frame seen through `pixel_offset` in each pixel; returns the target
-        holding its image."""
-        camera = self.camera_block.write(frame_camera(scene.camera, self.size, frame.bounds, pixel_offset))
+    def _frame(self, frame, scene, s, camera):
+        """The passes of one frame seen by `camera` (a FrameCamera); returns the target holding
+        its image."""
         resting = self.eye is not None and np.array_equal(camera.position, self.eye)
         self.eye = camera.position
         shadow_maps = self._shadows(frame, scene.source)
-        gbuffer = self._gbuffer(frame, camera)
+        gbuffer = self._gbuffer(frame, camera, motion=s.temporal)
         if s.shown.stage == "gbuffer":
             with self.timed("gbuffer_view"):
                 return self.gbuffer_view.render(gbuffer, s.mode, camera)
@@ -373,14 +394,16 @@ class Renderer(WorkItems):
             stage.ran(inputs)
         return self.shadow.maps
 
-    def _gbuffer(self, frame, camera):
-        """The G-buffer, drawn again when the view, the image size or a draw changed."""
+    def _gbuffer(self, frame, camera, motion):
+        """The G-buffer, drawn again when the view, the image size or a draw changed; with where
+        each point was at the frame before where `motion` (temporal anti-aliasing)."""
         stage, table = self.stages["gbuffer"], self.table
         inputs = dict(view_projection=_bytes(camera.view_projection), size=self.size,
-                      draws=(table.structure, table.draws_changed_at))
+                      draws=(table.structure, table.draws_changed_at), motion=motion)
         if stage.changed(inputs, self.track_changes):
             with self.timed("gbuffer"):
-                self.gbuffer.render(self.scene_buffers, camera)
+                self.gbuffer.render(self.scene_buffers, camera,
+                                    {**self.scene_buffers.motion_records(), **self.pose.resources()} if motion else None)
             stage.ran(inputs)
         return self.gbuffer.target
 

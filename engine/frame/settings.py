@@ -94,6 +94,7 @@ class RenderSettings:
     exposure: float = 1.0
     tonemap: str = "aces"
     samples: int = 1                # jittered samples a pixel averages (a box filter; 1: the pixel centre)
+    temporal_aa: bool = False       # temporal anti-aliasing: each frame one jittered sample blended into the last frames' (the viewer)
     shadow_map_size: int = 512      # texels per side of each shadow view (fixed per renderer)
 
     def validate(self):
@@ -144,6 +145,11 @@ class RenderSettings:
     @property
     def shown(self):
         return MODE_TABLE[self.mode]
+
+    @property
+    def temporal(self):
+        """Whether frames blend into the frames before (temporal anti-aliasing; not a data view)."""
+        return self.temporal_aa and not self.shown.data
 
     def image_terms(self):
         terms = self.shown.terms

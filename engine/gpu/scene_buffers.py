@@ -32,6 +32,8 @@ from .functions import (GL_LINEAR, GL_LINEAR_MIPMAP_LINEAR, GL_RGBA, GL_RGBA8, G
 CLUSTER_TRIANGLES = 1024  # meshes are split into clusters of about this many triangles
 CLUSTER_DTYPE = struct_dtype("Cluster")
 DRAW_DTYPE = struct_dtype("DrawRecord")
+MOTION_DTYPE = np.dtype([("matrix", "<f4", 16)])  # a mat4 per draw, column-major (SSBO_DRAW_MOTIONS)
+MOTION_BYTES = MOTION_DTYPE.itemsize
 MATERIAL_DTYPE = struct_dtype("MaterialRecord")
 # What a draw is drawn with, as bits: its material has a normal map (NORMAL_MAP programs), it
 # has vertex colours, a second texture coordinate set or texture transforms (VERTEX_EXTRAS
@@ -346,6 +348,11 @@ class SceneBuffers:
         self.pool = MeshPool(ctx)
         self.textures = MaterialTextures(ctx)
         self.draws = ctx.buffer(reserve=DRAW_DTYPE.itemsize)
+        # Per draw the matrix taking its points in the world to where they were at the last
+        # sync, W_prev W^-1 (identity where it did not move): temporal anti-aliasing's motion.
+        self.motions = ctx.buffer(reserve=MOTION_BYTES)
+        self.synced_world = np.zeros((0, 4, 4))  # each draw's world matrix at the last sync
+        self.moving = np.zeros(0, np.int64)      # the draws whose motion is not the identity
         self.materials = ctx.buffer(reserve=MATERIAL_DTYPE.itemsize)
         self.structure = self.stamp = None
         self.layout = 0
@@ -373,7 +380,37 @@ class SceneBuffers:
                 if self.pool.retain(table.meshes, [posed_key(table, draw) for draw in table.posed_draws]):
                     draws = np.arange(table.draw_count)
             self._write_draws(table, draws, anew)
+        self._write_motions(table, draws, anew)
         self.structure, self.stamp = table.structure, table.stamp
+
+    def _write_motions(self, table, draws, anew):
+        """The motion of the draws that changed since the last sync (`draws`), and the identity
+        again for those that moved at the last sync and not since: the rows written are
+        those, whatever the scene's size."""
+        count = table.draw_count
+        if anew or len(self.synced_world) != count:
+            if self.motions.size < MOTION_BYTES * count:
+                self.motions.release()
+                self.motions = self.ctx.buffer(reserve=MOTION_BYTES * max(count, 1))
+            if count:
+                write_buffer(self.motions, np.tile(np.eye(4, dtype="f4"), (count, 1, 1)).tobytes())
+            self.synced_world = table.draw_world.copy()
+            self.moving = np.zeros(0, np.int64)
+            return
+        rows = np.union1d(self.moving, draws).astype(np.int64)
+        if not len(rows):
+            return
+        motion = np.tile(np.eye(4), (len(rows), 1, 1))
+        changed = np.isin(rows, draws)
+        world, before = table.draw_world[rows[changed]], self.synced_world[rows[changed]]
+        invertible = np.abs(np.linalg.det(world)) > 1e-12  # a draw scaled to nothing has no motion
+        moved = motion[changed]
+        moved[invertible] = before[invertible] @ np.linalg.inv(world[invertible])
+        motion[changed] = moved
+        self.synced_world[rows[changed]] = world
+        columns = np.ascontiguousarray(np.swapaxes(motion, 1, 2), "f4").reshape(len(rows), 16)
+        _write_rows(self.motions, columns.view(MOTION_DTYPE).ravel(), rows)
+        self.moving = rows[~np.all(np.isclose(motion, np.eye(4)), axis=(1, 2))]
 
     def _write_materials(self, table, slots):
         if not len(slots):
@@ -398,7 +435,8 @@ class SceneBuffers:
                 self.draws = self.ctx.buffer(reserve=DRAW_DTYPE.itemsize * max(count, 1))
         if not len(draws):
             return
-        _write_rows(self.draws, draw_records(table.draw_world[draws], table.draw_material[draws]), draws)
+        _write_rows(self.draws, draw_records(table.draw_world[draws], table.draw_material[draws],
+                                             np.isin(draws, table.posed_draws)), draws)
         flags = np.array([draw_flags(table.draw(draw)) for draw in draws], np.int64)
         posed = set(table.poses)
         entries = [self.pool.posed_entry(posed_key(table, draw), table.meshes[slot]) if int(draw) in posed
@@ -418,13 +456,18 @@ class SceneBuffers:
         materials."""
         return {"SSBO_DRAWS": self.draws, "SSBO_MATERIALS": self.materials}
 
+    def motion_records(self):
+        """The draws' motions since the last frame, as the G-buffer's motion reads them."""
+        return {"SSBO_DRAW_MOTIONS": self.motions}
+
     def memory_bytes(self):
-        return self.pool.memory_bytes() + self.draws.size + self.materials.size
+        return self.pool.memory_bytes() + self.draws.size + self.motions.size + self.materials.size
 
     def release(self):
         self.pool.release()
         self.textures.release()
         self.draws.release()
+        self.motions.release()
         self.materials.release()
 
 
@@ -433,11 +476,13 @@ def posed_key(table, draw):
     return (table.structure, int(draw))
 
 
-def draw_records(world, materials):
-    """DRAW_DTYPE records of world matrices (k, 4, 4) and material indices (k,)."""
+def draw_records(world, materials, posed):
+    """DRAW_DTYPE records of world matrices (k, 4, 4), material indices (k,) and whether each
+    draw is posed (k,)."""
     records = np.zeros(len(world), DRAW_DTYPE)
     records["world"] = np.swapaxes(world, 1, 2).reshape(-1, 16)
     records["info"][:, 0] = materials
+    records["info"][:, 1] = posed
     return records
 
 

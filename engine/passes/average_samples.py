@@ -1,5 +1,5 @@
 """Anti-aliasing by supersampling: the mean of a frame's images drawn with the camera jittered
-over each pixel (engine/frame/camera.py pixel_offsets), a box pixel filter as the path-traced
+over each pixel (engine/core/sampling.py pixel_offsets), a box pixel filter as the path-traced
 references have. It owns the mean; the voxels and their light are the same for every sample."""
 import math
 

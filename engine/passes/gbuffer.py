@@ -12,15 +12,18 @@ from .cull import DrawList, view_records
 
 
 class GBuffer:
-    """The G-buffer targets, which the screen passes read (glsl/lib/gbuffer.glsl)."""
+    """The G-buffer targets, which the screen passes read (glsl/lib/gbuffer.glsl), and where
+    each pixel's point was at the frame before (GBUF_PREVIOUS, drawn with motion alone: temporal
+    anti-aliasing reads it)."""
 
     UNITS = ("GBUF_POSITION", "GBUF_NORMAL", "GBUF_ALBEDO", "GBUF_EMISSION")
     READS = tuple(f"TEX_{unit}" for unit in UNITS)  # what a program reading all of them declares
+    TARGETS = (*UNITS, "GBUF_PREVIOUS")
 
     def __init__(self, ctx, size):
         self.size = size
-        self.textures = [ctx.texture(size, 4, dtype=HDR_FORMAT if name == "GBUF_POSITION" else "f2")
-                         for name in self.UNITS]
+        self.textures = [ctx.texture(size, 4, dtype=HDR_FORMAT if name in ("GBUF_POSITION", "GBUF_PREVIOUS") else "f2")
+                         for name in self.TARGETS]
         for texture in self.textures:
             texture.filter = (ctx.NEAREST, ctx.NEAREST)
         self.depth = ctx.depth_texture(size)
@@ -29,7 +32,7 @@ class GBuffer:
     def resources(self, *units):
         """The targets of `units` (default: all of them) by binding name, as a program reading
         them binds them."""
-        return {f"TEX_{name}": texture for name, texture in zip(self.UNITS, self.textures) if name in (units or self.UNITS)}
+        return {f"TEX_{name}": texture for name, texture in zip(self.TARGETS, self.textures) if name in (units or self.UNITS)}
 
     def release(self):
         for resource in [self.framebuffer, self.depth, *self.textures]:
@@ -69,13 +72,16 @@ class GBufferPass:
         self.ctx = ctx
         self.cull = cull
         # Per whether the material has a normal map (else no tangent is interpolated) and the draw
-        # vertex colours, a second texture coordinate set or texture transforms (else none).
-        self.programs = {(mapped, extras): programs.program(
-            {name: 1 for name, wanted in (("NORMAL_MAP", mapped), ("VERTEX_EXTRAS", extras)) if wanted},
+        # vertex colours, a second texture coordinate set or texture transforms (else none), and
+        # whether the frame wants the motion (temporal anti-aliasing).
+        self.programs = {(mapped, extras, motion): programs.program(
+            {name: 1 for name, wanted in (("NORMAL_MAP", mapped), ("VERTEX_EXTRAS", extras), ("MOTION", motion)) if wanted},
             vertex_shader="gbuffer/draw_surfaces.vert", fragment_shader="gbuffer/draw_surfaces.frag",
-            reads=("UBO_CAMERA", "SSBO_DRAWS", "SSBO_MATERIALS", "TEX_MATERIAL_TEXTURES"))
-            for mapped in (False, True) for extras in (False, True)}
-        self.buckets = [(mapped, extras, culling) for (mapped, extras) in self.programs for culling in self.CULLING]
+            reads=("UBO_CAMERA", "SSBO_DRAWS", "SSBO_MATERIALS", "TEX_MATERIAL_TEXTURES",
+                   *(("SSBO_DRAW_MOTIONS", "SSBO_POSE_PREVIOUS") if motion else ())))
+            for mapped in (False, True) for extras in (False, True) for motion in (False, True)}
+        self.buckets = [(mapped, extras, culling) for mapped in (False, True) for extras in (False, True)
+                        for culling in self.CULLING]
         # A last bucket, never drawn, takes the blended draws (engine/passes/transparent.py).
         self.draw_list = DrawList(ctx, self.bucket_of, len(self.buckets) + 1)
         self.target = GBuffer(ctx, size)
@@ -91,9 +97,11 @@ class GBufferPass:
         self.target.release()
         self.target = GBuffer(self.ctx, size)
 
-    def render(self, buffers, camera):
+    def render(self, buffers, camera, motion=None):
         """Cull the scene's draws (SceneBuffers) against the frustum of `camera` (a
-        frame.camera.FrameCamera) and draw them."""
+        frame.camera.FrameCamera) and draw them; with `motion` (the draws' motions and the posed
+        vertices' previous positions, by binding name) where each point was at the frame before
+        too."""
         views = view_records(1)
         views["view_projection"][0] = np.asarray(camera.view_projection, "f4").T.ravel()
         views["items"][0] = (0, 0, DRAW_TEST_FRUSTUM, 0)
@@ -105,12 +113,12 @@ class GBufferPass:
         self.ctx.viewport = (0, 0, *gbuffer.size)
         gbuffer.framebuffer.clear(0.0, 0.0, 0.0, 0.0, depth=1.0)
         self.ctx.enable_only(self.ctx.DEPTH_TEST)
-        resources = {**buffers.records(), **buffers.textures.resources(), **camera.resources()}
+        resources = {**buffers.records(), **buffers.textures.resources(), **camera.resources(), **(motion or {})}
         for bucket, (mapped, extras, culling) in enumerate(self.buckets):
             if not self.draw_list.bucket_ranges[bucket][1]:
                 continue
             with culling_faces(self.ctx, culling):
-                self.draw_list.draw(bucket, self.programs[mapped, extras], buffers, resources)
+                self.draw_list.draw(bucket, self.programs[mapped, extras, motion is not None], buffers, resources)
         return gbuffer
 
     def release(self):

@@ -187,7 +187,8 @@ class VoxelizePass:
         for view, job in zip(views, jobs):
             _job_view(view, job)
         self.moved.write_views(views)
-        held = draw_records(np.array([draw.world for draw in update.removed]).reshape(-1, 4, 4), NO_MATERIAL)
+        held = draw_records(np.array([draw.world for draw in update.removed]).reshape(-1, 4, 4), NO_MATERIAL,
+                            [draw.posed for draw in update.removed])
         self.held_draws = buffer_holding(self.ctx, self.held_draws, held, keep=True)
         job_count = len(jobs)
         placed = [(index | DRAW_HELD, draw, 0) for index, draw in enumerate(update.removed)]

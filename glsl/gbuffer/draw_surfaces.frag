@@ -1,7 +1,8 @@
 #version 450 core
 // G-buffer: position, shading normal + roughness, albedo + metalness, emission + dielectric F0,
 // from the material's factors and textures (the normal map where NORMAL_MAP is defined);
-// alpha-tested materials are cut out.
+// alpha-tested materials are cut out; where MOTION is defined, the point's position at the frame
+// before.
 #include "lib/material.glsl"
 
 in vec3 world_position;
@@ -22,6 +23,10 @@ layout(location = 0) out vec4 out_position;
 layout(location = 1) out vec4 out_normal;
 layout(location = 2) out vec4 out_albedo;
 layout(location = 3) out vec4 out_emission;
+#ifdef MOTION
+in vec3 previous_position;
+layout(location = 4) out vec4 out_previous;
+#endif
 
 void main() {
 #ifdef VERTEX_EXTRAS
@@ -40,4 +45,7 @@ void main() {
     out_normal = vec4(n, m.roughness);
     out_albedo = vec4(m.albedo, m.metalness);
     out_emission = vec4(gl_FrontFacing ? m.emission : vec3(0.0), m.dielectric_f0);
+#ifdef MOTION
+    out_previous = vec4(previous_position, 1.0);
+#endif
 }

@@ -3,8 +3,10 @@
 // normal map (NORMAL_MAP defined), tangent of every visible surface; for a mesh with vertex
 // colours or a second texture coordinate set, or a material that transforms its texture
 // coordinates (VERTEX_EXTRAS), those. Without them they are not passed on: on llvmpipe every
-// output of this stage costs each triangle's setup time. Each instance is a draw of the list
-// (lib/draws.glsl).
+// output of this stage costs each triangle's setup time. Where MOTION is defined (temporal
+// anti-aliasing), also where the point was at the frame before: the draw's motion since then
+// (SSBO_DRAW_MOTIONS) applied to the vertex as it was (a posed draw's position before its
+// latest pose, engine/passes/pose.py). Each instance is a draw of the list (lib/draws.glsl).
 #include "lib/camera.glsl"
 #include "lib/draws.glsl"
 #include "lib/material.glsl"
@@ -29,6 +31,11 @@ out vec4 map_coordinates23;
 #else
 out vec2 texcoord;
 #endif
+#ifdef MOTION
+layout(std430, binding = SSBO_DRAW_MOTIONS) readonly buffer DrawMotions { mat4 draw_motions[]; };
+layout(std430, binding = SSBO_POSE_PREVIOUS) readonly buffer PosePrevious { vec4 previous_positions[]; };
+out vec3 previous_position;
+#endif
 
 void main() {
     mat4x3 world = value_world(in_instance);
@@ -47,5 +54,11 @@ void main() {
     texcoord = in_texcoord;
 #endif
     material = draw_material;
+#ifdef MOTION
+    uint draw = in_instance & DRAW_INDEX_MASK;
+    // gl_VertexID counts from the pool's first vertex (the draw's base vertex is added).
+    vec3 local_before = value_posed(in_instance) ? previous_positions[gl_VertexID].xyz : in_position;
+    previous_position = (draw_motions[draw] * vec4(world * vec4(local_before, 1.0), 1.0)).xyz;
+#endif
     gl_Position = camera.view_projection * vec4(world_position, 1.0);
 }

@@ -40,6 +40,11 @@ uint value_material(uint value) {
 }
 
 
+// Whether a value's draw is posed (its own copy of its mesh in the pool: engine/passes/pose.py).
+bool value_posed(uint value) {
+    return draws[value & DRAW_INDEX_MASK].info.y != 0u;
+}
+
 uint value_view(uint value) {
     return (value >> DRAW_VIEW_SHIFT) & DRAW_VIEW_MASK;
 }

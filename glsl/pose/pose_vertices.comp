@@ -4,7 +4,10 @@
 // weights (glTF 2.0, 3.7.2.2: p = p0 + sum_t w_t dp_t, and so normals and tangents' xyz), then,
 // for a skinned mesh, linear blend skinning into the world (3.7.3.3: p' = sum_i w_i J_i p,
 // normals by the cofactors of sum_i w_i J_i, tangents by its 3x3 part). Texture coordinates
-// and colours are copied as they are.
+// and colours are copied as they are. Each posed vertex's position of the frame before is kept
+// (temporal anti-aliasing's motion: the G-buffer reads it): the copy's position before it is
+// written over, or, where there is no frame before (`fresh`), the new one; `holding` copies the
+// copy's position alone (a draw posed at the last frame and not since has not moved).
 #include "engine_constants.glsl"
 #include "lib/normal_transform.glsl"
 
@@ -14,6 +17,7 @@ layout(std430, binding = SSBO_POSE_INFLUENCES) readonly buffer Influences { Pose
 layout(std430, binding = SSBO_POSE_TARGETS) readonly buffer Targets { vec4 displacements[]; };
 layout(std430, binding = SSBO_POSE_MATRICES) readonly buffer Matrices { mat4 joint_matrices[]; };
 layout(std430, binding = SSBO_POSE_WEIGHTS) readonly buffer Weights { float target_weights[]; };
+layout(std430, binding = SSBO_POSE_PREVIOUS) writeonly buffer Previous { vec4 previous_positions[]; };  // per pool vertex
 
 uniform uint vertex_count;
 uniform uint rest_first;       // the mesh's first vertex in the pool
@@ -22,6 +26,8 @@ uniform uint influence_sets;   // PoseInfluences per vertex (0: not skinned)
 uniform uint target_count;     // morph targets (0: none)
 uniform uint first_matrix;     // the draw's joint matrices in joint_matrices
 uniform uint first_weight;     // its target weights in target_weights
+uniform bool fresh;            // no frame before: the previous position is the new one
+uniform bool holding;          // no new pose: the previous position becomes the copy's
 
 vec3 read3(uint at) { return vec3(vertices[at], vertices[at + 1u], vertices[at + 2u]); }
 
@@ -36,6 +42,8 @@ void main() {
     if (vertex >= vertex_count) return;
     uint rest = (rest_first + vertex) * uint(VERTEX_FLOATS);
     uint posed = (posed_first + vertex) * uint(VERTEX_FLOATS);
+    if (holding || !fresh) previous_positions[posed_first + vertex] = vec4(read3(posed), 1.0);
+    if (holding) return;
     for (uint k = 0u; k < uint(VERTEX_FLOATS); ++k) vertices[posed + k] = vertices[rest + k];
     vec3 position = read3(rest);
     vec3 normal = read3(rest + uint(VERTEX_NORMAL_AT));
@@ -62,6 +70,7 @@ void main() {
     float normal_length = length(normal);
     float tangent_length = length(tangent);
     write3(posed, position);
+    if (fresh) previous_positions[posed_first + vertex] = vec4(position, 1.0);
     write3(posed + uint(VERTEX_NORMAL_AT), normal_length > 0.0 ? normal / normal_length : vec3(0.0, 0.0, 1.0));
     write3(posed + uint(VERTEX_TANGENT_AT), tangent_length > 0.0 ? tangent / tangent_length : tangent);
 }

@@ -245,6 +245,9 @@ def draw_renderer_panel(settings, rect, levels, message=None):
             _slider("AO distance", settings.ao_distance, 0.05, 4.0, changes, "ao_distance")
         _slider("Exposure", settings.exposure, 0.05, 16.0, changes, "exposure", imgui.SliderFlags_.logarithmic)
         _combo("Tone map", settings.tonemap, TONEMAPS, changes, "tonemap")
+        changed, temporal_aa = imgui.checkbox("Temporal anti-aliasing", settings.temporal_aa)
+        if changed:
+            changes["temporal_aa"] = temporal_aa
         if settings.mode == "gi":
             for i, (label, key) in enumerate((("Direct", "direct"), ("Diffuse", "indirect_diffuse"),
                                               ("Specular", "indirect_specular"))):
