@@ -42,5 +42,5 @@ $(VENV)/.installed: pyproject.toml setup.py Makefile | $(VENV)/bin/python
 	@touch $@
 
 $(VENV)/.installed-test: pyproject.toml setup.py Makefile | $(VENV)/bin/python
-	$(PIP_INSTALL) -e '.[test,reference]'
+	$(PIP_INSTALL) -e '.[test,reference,batch]'
 	@touch $@ $(VENV)/.installed

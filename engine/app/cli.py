@@ -1,7 +1,8 @@
-"""`vct`: render, view and benchmark scenes. A thin layer over engine.Renderer.
+"""`vct`: render, batch, view and benchmark scenes. A thin layer over engine.Renderer.
 
 Exit status: 0 when the command did its work (its files are written; a closed or full stdout
 loses only the report printed there), 2 after one line `vct: error: ...` on stderr (nothing
+written), 1 where jobs of a batch failed (the line names them; the others' files are
 written), 128 + the signal's number after SIGINT (130), SIGHUP (129) or SIGTERM (143), which
 remove the temporary files of outputs not yet complete."""
 import argparse
@@ -75,6 +76,7 @@ _nonnegative_int = _whole_number(0)
 MAX_VIEW_FRAMES = 10000
 MAX_BENCH_FRAMES = 1000
 MAX_FRAMES = 100000  # of a `vct render --frames` sequence
+MAX_WORKERS = 4096   # of a batch
 
 
 def _add_settings_arguments(parser, default_mode="gi"):
@@ -158,6 +160,8 @@ def build_parser():
     render.add_argument("--video", help="also write the frames as an H.264 video, FILE.mp4")
     render.add_argument("--orbit", action="store_true",
                         help="turn the camera once about the vertical axis through its look-at point over the frames")
+    render.add_argument("--workers", type=_whole_number(1, MAX_WORKERS),
+                        help="render the --frames on this many worker processes of a local Ray cluster (vct batch)")
     render.add_argument("--samples", type=_whole_number(1, MAX_SAMPLES), default=HEADLESS_SAMPLES,
                         help="anti-aliasing: jittered samples a pixel averages, a box filter; the voxels and "
                              f"their light are computed once for all of them (default {HEADLESS_SAMPLES}; 1: the pixel "
@@ -165,6 +169,20 @@ def build_parser():
     _add_animation_argument(render)
     _add_quiet_argument(render)
     _add_settings_arguments(render)
+
+    batch = commands.add_parser("batch", help="render a job file's renders on Ray workers, here or on a cluster",
+                                description="Render the jobs of a JSON Lines file (one `vct render` a line: scene, out, hdr, "
+                                            "video, time or frames/fps/start, orbit, animation, camera, environment, width, "
+                                            "height, settings) on Ray workers: a local Ray by default, or a cluster joined by "
+                                            "--address. Frames whose files exist are skipped; each chunk done or failed is "
+                                            "a line of the manifest.")
+    batch.add_argument("jobs", help="the job file: JSON Lines, one render a line")
+    batch.add_argument("--workers", type=_whole_number(1, MAX_WORKERS),
+                       help="worker processes (default: one per GPU of the cluster, else one per core)")
+    batch.add_argument("--address", help="join this Ray cluster (HOST:PORT, as `ray start --head` prints) instead of "
+                                         "starting a local one")
+    batch.add_argument("--manifest", help="the manifest, JSON Lines appended to (default: JOBS with .manifest.jsonl)")
+    _add_quiet_argument(batch)
 
     view = commands.add_parser("view", help="open the interactive viewer",
                                description="Interactive viewer: fly camera, overlay, scene graph and inspector, "
@@ -245,7 +263,7 @@ def run(argv=None):
     """main without its filter of the libraries' warnings (the tests run it with warnings as
     errors). VctWarnings print as one line each, `vct: warning: ...`, on stderr."""
     args = build_parser().parse_args(argv)
-    commands = {"render": render_command, "view": view_command, "bench": bench_command}
+    commands = {"render": render_command, "batch": batch_command, "view": view_command, "bench": bench_command}
     from ..core.progress import set_quiet
 
     set_quiet(getattr(args, "quiet", False))
@@ -314,91 +332,10 @@ def check_not_an_input(path, flag, inputs):
             raise VctError(f"is a file this command reads ({source}); nothing written", source=path, field=flag)
 
 
-def check_writable(path, flag):
-    """Refuse an output path that cannot be written, before rendering anything."""
-    from ..formats.output import check_target
-
-    path = Path(path)
-    try:
-        check_target(path)
-    except IsADirectoryError:
-        raise VctError("is a directory", source=path, field=flag) from None
-    except OSError as exc:  # e.g. a name too long for the file system
-        raise VctError(f"cannot write ({exc.strerror or exc})", source=path, field=flag) from None
-    if not path.parent.is_dir():
-        raise VctError("directory does not exist", source=path, field=flag)
-    if not os.access(path.parent, os.W_OK) or (path.exists() and not os.access(path, os.W_OK)):
-        raise VctError("not writable", source=path, field=flag)
-
-
 def open_renderer(width, height, settings, args):
     from ..frame.renderer import Renderer
 
     return Renderer(width, height, settings, glsl_root=shader_root(args))
-
-
-def check_finite(radiance, scene):
-    """Refuse to write an image holding NaN or infinite values."""
-    import numpy as np
-
-    bad = int(np.count_nonzero(~np.isfinite(radiance)))
-    if bad:
-        raise VctError(f"the render holds {bad} NaN or infinite values (of {radiance.size}); nothing written",
-                       source=scene, field="radiance")
-
-
-def load_lit_scene(args):
-    """The scene of the command line with its --environment, if any; one warning line where
-    nothing can light it."""
-    import numpy as np
-
-    from ..scene.emitters import scene_emits
-    from ..core.errors import warn
-    from ..formats.input_files import InputFiles, os_problem, read_radiance_map
-    from ..core.limits import MAX_EMISSION
-    from ..scene.model import Environment, studio_environment
-    from ..formats.scene_file import load_scene
-
-    scene = load_scene(args.scene, camera=args.camera)
-    if args.environment == "none":
-        scene.environment = None
-    elif args.environment:
-        parts = args.environment.split(",")
-        try:
-            radiance = [float(part) for part in parts] if len(parts) == 3 else None
-        except ValueError:
-            radiance = None
-        if radiance is not None:
-            if not all(math.isfinite(v) and 0 <= v <= MAX_EMISSION for v in radiance):
-                raise VctError(f"a sky's radiance must be within 0..{MAX_EMISSION:g}, got {args.environment}",
-                               field="--environment")
-            scene.environment = Environment(radiance=np.array(radiance))
-        else:
-            inputs = InputFiles()
-            try:
-                image = read_radiance_map(args.environment, inputs)
-            except (OSError, ValueError) as exc:
-                raise VctError(os_problem(exc), source=args.environment, field="--environment") from None
-            scene.environment = Environment(image=image, name=f"{args.environment}: --environment")
-            scene.files += tuple(inputs.paths)
-    if not scene.lights() and not scene_emits(scene) and scene.environment is None:
-        if args.environment == "none":
-            warn("no light: the scene has no lights, no emissive surfaces and no environment, so the image is black",
-                 source=args.scene)
-        else:
-            scene.environment = studio_environment()
-            warn("no light in the scene: shown under the studio sky (--environment none keeps it black)", source=args.scene)
-    return scene
-
-
-def warn_if_black(scene, radiance, settings, source):
-    """One warning line where lights exist but a lit image came out black."""
-    from ..core.errors import warn
-
-    if settings.shown.terms and "ao" not in settings.shown.terms and scene.lights() and not radiance.any():
-        names = ", ".join(f'"{node.name}"' for node, _ in scene.lights())
-        warn(f"the image is black: the light of {names} reaches nothing the camera sees (enclosed by geometry, or "
-             "pointing away?)", source=source)
 
 
 def check_animation(scene, args):
@@ -406,46 +343,22 @@ def check_animation(scene, args):
     scene.played(args.animation, field="--animation", source=args.scene)
 
 
-def check_outputs(args, frames):
-    """The output names of `vct render`, checked before anything is rendered: writable, of a
-    known kind, patterns where there are several frames, none the same as another."""
-    from ..formats.output import HDR_WRITERS
-    from ..formats.sequence import VIDEO_SUFFIXES, check_pattern, frame_path
-
-    if not args.out and not args.video:
-        raise VctError("give --out (PNG frames) or --video (an .mp4), or both", field="--out")
-    named = [(path, flag) for path, flag in ((args.out, "--out"), (args.hdr, "--hdr")) if path]
-    for path, flag in named:
-        check_pattern(path, flag, frames)
-        check_writable(frame_path(path, 0), flag)
-    if args.hdr and Path(frame_path(args.hdr, 0)).suffix.lower() not in HDR_WRITERS:
-        raise VctError(f"must end in {' or '.join(HDR_WRITERS)}", source=args.hdr, field="--hdr")
-    if args.video:
-        check_writable(args.video, "--video")
-        if Path(args.video).suffix.lower() not in VIDEO_SUFFIXES:
-            raise VctError(f"must end in {' or '.join(VIDEO_SUFFIXES)}", source=args.video, field="--video")
-        named.append((args.video, "--video"))
-    resolved = {}
-    for path, flag in named:
-        other = resolved.setdefault(Path(frame_path(path, 0)).resolve(), flag)
-        if other != flag:
-            raise VctError(f"must differ from {other}", source=path, field=flag)
-    return named
-
-
 def render_command(args):
-    from ..formats.output import HDR_WRITERS, hdr_writer, png_writer, write_files
+    from ..formats.output import HDR_WRITERS
     from ..core.progress import progress
-    from ..formats.sequence import describe_times, frame_path, frame_times, orbit, video_file
+    from ..formats.sequence import describe_times, frame_path, video_file
+    from .frames import check_outputs, load_lit_scene, render_frame_files
 
     frames = args.frames or 1
     named = check_outputs(args, frames)
     settings = settings_from_args(args)
     scene = load_lit_scene(args)
-    times = frame_times(frames, args.fps, args.start) if args.frames else [args.time or 0.0]
+    times = frame_times_of(args)
     check_animation(scene, args)
     width = args.width or scene.camera.width
     height = args.height or scene.camera.height
+    if args.workers:
+        return render_on_workers(args, settings, named, times, (width, height))
     home = scene.camera
     with open_renderer(width, height, settings, args) as renderer:
         for path, flag in named:
@@ -454,20 +367,8 @@ def render_command(args):
             raise VctError(f"must end in .png (linear radiance: --hdr FILE{' or FILE'.join(HDR_WRITERS)})", source=args.out, field="--out")
         video = video_file(args.video, (width, height), args.fps) if args.video else contextlib.nullcontext()
         with video as video, progress(frames, "render", "frame", summary=frames > 1) as bar:
-            for index, t in enumerate(times):
-                scene.camera = home
-                scene.pose_at(t, args.animation)
-                if args.orbit:
-                    scene.camera = orbit(scene.camera, index / frames)
-                radiance = renderer.render(scene)
-                pixels = renderer.tonemapped()
-                check_finite(radiance, args.scene)
-                if index == 0:
-                    warn_if_black(scene, radiance, settings, args.scene)
-                outputs = [(frame_path(args.out, index), png_writer(pixels))] if args.out else []
-                if args.hdr:
-                    outputs.insert(0, (frame_path(args.hdr, index), hdr_writer(args.hdr, radiance)))
-                write_files(outputs)  # each frame's files both or neither
+            for index in range(frames):
+                pixels = render_frame_files(renderer, scene, home, args, index, times, settings)
                 if args.video:
                     video.append(pixels)
                 bar.update()
@@ -477,7 +378,57 @@ def render_command(args):
     return 0
 
 
+def frame_times_of(args):
+    """The times of the frames `vct render` renders: --frames from --start at --fps, or --time."""
+    from ..formats.sequence import frame_times
+
+    return frame_times(args.frames, args.fps, args.start) if args.frames else [args.time or 0.0]
+
+
+def render_on_workers(args, settings, named, times, size):
+    """`vct render --frames N --workers K`: the sequence as one batch job (engine/app/batch.py)."""
+    from dataclasses import asdict
+
+    from ..formats.job_file import Job
+    from ..formats.sequence import describe_times
+    from .batch import run_jobs
+
+    job = Job(name=os.path.basename(args.scene), line=0, scene=args.scene, out=args.out, hdr=args.hdr, video=args.video,
+              time=args.time, frames=args.frames, fps=args.fps, start=args.start, orbit=args.orbit, animation=args.animation,
+              camera=args.camera, environment=args.environment, width=size[0], height=size[1],
+              settings={name: value for name, value in asdict(settings).items() if value != getattr(RenderSettings(), name)})
+    outcome = run_jobs([job], workers=args.workers, address=None, manifest=None)
+    written = " and ".join(path for path, _ in named)
+    report(f"wrote {len(times)} frames: {written} ({size[0]}x{size[1]}, mode {settings.mode}, {describe_times(times)}, "
+           f"{outcome.workers} workers)")
+    return 0
+
+
+def batch_command(args):
+    from ..formats.job_file import load_jobs
+    from .batch import BatchFailed, run_jobs
+    from .frames import check_writable
+
+    jobs = load_jobs(args.jobs)
+    manifest = args.manifest or str(Path(args.jobs).with_suffix(".manifest.jsonl"))
+    check_writable(manifest, "--manifest")
+    try:
+        outcome = run_jobs(jobs, workers=args.workers, address=args.address, manifest=manifest, source=args.jobs)
+    except BatchFailed as exc:
+        with contextlib.suppress(OSError):
+            print(f"vct: error: {one_line(str(exc))}; see {manifest}", file=sys.stderr, flush=True)
+        return 1
+    complete = f"{outcome.skipped_jobs} of {len(jobs)} jobs complete before"
+    if outcome.workers:
+        frames = f"{outcome.frames} frame{'s' if outcome.frames != 1 else ''}"
+        report(f"rendered {frames} on {outcome.workers} workers ({complete}); manifest {manifest}")
+    else:
+        report(f"nothing to render ({complete}); manifest {manifest}")
+    return 0
+
+
 def view_command(args):
+    from .frames import check_writable, load_lit_scene
     from .viewer.app import Viewer
 
     if args.screenshot:
@@ -545,6 +496,7 @@ def bench_command(args):
     import json
 
     from .bench import benchmark, format_table, peak_rss_mb
+    from .frames import check_writable, load_lit_scene
     from ..gpu.context import renderer_name
     from ..formats.output import write_files
 

@@ -13,6 +13,7 @@ class VctError(Exception):
     The message is one line whatever the names in it hold (one_line)."""
 
     def __init__(self, message, source=None, field=None):
+        self.message = message  # without its source and field
         self.source = str(source) if source is not None else None
         self.field = field
         super().__init__(_located(message, self.source, field))

@@ -42,7 +42,7 @@ def _vector(description, length=3, minimum=-MAX_MAGNITUDE, maximum=MAX_MAGNITUDE
     return schema
 
 
-def _object(description, properties, required=()):
+def object_schema(description, properties, required=()):
     """An object of exactly these fields (an unknown one is an error)."""
     schema = {"type": "object", "description": description, "properties": properties, "additionalProperties": False}
     if required:
@@ -51,7 +51,7 @@ def _object(description, properties, required=()):
 
 
 POSITION = "metres, world space of the node's parent"
-MATERIAL = _object("A surface's reflectance and emission (engine.scene.model.Material): glTF 2.0's metallic-roughness model", {
+MATERIAL = object_schema("A surface's reflectance and emission (engine.scene.model.Material): glTF 2.0's metallic-roughness model", {
     "albedo": _vector("base colour, linear RGB (each at most 1)", minimum=0.0, maximum=1.0, default=[0.8, 0.8, 0.8]),
     "roughness": _number("perceptual roughness r (Blinn-Phong exponent 2/r^4 - 2)", 0.0, 1.0, default=1.0),
     "metalness": _number("0: dielectric, 1: metal (its F0 is the albedo)", 0.0, 1.0, default=0.0),
@@ -62,7 +62,7 @@ MATERIAL = _object("A surface's reflectance and emission (engine.scene.model.Mat
     "double_sided": {"type": "boolean", "description": "both sides reflect (a thin sheet); else back faces are culled",
                      "default": False},
 })
-CAMERA = _object("The pinhole camera", {
+CAMERA = object_schema("The pinhole camera", {
     "position": _vector(f"eye, {POSITION}"),
     "look_at": _vector("the point looked at"),
     "up": _vector("the image's up direction", default=[0.0, 1.0, 0.0]),
@@ -72,7 +72,7 @@ CAMERA = _object("The pinhole camera", {
     "height": {"type": "integer", "description": "image height in pixels", "exclusiveMinimum": 0, "maximum": MAX_MAGNITUDE,
                "default": 256},
 }, required=("position", "look_at"))
-ENVIRONMENT = _object("The light from beyond the scene: a uniform sky, or an equirectangular map (engine.scene.model."
+ENVIRONMENT = object_schema("The light from beyond the scene: a uniform sky, or an equirectangular map (engine.scene.model."
                       "Environment: +y up, the map's left edge looking along -z, as Mitsuba's envmap)", {
     "radiance": _vector("a uniform sky's radiance, W/(m^2 sr), linear RGB", minimum=0.0, maximum=MAX_EMISSION),
     "map": {"type": "string", "description": "an equirectangular map of linear radiance, .exr or .hdr, relative to "
@@ -80,14 +80,14 @@ ENVIRONMENT = _object("The light from beyond the scene: a uniform sky, or an equ
     "scale": _number("multiplies the radiance or the map", 0.0, MAX_EMISSION, default=1.0),
     "rotation_y_deg": _number("turns the sky about +y, degrees (right-handed)", default=0.0),
 })
-CLIPMAP = _object("Voxel levels centred on the camera, for scenes larger than one grid: level k a cube of "
+CLIPMAP = object_schema("Voxel levels centred on the camera, for scenes larger than one grid: level k a cube of "
                   "resolution^3 voxels 2^k voxel_size wide (engine/voxels/clipmap.py)", {
     "levels": {"type": "integer", "description": "how many levels, each twice as large as the one inside it",
                "minimum": 1, "maximum": MAX_VOXEL_LEVELS},
     "resolution": {"enum": list(GRID_SIZES), "description": "voxels per side of each level"},
     "voxel_size": _number("the finest level's voxel side, metres", positive=True),
 }, required=("levels", "resolution", "voxel_size"))
-VOXEL_REGION = _object("Where the voxels lie: the cube one grid spans (center and size; default: the scene's bounds "
+VOXEL_REGION = object_schema("Where the voxels lie: the cube one grid spans (center and size; default: the scene's bounds "
                        "padded by 5 %), or a clipmap", {
     "center": _vector(f"the grid's centre, {POSITION}"),
     "size": _number("the grid's side, metres", MIN_SCALE),
@@ -140,14 +140,14 @@ def _node(types):
     """A node of one of `types`: its `type` picks the fields it takes."""
     return {"type": "object", "required": ["type"], "properties": {"type": dict(NODE_FIELDS["type"], enum=list(types))},
             "allOf": [{"if": {"properties": {"type": {"const": kind}}, "required": ["type"]},
-                       "then": _object(NODE_TYPES[kind][0], dict(NODE_FIELDS, **NODE_TYPES[kind][1]), NODE_TYPES[kind][2])}
+                       "then": object_schema(NODE_TYPES[kind][0], dict(NODE_FIELDS, **NODE_TYPES[kind][1]), NODE_TYPES[kind][2])}
                       for kind in types]}
 
 
 SCHEMA = {
     "$schema": "https://json-schema.org/draft/2020-12/schema",
     "title": "vct scene",
-    **_object("A scene for vct, the voxel cone tracing renderer. Units are metres, right-handed, +y up.", {
+    **object_schema("A scene for vct, the voxel cone tracing renderer. Units are metres, right-handed, +y up.", {
         "$schema": {"type": "string", "description": "this schema, for editors"},
         "name": {"type": "string", "description": "the scene's name (default: the file's stem)"},
         "about": {"type": "string", "description": "what the scene is, for its readers"},
@@ -174,7 +174,7 @@ _VALIDATOR = jsonschema.Draft202012Validator(SCHEMA)
 _ANY_NODE = {"type": "array"}
 _SCENE_VALIDATOR = jsonschema.Draft202012Validator(dict(SCHEMA, properties=dict(SCHEMA["properties"], objects=_ANY_NODE,
                                                                                  lights=_ANY_NODE)))
-_TYPE_SCHEMAS = {kind: _object(NODE_TYPES[kind][0], dict(NODE_FIELDS, children=_ANY_NODE, **NODE_TYPES[kind][1]),
+_TYPE_SCHEMAS = {kind: object_schema(NODE_TYPES[kind][0], dict(NODE_FIELDS, children=_ANY_NODE, **NODE_TYPES[kind][1]),
                                NODE_TYPES[kind][2]) for kind in NODE_TYPES}
 _TYPE_VALIDATORS = {kind: jsonschema.Draft202012Validator(schema) for kind, schema in _TYPE_SCHEMAS.items()}
 _LIST_VALIDATORS = {types: jsonschema.Draft202012Validator(_node(types)) for types in (GEOMETRY_TYPES + LIGHT_TYPES, LIGHT_TYPES)}
@@ -215,9 +215,17 @@ def validate(document, source):
     except RecursionError:
         raise SceneError("nested too deeply", source=source) from None
     if errors:
-        error = min(errors, key=lambda e: _document_order(document, e))
-        field, message = _describe(document, error)
+        field, message = _describe(document, min(errors, key=lambda e: _document_order(document, e)))
         raise SceneError(message, source=source, field=field)
+
+
+def first_fault(validator, document):
+    """(field, message) of the first fault `validator` finds in `document`, in document order
+    and in the loader's words; None where it finds none."""
+    errors = list(validator.iter_errors(document))
+    if not errors:
+        return None
+    return _describe(document, min(errors, key=lambda e: _document_order(document, e)))
 
 
 def _node_errors(nodes, path, types):

@@ -1,4 +1,5 @@
 """Render settings shared by the CLI, the viewer and the benchmark, and the table of modes."""
+import difflib
 import math
 import numbers
 from dataclasses import dataclass, fields
@@ -163,7 +164,9 @@ class RenderSettings:
         known = {f.name for f in fields(self)}
         unknown = set(changes) - known
         if unknown:
-            raise VctError(f"unknown setting {sorted(unknown)[0]}", field="settings")
+            name = sorted(unknown)[0]
+            near = difflib.get_close_matches(name, sorted(known), n=1, cutoff=0.6)
+            raise VctError(f'unknown setting "{name}"' + (f' (did you mean "{near[0]}"?)' if near else ""), field="settings")
         values = {f.name: getattr(self, f.name) for f in fields(self)}
         values.update(changes)
         return RenderSettings(**values)

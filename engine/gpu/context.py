@@ -9,13 +9,17 @@ REQUIRED_VERSION = 450
 
 
 def create_headless_context():
-    """A standalone OpenGL 4.5 context: EGL first, then OSMesa. One clear error if neither works."""
+    """A standalone OpenGL 4.5 context: EGL first (on the EGL device VCT_EGL_DEVICE names, 0 by
+    default: a batch worker's GPU), then OSMesa. One clear error if neither works."""
     reasons = []
     backends = [os.environ["VCT_GL_BACKEND"]] if os.environ.get("VCT_GL_BACKEND") else ["egl", "osmesa"]
     for backend in backends:
         try:
             if backend == "egl":
-                return moderngl.create_standalone_context(backend="egl", require=REQUIRED_VERSION)
+                device = os.environ.get("VCT_EGL_DEVICE", "0")
+                if not device.isdigit():
+                    raise ContextError(f"VCT_EGL_DEVICE must be a device's index, got {device!r}")
+                return moderngl.create_standalone_context(backend="egl", require=REQUIRED_VERSION, device_index=int(device))
             if backend == "osmesa":
                 from .osmesa import create_osmesa_context
 
