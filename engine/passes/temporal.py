@@ -16,6 +16,19 @@ from .target import ScreenTarget
 OFFSETS = pixel_offsets(TEMPORAL_FRAMES)
 
 
+def sky_reprojection(camera, previous_view_projection):
+    """The matrix taking a point of this frame's far plane (centred NDC, z = 1, w = 1) to the
+    last frame's clip space as a direction from the eye (a point of the sky, infinitely far):
+    previous_view_projection @ [I | -eye; 0] @ inverse(centred_view_projection), its sign
+    making w > 0 where the sky lies ahead."""
+    unproject = np.linalg.inv(np.asarray(camera.centred_view_projection, np.float64))
+    to_direction = np.zeros((4, 4))
+    to_direction[:3, :3] = np.eye(3)
+    to_direction[:3, 3] = -np.asarray(camera.position, np.float64)
+    sign = 1.0 if (unproject @ (0.0, 0.0, 1.0, 1.0))[3] > 0 else -1.0
+    return sign * (np.asarray(previous_view_projection, np.float64) @ to_direction @ unproject)
+
+
 class TemporalPass:
     def __init__(self, ctx, programs, size):
         self.ctx = ctx
@@ -36,6 +49,8 @@ class TemporalPass:
         self.distances = [ScreenTarget(self.ctx, size, components=1) for _ in range(2)]
         for target in self.histories:  # read between pixels where the view moved
             target.texture.filter = (self.ctx.LINEAR, self.ctx.LINEAR)
+        for target in (*self.histories, *self.distances):  # the edge pixels, not the far side's, at the image's edges
+            target.texture.repeat_x = target.texture.repeat_y = False
         self.framebuffers = [self.ctx.framebuffer(color_attachments=[history.texture, distance.texture])
                              for history, distance in zip(self.histories, self.distances)]
         self.size = size
@@ -69,6 +84,7 @@ class TemporalPass:
         self.last_offset = pixel_offset
         self.program.set(centred_view_projection=np.asarray(camera.centred_view_projection, "f4").T.ravel(),
                          previous_view_projection=np.asarray(view_projection, "f4").T.ravel(),
+                         sky_reprojection=np.asarray(sky_reprojection(camera, view_projection), "f4").T.ravel(),
                          previous_eye=tuple(float(x) for x in eye), history_valid=valid)
         self.program.bind({"TEX_HDR_INPUT": image.texture, **gbuffer.resources("GBUF_POSITION", "GBUF_PREVIOUS"),
                            "TEX_HISTORY": self.histories[read].texture, "TEX_HISTORY_DISTANCE": self.distances[read].texture,
