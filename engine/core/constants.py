@@ -66,6 +66,10 @@ SIDES_GAP: GLSL_FLOAT = 0.05  # voxels between the two sides' planes, at least (
 # light, which cones starting nearer read as if in front (the thin sheet's reference scene:
 # 2 voxels left its camera side 2.7x bright at 128^3, 4 within 1.4x).
 TWO_SIDED_START: GLSL_FLOAT = 4.0
+# A voxel side's surface point is the mean of its fragments, which lies behind some of them
+# where the surface is not flat (a curtain's folds, a capital): its shadow lookups are moved this
+# many voxels further along its normal, over the shadow maps' own offset of a few texels.
+VOXEL_SHADOW_LIFT: GLSL_FLOAT = 0.5
 # Per-voxel fixed-point sums the voxelizer accumulates with atomics, a record of these channels
 # per touched voxel and orientation (lib/voxel_sums.glsl). Normal and offset sums are signed
 # (two's complement). Emission is summed in 64 bits: the low word, and a carry word incremented

@@ -20,7 +20,7 @@ CUBE_FACES = (  # (direction, up) in the order of cube_face() in glsl/lib/lights
     ((0, 0, 1), (0, -1, 0)), ((0, 0, -1), (0, -1, 0)),
 )
 NEAR_PLANE = 0.01
-NORMAL_OFFSET_TEXELS = 1.5  # shadow lookups move off the surface by this many texels
+NORMAL_OFFSET_TEXELS = 1.5  # shadow lookups move off the surface by this many texels times sin(angle to the light)
 GL_CLIP_DISTANCES = [0x3000 + plane for plane in range(4)]  # GL_CLIP_DISTANCE0..3: a view's frustum sides (draw_depth.vert)
 
 

@@ -16,16 +16,20 @@ int cube_face(vec3 d) {
     return d.z >= 0.0 ? 4 : 5;
 }
 
-// Fraction of the light that reaches p (1 lit, 0 shadowed), 2x2 hardware PCF.
-float shadow_visibility(Light light, vec3 p, vec3 n, vec3 to_light) {
+// Fraction of the light that reaches p (1 lit, 0 shadowed), 2x2 hardware PCF. `lift`: how far
+// (world units) the surface p stands for may reach out of p along n, added to the lookup's offset.
+float shadow_visibility(Light light, vec3 p, vec3 n, vec3 to_light, float lift) {
     int view_index = int(light.intensity_shadow.w);
     if (view_index < 0) return 1.0;
     if (int(light.position_type.w) == LIGHT_POINT) view_index += cube_face(p - light.position_type.xyz);
     ShadowView view = shadow_views[view_index];
-    // Normal offset: move the lookup off the surface by a few texels (no acne, no peter-panning).
+    // Normal offset: move the lookup off the surface by a few texels times sin(theta), the angle
+    // between the normal and the light (no acne where the light grazes, where a texel spans the
+    // most depth; no lost contact shadows where it faces the surface).
     float texel_world = view.texel.x * (view.view_projection * vec4(p, 1.0)).w;
     vec3 offset_normal = dot(n, to_light) >= 0.0 ? normalize(n) : -normalize(n);
-    vec4 clip = view.view_projection * vec4(p + offset_normal * shadow_normal_offset * texel_world, 1.0);
+    float sin_theta = sqrt(max(1.0 - pow(dot(offset_normal, to_light), 2.0), 0.0));
+    vec4 clip = view.view_projection * vec4(p + offset_normal * (shadow_normal_offset * texel_world * sin_theta + lift), 1.0);
     vec3 ndc = clip.xyz / clip.w;
     vec2 tile_uv = clamp(ndc.xy * 0.5 + 0.5, vec2(view.texel.y), vec2(1.0 - view.texel.y));
     float depth = ndc.z * 0.5 + 0.5;
@@ -35,8 +39,9 @@ float shadow_visibility(Light light, vec3 p, vec3 n, vec3 to_light) {
 
 // Irradiance at p from light i on a surface with normal n: E = I cos(theta) / d^2 (point, spot),
 // E = E_perp cos(theta) (directional), times shadow and spot/range windows. l: unit direction to the light.
-// n may be a voxel's mean normal: dot(n, l) is then the mean of its fragments' cosines.
-vec3 light_irradiance(int i, vec3 p, vec3 n, out vec3 l) {
+// n may be a voxel's mean normal: dot(n, l) is then the mean of its fragments' cosines; `lift`
+// as for shadow_visibility (0 for a point of a surface).
+vec3 light_irradiance(int i, vec3 p, vec3 n, float lift, out vec3 l) {
     Light light = lights[i];
     int type = int(light.position_type.w);
     float attenuation;
@@ -63,5 +68,5 @@ vec3 light_irradiance(int i, vec3 p, vec3 n, out vec3 l) {
     }
     float cos_theta = dot(n, l);
     if (cos_theta <= 0.0 || attenuation <= 0.0) return vec3(0.0);
-    return light.intensity_shadow.rgb * attenuation * cos_theta * shadow_visibility(light, p, n, l);
+    return light.intensity_shadow.rgb * attenuation * cos_theta * shadow_visibility(light, p, n, l, lift);
 }
