@@ -92,7 +92,7 @@ def test_a_job_file_renders_on_two_workers_as_vct_render_does(tmp_path):
 
 
 def test_vct_render_workers_equals_one_process(tmp_path):
-    common = [ROOM, "--frames", 4, "--fps", 2, "--width", 64, "--height", 64, "--grid", 32]
+    common = [ROOM, "--frames", 4, "--fps", 2, "--width", 64, "--height", 64, "--grid", 32, "--samples", 1]
     spread = vct("render", *common, "--workers", 2, "--hdr", tmp_path / "w_%d.npy", "--out", tmp_path / "w_%d.png")
     assert spread.returncode == 0, spread.stderr
     assert "2 workers" in spread.stdout

@@ -131,7 +131,7 @@ class RenderWorker:
         """Render frames `indices` of `job` with `settings` and write their files; returns
         {"outputs", "seconds", "worker", "warnings"}. A VctError says why not."""
         from ..frame.renderer import Renderer
-        from .frames import load_lit_scene, render_frame_files
+        from .frames import frame_times_of, load_lit_scene, render_frame_files
 
         start = time.perf_counter()
         with warnings.catch_warnings(record=True) as caught:
@@ -146,7 +146,7 @@ class RenderWorker:
             elif self.renderer.size != size:
                 self.renderer.resize(*size)
             self.renderer.settings = settings
-            times = job.times()
+            times = frame_times_of(job)
             for index in indices:
                 render_frame_files(self.renderer, scene, home, job, index, times, settings)
         return {"outputs": [path for index in indices for path in frame_outputs(job, index)],
@@ -205,9 +205,8 @@ def _stderr_hidden():
         os.close(saved)
 
 
-def error_line(exc):
+def error_line(ray, exc):
     """One line saying why a chunk failed."""
-    ray = _ray()
     if isinstance(exc, ray.exceptions.RayTaskError):
         cause = exc.cause if getattr(exc, "cause", None) is not None else exc
         return one_line(str(cause) if isinstance(cause, VctError) else f"{type(cause).__name__}: {cause}")
@@ -333,7 +332,7 @@ def _run_chunks(ray, pool, queue, settings, total, log, outcome, frames_kept):
             try:
                 result = ray.get(done)
             except Exception as exc:  # the chunk's error, or its worker's death
-                error = error_line(exc)
+                error = error_line(ray, exc)
                 died = isinstance(exc, (ray.exceptions.RayActorError, ray.exceptions.WorkerCrashedError))
                 log({**record, "result": "failed", "error": error, "worker": names.get(actor) or _name(ray, actor, died)})
                 idle.append(pool.replace(actor) if died else actor)

@@ -347,7 +347,7 @@ def render_command(args):
     from ..formats.output import HDR_WRITERS
     from ..core.progress import progress
     from ..formats.sequence import describe_times, frame_path, video_file
-    from .frames import check_outputs, load_lit_scene, render_frame_files
+    from .frames import check_outputs, frame_times_of, load_lit_scene, render_frame_files
 
     frames = args.frames or 1
     named = check_outputs(args, frames)
@@ -378,13 +378,6 @@ def render_command(args):
     return 0
 
 
-def frame_times_of(args):
-    """The times of the frames `vct render` renders: --frames from --start at --fps, or --time."""
-    from ..formats.sequence import frame_times
-
-    return frame_times(args.frames, args.fps, args.start) if args.frames else [args.time or 0.0]
-
-
 def render_on_workers(args, settings, named, times, size):
     """`vct render --frames N --workers K`: the sequence as one batch job (engine/app/batch.py)."""
     from dataclasses import asdict
@@ -396,11 +389,11 @@ def render_on_workers(args, settings, named, times, size):
     job = Job(name=os.path.basename(args.scene), line=0, scene=args.scene, out=args.out, hdr=args.hdr, video=args.video,
               time=args.time, frames=args.frames, fps=args.fps, start=args.start, orbit=args.orbit, animation=args.animation,
               camera=args.camera, environment=args.environment, width=size[0], height=size[1],
-              settings={name: value for name, value in asdict(settings).items() if value != getattr(RenderSettings(), name)})
+              settings=asdict(settings))
     outcome = run_jobs([job], workers=args.workers, address=None, manifest=None)
     written = " and ".join(path for path, _ in named)
     report(f"wrote {len(times)} frames: {written} ({size[0]}x{size[1]}, mode {settings.mode}, {describe_times(times)}, "
-           f"{outcome.workers} workers)")
+           f"{outcome.workers} worker{'s' if outcome.workers != 1 else ''})")
     return 0
 
 

@@ -9,6 +9,14 @@ from pathlib import Path
 from ..core.errors import VctError
 
 
+def frame_times_of(options):
+    """The times of the frames to render, in seconds: `options.frames` from `options.start` at
+    `options.fps`, or the one `options.time` (default 0)."""
+    from ..formats.sequence import frame_times
+
+    return frame_times(options.frames, options.fps, options.start) if options.frames else [options.time or 0.0]
+
+
 def pose_frame(scene, home, options, index, times):
     """Pose `scene` for frame `index` of `times` (seconds): its animations at the frame's time,
     its camera `home`, turned about the vertical as far as the frame is into the sequence where
@@ -65,7 +73,6 @@ def check_writable(path, flag):
         raise VctError("not writable", source=path, field=flag)
 
 
-
 def load_lit_scene(args):
     """The scene of the command line with its --environment, if any; one warning line where
     nothing can light it."""
@@ -110,7 +117,6 @@ def load_lit_scene(args):
     return scene
 
 
-
 def check_finite(radiance, scene):
     """Refuse to write an image holding NaN or infinite values."""
     import numpy as np
@@ -121,7 +127,6 @@ def check_finite(radiance, scene):
                        source=scene, field="radiance")
 
 
-
 def warn_if_black(scene, radiance, settings, source):
     """One warning line where lights exist but a lit image came out black."""
     from ..core.errors import warn
@@ -130,7 +135,6 @@ def warn_if_black(scene, radiance, settings, source):
         names = ", ".join(f'"{node.name}"' for node, _ in scene.lights())
         warn(f"the image is black: the light of {names} reaches nothing the camera sees (enclosed by geometry, or "
              "pointing away?)", source=source)
-
 
 
 def check_outputs(args, frames):

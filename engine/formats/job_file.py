@@ -13,7 +13,6 @@ from ..core.errors import VctError
 from ..core.limits import MAX_IMAGE_SIDE, MAX_MAGNITUDE
 from .input_files import os_problem, read_regular_file
 from .scene_schema import first_fault, object_schema
-from .sequence import frame_times
 
 MAX_JOB_FILE_BYTES = 64 * 2 ** 20
 MAX_JOBS = 100000
@@ -74,10 +73,6 @@ class Job:
     width: int = None
     height: int = None
     settings: dict = field(default_factory=dict)
-
-    def times(self):
-        """The time of each of its frames, in seconds."""
-        return frame_times(self.frames, self.fps, self.start) if self.frames else [self.time or 0.0]
 
 
 def load_jobs(path):

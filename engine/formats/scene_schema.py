@@ -215,7 +215,7 @@ def validate(document, source):
     except RecursionError:
         raise SceneError("nested too deeply", source=source) from None
     if errors:
-        field, message = _describe(document, min(errors, key=lambda e: _document_order(document, e)))
+        field, message = _earliest(document, errors)
         raise SceneError(message, source=source, field=field)
 
 
@@ -223,8 +223,11 @@ def first_fault(validator, document):
     """(field, message) of the first fault `validator` finds in `document`, in document order
     and in the loader's words; None where it finds none."""
     errors = list(validator.iter_errors(document))
-    if not errors:
-        return None
+    return _earliest(document, errors) if errors else None
+
+
+def _earliest(document, errors):
+    """(field, message) of the fault of `errors` that comes first in `document`."""
     return _describe(document, min(errors, key=lambda e: _document_order(document, e)))
 
 

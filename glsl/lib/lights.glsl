@@ -28,7 +28,8 @@ float shadow_visibility(Light light, vec3 p, vec3 n, vec3 to_light, float lift) 
     // most depth; no lost contact shadows where it faces the surface).
     float texel_world = view.texel.x * (view.view_projection * vec4(p, 1.0)).w;
     vec3 offset_normal = dot(n, to_light) >= 0.0 ? normalize(n) : -normalize(n);
-    float sin_theta = sqrt(max(1.0 - pow(dot(offset_normal, to_light), 2.0), 0.0));
+    float cos_theta = dot(offset_normal, to_light);
+    float sin_theta = sqrt(max(1.0 - cos_theta * cos_theta, 0.0));
     vec4 clip = view.view_projection * vec4(p + offset_normal * (shadow_normal_offset * texel_world * sin_theta + lift), 1.0);
     vec3 ndc = clip.xyz / clip.w;
     vec2 tile_uv = clamp(ndc.xy * 0.5 + 0.5, vec2(view.texel.y), vec2(1.0 - view.texel.y));
