@@ -6,7 +6,6 @@ changed since it last ran (found from the scene's edits: engine/scene/table.py, 
         radiance = r.render(scene, mode="direct")    # float32 (H, W, 3), row 0 at the top
         r.save_png("out.png")                          # tone-mapped with the settings' curve
 """
-import functools
 import numbers
 from contextlib import contextmanager
 
@@ -16,7 +15,6 @@ import numpy as np
 from ..core.constants import SKY_NEAR_REACH
 from ..core.errors import VctError
 from ..core.sampling import pixel_offsets
-from ..formats.output import save_png
 from ..gpu.bindings import forget_bindings
 from ..gpu.context import create_headless_context
 from ..gpu.functions import GL_DEBUG_SOURCE_APPLICATION, gl_functions
@@ -47,34 +45,16 @@ from ..scene.model import Scene
 from ..scene.table import SceneTable
 from ..voxels.clipmap import frame_levels, level_shift, moved_levels, scrolled_regions, with_coarser_levels
 from ..voxels.grid import VoxelGrid
-from ..voxels.inspection import VoxelInspection, read_lists
+from ..voxels.inspection import VoxelInspection
 from . import schedule
 from .camera import CameraBlock, frame_camera
+from .readback import Readback, current
 from .settings import RenderSettings
 from .work_items import WorkItems, WorkResources
 
 # The passes a frame runs whatever changed (their inputs are not tracked): a frame that ran no
 # other draws what the last one drew.
 EVERY_FRAME_PASSES = {"cone_trace", "transparent"}
-VOXEL_VOLUMES = {"radiance": "voxels", "normal": "voxel-normals", "albedo": "voxel-albedo", "gathered": None}
-
-
-def _current(method):
-    """Make the renderer's context current around a public method: several renderers (and
-    their contexts) may live in one process. After close() the method raises VctError."""
-    @functools.wraps(method)
-    def wrapper(self, *args, **kwargs):
-        if self.ctx is None:
-            raise VctError("the renderer is closed (close() was called)", field=f"Renderer.{method.__name__}")
-        if self._context_entered:  # nested call: already current
-            return method(self, *args, **kwargs)
-        self._context_entered = True
-        try:
-            with self.ctx:
-                return method(self, *args, **kwargs)
-        finally:
-            self._context_entered = False
-    return wrapper
 
 
 def _image_size(width, height):
@@ -85,7 +65,7 @@ def _image_size(width, height):
     return int(width), int(height)
 
 
-class Renderer(WorkItems):
+class Renderer(WorkItems, Readback):
     def __init__(self, width, height, settings=None, ctx=None, glsl_root=GLSL_ROOT):
         self.ctx = None
         self.settings = _settings(settings or RenderSettings())
@@ -168,7 +148,7 @@ class Renderer(WorkItems):
             raise VctError(f"image size {size[0]}x{size[1]} exceeds the driver's limit of {limit} pixels per side",
                            field="size")
 
-    @_current
+    @current
     def resize(self, width, height):
         """Follow a new output size (all screen-space targets are recreated)."""
         size = _image_size(width, height)
@@ -180,26 +160,7 @@ class Renderer(WorkItems):
                 render_pass.resize(self.size)
             self.transparent.resize(self.size, self.gbuffer.target)
 
-    @_current
-    def voxels(self, name="radiance", level=0):
-        """A voxel volume of the last frame as float32 (L n, n, n, 4), indexed [z, y, x] (the
-        grid's L levels one after the other along z):
-        "radiance" (emission + direct light, a = opacity), "normal" (mean normal, its length
-        the coherence; a: the surfaces' opacity, a blended one's mean alpha), "albedo",
-        "gathered" (the diffuse light each voxel gathered in the latest bounce,
-        G = sum_j w_j L(p, w_j)); levels above 0 (up to log2 n, one voxel) come from hardware
-        mipmaps."""
-        if name not in VOXEL_VOLUMES:
-            raise VctError(f"must be one of {', '.join(VOXEL_VOLUMES)}, got {name!r}", field="name")
-        if not self.grid.n:
-            raise VctError("no voxels yet: render a frame in a mode that uses them first", field="voxels")
-        top = self.grid.n.bit_length() - 1
-        if not isinstance(level, numbers.Integral) or isinstance(level, bool) or not 0 <= level <= top:
-            raise VctError(f"must be a whole number in 0..{top} for grid {self.grid.n}, got {level!r}", field="level")
-        values = self._gathered() if name == "gathered" else shown_values(self.grid, self.inject.base, VOXEL_VOLUMES[name])
-        return self.inspection.read_level(self.grid, values, level)
-
-    @_current
+    @current
     def reload_shaders(self):
         """Rebuild the programs whose GLSL files changed; a failing one keeps its last good
         build. After a rebuild the next frame recomputes every stage with the new programs
@@ -210,11 +171,6 @@ class Renderer(WorkItems):
             for stage in self.stages.values():
                 stage.forget()
         return rebuilt, errors
-
-    def voxel_memory_bytes(self):
-        """GPU bytes of the voxel grid and of the passes' storage sized by it."""
-        owners = (self.voxelize, self.gather, self.inject, self.faces, self.emitter_light, self.sky_light)
-        return self.grid.memory_bytes() + sum(owner.memory_bytes() for owner in owners) + self.inspection.memory_bytes(self.grid)
 
     @property
     def bounce_iterations(self):
@@ -257,7 +213,7 @@ class Renderer(WorkItems):
         few frames back: engine/gpu/timing.py)."""
         return self.pass_timer.timings
 
-    @_current
+    @current
     def render_frame(self, scene, settings=None):
         """Render one frame on the GPU; `self.output` holds the HDR result. Returns it."""
         if not isinstance(scene, Scene):
@@ -600,7 +556,7 @@ class Renderer(WorkItems):
         elif not update.full and not update.scrolls_only:
             self.faces.clear_touched(self.grid)
 
-    @_current
+    @current
     def render(self, scene, mode=None, **changes):
         """Render and return linear radiance, float32 (H, W, 3), row 0 at the top. `mode` and
         other settings given here apply to this frame only."""
@@ -610,72 +566,10 @@ class Renderer(WorkItems):
         self.render_frame(scene, settings)
         return self.radiance()
 
-    @_current
-    def radiance(self):
-        """The last frame's linear radiance (or encoded data view), float32 (H, W, 3), row 0 at the top."""
-        return self.output.read()[..., :3].copy()
-
-    @_current
-    def positions(self):
-        """The world point each pixel of the last frame sees, float32 (H, W, 3), row 0 at the
-        top; NaN where it sees no surface."""
-        width, height = self.size
-        texels = np.frombuffer(self.gbuffer.target.textures[0].read(), "f4").reshape(height, width, 4)[::-1]
-        return np.where(texels[..., 3:] > 0.0, texels[..., :3], np.nan).astype("f4")
-
-    @property
-    def voxel_layout(self):
-        """Where the voxels of the last frame lie: a VoxelLayout (n, regions, levels, voxel
-        sizes, bounds, and the room of the voxel lists)."""
-        return self.grid.layout()
-
-    @property
-    def draw_calls(self):
-        """The multi-draws the last frame issued."""
-        return self.scene_buffers.draw_calls
-
-    @property
-    def held_meshes(self):
-        """The meshes the GPU holds (one copy of each, whatever the nodes sharing it), and
-        their vertices: (meshes, vertices)."""
-        pool = self.scene_buffers.pool
-        return len(pool.entries), pool.vertex_count
-
-    def texture_memory_bytes(self):
-        """GPU bytes of the scene's textures."""
-        return self.scene_buffers.textures.memory_bytes()
-
-    @_current
-    def voxel_lists(self):
-        """The voxel lists of the last frame read back: VoxelLists (the covered voxels, the
-        touched ones, their records and gather anchors). A read back waits for the GPU."""
-        found = self.gather.anchors_epoch is self.grid.epoch
-        return read_lists(self.grid, self.gather.read_anchors() if found else None)
-
-    @_current
-    def display_target(self):
-        """Tone-map the last frame on the GPU; returns the 8-bit ScreenTarget (for a window)."""
-        s = self.frame_settings
-        if not self._owns_context:
-            forget_bindings(self.ctx)
-        with self.timed("tonemap"):
-            if s.shown.data:  # encoded data: shown as stored, no curve, no sRGB
-                return self.tonemap.render(self.output.texture, 1.0, "none", encode_srgb=False)
-            return self.tonemap.render(self.output.texture, s.exposure, s.tonemap)
-
-    @_current
-    def tonemapped(self):
-        """The last frame as display pixels, uint8 (H, W, 3), row 0 at the top."""
-        return self.display_target().read()[..., :3].copy()
-
     def inputs(self, scene):
         """The files a frame of `scene` reads: the scene's own (its file, mesh files, images)
         and the GLSL files of the renderer's programs."""
         return list(scene.files) + self.programs.files()
-
-    def save_png(self, path):
-        """Tone-map the last frame and write it as PNG (written to a temporary name, then moved)."""
-        save_png(path, self.tonemapped())
 
     # -- lifetime ------------------------------------------------------------------------
 
