@@ -47,6 +47,8 @@ IMAGE_UNIT = {
     "INSPECT_OUT": 0,       # a dense volume made from a record array, for inspection
     "IMAGE_OUT": 0,         # a screen target a compute pass adds to
     "AVERAGE_OUT": 0,       # the mean of a frame's jittered samples (average_samples/)
+    "HISTORY_OUT": 0,       # temporal/: the history of the frames shown, and
+    "HISTORY_DISTANCE_OUT": 1,  # the distance from the camera each of its pixels saw
     "SPECULAR_IN": 1,       # the specular cones' incoming radiance at the anchor pixels (half resolution)
     "DIFFUSE_IN": 2,        # the diffuse cones' gather at the anchor pixels that traced them (a = 1; half resolution)
 }
@@ -245,7 +247,7 @@ VOXEL_MAX_EMISSION: GLSL_FLOAT = 65504.0
 # GL formats of the voxel volumes and the render targets.
 VOXEL_FORMAT = "f2"  # RGBA16F: HDR radiance without banding (field notes 9)
 HDR_FORMAT = "f4"
-GL_IMAGE_FORMAT = {"rgba16f": 0x881A, "rgba32f": 0x8814, "r32ui": 0x8236}
+GL_IMAGE_FORMAT = {"rgba16f": 0x881A, "rgba32f": 0x8814, "r32f": 0x822E, "r32ui": 0x8236}
 # Voxel memory allowed before a grid is refused (bytes).
 VOXEL_MEMORY_BUDGET = 4 * 2 ** 30
 # One-sided views of the voxel radiance that cones read, one per axis direction (+x, -x, ...),

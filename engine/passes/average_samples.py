@@ -21,12 +21,14 @@ class AverageSamplesPass:
     def add(self, image, count):
         """Add `image` (a ScreenTarget), the frame's sample number `count` (1 for the first),
         to the mean of the samples before it; returns the target holding the mean."""
-        self.ctx.memory_barrier(self.ctx.TEXTURE_FETCH_BARRIER_BIT | self.ctx.SHADER_IMAGE_ACCESS_BARRIER_BIT)
         self.program.set(sample_weight=1.0 / count)
         width, height = self.target.size
         self.program.run(math.ceil(width / SCREEN_GROUP), math.ceil(height / SCREEN_GROUP),
                          TEX_HDR_INPUT=image.texture,
                          IMG_AVERAGE_OUT=Image(self.target.texture, read=True, write=True, format=GL_IMAGE_FORMAT["rgba32f"]))
+        # The mean as the next sample loads it and its readers fetch or read it back.
+        self.ctx.memory_barrier(self.ctx.SHADER_IMAGE_ACCESS_BARRIER_BIT | self.ctx.TEXTURE_FETCH_BARRIER_BIT
+                                | self.ctx.TEXTURE_UPDATE_BARRIER_BIT)
         return self.target
 
     def release(self):

@@ -2,15 +2,17 @@
 through a point of the pixel that moves along the Halton sequence (`pixel_offset`), and
 blended into the history of the frames before, reprojected through the camera's and each
 point's own motion (the G-buffer's), clamped to the frame's neighbourhood and dropped where
-disoccluded (glsl/temporal/resolve_history.frag). A still view converges to the mean of TEMPORAL_FRAMES
+disoccluded (glsl/temporal/resolve_history.comp). A still view converges to the mean of TEMPORAL_FRAMES
 jittered samples, the headless renders' box filter, and then rests: while nothing changes, the
 frame shows the history as it stands (`converged`, `held`). It owns the history (two images and
 the distance each pixel saw, written in turn) and the last frame's view."""
+import math
+
 import numpy as np
 
-from ..core.constants import TEMPORAL_FRAMES
+from ..core.constants import GL_IMAGE_FORMAT, SCREEN_GROUP, TEMPORAL_FRAMES
 from ..core.sampling import pixel_offsets
-from ..gpu.bindings import program_used
+from ..gpu.bindings import Image
 from .target import ScreenTarget
 
 OFFSETS = pixel_offsets(TEMPORAL_FRAMES)
@@ -32,11 +34,11 @@ def sky_reprojection(camera, previous_view_projection):
 class TemporalPass:
     def __init__(self, ctx, programs, size):
         self.ctx = ctx
-        self.program = programs.program(
-            vertex_shader="lib/fullscreen.vert", fragment_shader="temporal/resolve_history.frag",
-            reads=("TEX_HDR_INPUT", "TEX_GBUF_POSITION", "TEX_GBUF_PREVIOUS", "TEX_HISTORY", "TEX_HISTORY_DISTANCE", "UBO_CAMERA"))
-        self.histories = self.distances = self.framebuffers = ()
-        self.vertex_array = None
+        self.program = programs.compute(
+            "temporal/resolve_history.comp",
+            reads=("TEX_HDR_INPUT", "TEX_GBUF_POSITION", "TEX_GBUF_PREVIOUS", "TEX_HISTORY", "TEX_HISTORY_DISTANCE", "UBO_CAMERA"),
+            writes=("IMG_HISTORY_OUT", "IMG_HISTORY_DISTANCE_OUT"))
+        self.histories = self.distances = ()
         self.frame = 0          # frames resolved: the next one's offset is OFFSETS[frame % TEMPORAL_FRAMES]
         self.previous = None    # (centred view-projection, eye, settings) of the last frame resolved
         self.still = 0          # frames resolved in a row from that view, with those settings, nothing moving
@@ -51,8 +53,6 @@ class TemporalPass:
             target.texture.filter = (self.ctx.LINEAR, self.ctx.LINEAR)
         for target in (*self.histories, *self.distances):  # the edge pixels, not the far side's, at the image's edges
             target.texture.repeat_x = target.texture.repeat_y = False
-        self.framebuffers = [self.ctx.framebuffer(color_attachments=[history.texture, distance.texture])
-                             for history, distance in zip(self.histories, self.distances)]
         self.size = size
         self.forget()
 
@@ -86,18 +86,15 @@ class TemporalPass:
                          previous_view_projection=np.asarray(view_projection, "f4").T.ravel(),
                          sky_reprojection=np.asarray(sky_reprojection(camera, view_projection), "f4").T.ravel(),
                          previous_eye=tuple(float(x) for x in eye), history_valid=valid)
-        self.program.bind({"TEX_HDR_INPUT": image.texture, **gbuffer.resources("GBUF_POSITION", "GBUF_PREVIOUS"),
-                           "TEX_HISTORY": self.histories[read].texture, "TEX_HISTORY_DISTANCE": self.distances[read].texture,
-                           **camera.resources()})
-        if self.vertex_array is None or self.vertex_array[0] is not self.program.program:  # made anew after a shader reload
-            if self.vertex_array is not None:
-                self.vertex_array[1].release()
-            self.vertex_array = (self.program.program, self.ctx.vertex_array(self.program.program, []))
-        self.framebuffers[write].use()
-        self.ctx.viewport = (0, 0, *self.size)
-        self.ctx.disable(self.ctx.DEPTH_TEST | self.ctx.BLEND)
-        self.vertex_array[1].render(self.ctx.TRIANGLES, vertices=3)
-        program_used(self.program.program)
+        width, height = self.size
+        self.program.run(math.ceil(width / SCREEN_GROUP), math.ceil(height / SCREEN_GROUP),
+                         TEX_HDR_INPUT=image.texture, **gbuffer.resources("GBUF_POSITION", "GBUF_PREVIOUS"),
+                         TEX_HISTORY=self.histories[read].texture, TEX_HISTORY_DISTANCE=self.distances[read].texture,
+                         **camera.resources(),
+                         IMG_HISTORY_OUT=Image(self.histories[write].texture, format=GL_IMAGE_FORMAT["rgba32f"]),
+                         IMG_HISTORY_DISTANCE_OUT=Image(self.distances[write].texture, format=GL_IMAGE_FORMAT["r32f"]))
+        # The history as its readers fetch or read it back: the display, the next frame.
+        self.ctx.memory_barrier(self.ctx.TEXTURE_FETCH_BARRIER_BIT | self.ctx.TEXTURE_UPDATE_BARRIER_BIT)
         self.previous = (camera.centred_view_projection, camera.position, settings)
         self.frame += 1
         return self.histories[write]
@@ -108,11 +105,9 @@ class TemporalPass:
         self.still = 0
 
     def _release_targets(self):
-        for resource in (*self.framebuffers, *self.histories, *self.distances):
+        for resource in (*self.histories, *self.distances):
             resource.release()
 
     def release(self):
         self._release_targets()
-        if self.vertex_array is not None:
-            self.vertex_array[1].release()
         self.program.release()

@@ -12,13 +12,15 @@
 #include "engine_constants.glsl"
 #include "lib/camera.glsl"
 
+layout(local_size_x = SCREEN_GROUP, local_size_y = SCREEN_GROUP) in;
+
 layout(binding = TEX_HDR_INPUT) uniform sampler2D current_image;
 layout(binding = TEX_GBUF_POSITION) uniform sampler2D gbuffer_position;  // world position, a > 0: a surface
 layout(binding = TEX_GBUF_PREVIOUS) uniform sampler2D gbuffer_previous;  // where it was at the frame before
 layout(binding = TEX_HISTORY) uniform sampler2D history;                 // rgb, a = frames it holds
 layout(binding = TEX_HISTORY_DISTANCE) uniform sampler2D history_distance;
-layout(location = 0) out vec4 history_out;
-layout(location = 1) out float history_distance_out;
+layout(binding = IMG_HISTORY_OUT, rgba32f) uniform writeonly image2D history_out;
+layout(binding = IMG_HISTORY_DISTANCE_OUT, r32f) uniform writeonly image2D history_distance_out;
 uniform mat4 centred_view_projection;   // this frame's through the pixels' centres (no jitter)
 uniform mat4 previous_view_projection;  // the last frame's, through the pixels' centres
 uniform mat4 sky_reprojection;         // a far point through this frame's centred view to the last frame's clip space, as a direction
@@ -26,8 +28,9 @@ uniform vec3 previous_eye;
 uniform bool history_valid;             // false: the first frame, or the view was resized
 
 void main() {
-    ivec2 pixel = ivec2(gl_FragCoord.xy);
+    ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
     ivec2 size = textureSize(current_image, 0);
+    if (any(greaterThanEqual(pixel, size))) return;
     vec4 current = texelFetch(current_image, pixel, 0);
     // The range of the pixel and its four edge neighbours.
     vec3 low = current.rgb, high = current.rgb;
@@ -69,6 +72,6 @@ void main() {
         }
     }
     frames = min(frames + 1.0, float(TEMPORAL_FRAMES));
-    history_out = vec4(mix(held, current.rgb, 1.0 / frames), frames);
-    history_distance_out = surface ? distance(camera.position.xyz, p.xyz) : 0.0;
+    imageStore(history_out, pixel, vec4(mix(held, current.rgb, 1.0 / frames), frames));
+    imageStore(history_distance_out, pixel, vec4(surface ? distance(camera.position.xyz, p.xyz) : 0.0));
 }
