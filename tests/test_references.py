@@ -209,17 +209,19 @@ def test_a_sheet_lit_on_one_face_passes_on_the_light_of_that_face_alone(grid, bo
 
 
 def test_sponzas_indirect_light_keeps_the_light_of_surfaces_back_to_back():
-    """Sponza under its sky at 128^3: banners and curtains are two sheets back to back and a
-    third of its bricks have an opposite face within a voxel. With a side per orientation its
-    indirect light (GI less direct, on both sides) is 0.69 of the path tracer's (one mean
-    normal a voxel: 0.565), the image within 0.185 (0.179; 0.185)."""
+    """Sponza under its sky at 128^3: banners and curtains are two sheets back to back, draped,
+    and a third of its bricks have an opposite face within a voxel. With a side per orientation
+    (with or against a voxel's most common facing) its indirect light (GI less direct, on both
+    sides) is 0.775 of the path tracer's (0.749 with the orientations split by the sign of each
+    normal's dominant component, which mixed a banner's faces where it turns through a
+    diagonal; one mean normal a voxel: 0.565), the image within 0.18 (0.170)."""
     scene = engine.load_scene(SCENES / "sponza.json")
     with engine.Renderer(256, 256) as r:
         direct = r.render(scene, mode="direct")
         gi = r.render(scene, grid=128)
     expected_gi, expected_direct = reference("sponza_gi"), reference("sponza_direct")
-    assert luminance_ratio(gi - direct, expected_gi - expected_direct) > 0.65
-    assert rel_mae(gi, expected_gi) <= 0.185
+    assert luminance_ratio(gi - direct, expected_gi - expected_direct) > 0.76
+    assert rel_mae(gi, expected_gi) <= 0.18
 
 
 @pytest.mark.parametrize("grid", [32, 64])

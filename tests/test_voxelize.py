@@ -297,3 +297,45 @@ def check_records(renderer):
     assert np.array_equal(held - 1, lists.records) and np.count_nonzero(lists.index) == len(lists.covered)
     assert lists.short == 0 and len(lists.free) == room - len(lists.covered)
     assert sorted(np.concatenate([held - 1, lists.free]).tolist()) == list(range(room))
+
+
+def draped_cloth(scene, radius=0.5, gap=0.01, segments=24):
+    """`scene` (the Cornell box) with a cloth of two sheets `gap` apart back to back, bent
+    around the y axis from 75 to 15 degrees below +x towards -z (a banner's fold): its outer
+    face's normal turns from mostly -z through the diagonal to mostly +x."""
+    white = next(node.material for node, _ in scene.root.walk() if node.name == "Bottom Plane")
+    angles = np.radians(np.linspace(-75.0, -15.0, segments + 1))
+    for name, r, outward in (("Cloth front", radius, True), ("Cloth back", radius - gap, False)):
+        ring = np.stack([r * np.cos(angles), np.zeros_like(angles), r * np.sin(angles)], axis=1)
+        positions = np.concatenate([ring + [0.0, -0.3, 0.0], ring + [0.0, 0.3, 0.0]])
+        k = np.arange(segments)
+        quads = np.stack([k, k + 1, k + 1 + segments + 1, k + segments + 1], axis=1)
+        triangles = np.concatenate([quads[:, [0, 2, 1]], quads[:, [0, 3, 2]]]) if outward else \
+            np.concatenate([quads[:, [0, 1, 2]], quads[:, [0, 2, 3]]])
+        scene.root.children.append(engine.Node(name, mesh=engine.triangle_mesh(positions, triangles), material=white))
+    return scene
+
+
+def test_a_draped_cloth_keeps_its_two_faces_apart_where_its_normal_crosses_a_diagonal(renderer):
+    """Banners and curtains are two sheets back to back, draped: where a face's normal turns
+    through the diagonal between two axes, the sign of its dominant component flips along it.
+    The voxelizer sorts a voxel's fragments by facing with or against the facing most of them
+    have, so each voxel on the cloth (two sheets 1 cm apart, inside one 6 cm voxel) keeps each
+    face whole on a side of its own: side 0's mean normal stays coherent in every voxel on it
+    (|n| > 0.9; measured 0.999 and up over 42 voxels. Sorted by that sign, the voxels where the
+    normal crossed the diagonal mixed both faces in each orientation: 6 of them below 0.9, down
+    to 0.08, their light cancelled)."""
+    scene = engine.load_scene(SCENES / "cornell_box.json")
+    scene.root.children = [node for node in scene.root.children if not node.name.endswith("Box")]
+    draped_cloth(scene)
+    renderer.render(scene, mode="voxels", grid=32)
+    normal = renderer.voxels("normal")
+    layout = renderer.voxel_layout
+    lo, _ = layout.level_bounds(0)
+    z, y, x = np.nonzero(normal[..., 3])
+    centres = lo + (np.stack([x, y, z], axis=1) + 0.5) * layout.voxel_size
+    radius, angle = np.hypot(centres[:, 0], centres[:, 2]), np.degrees(np.arctan2(centres[:, 2], centres[:, 0]))
+    on_cloth = (np.abs(radius - 0.495) < 0.6 * layout.voxel_size) & (np.abs(centres[:, 1]) < 0.2) & (angle > -65) & (angle < -25)
+    coherence = np.linalg.norm(normal[z, y, x, :3], axis=1)[on_cloth]
+    assert on_cloth.sum() >= 20
+    assert coherence.min() > 0.9

@@ -54,10 +54,10 @@ IMAGE_UNIT = {
 }
 
 # A covered voxel keeps its surfaces by orientation, in up to VOXEL_SIDES sides: side 0 the
-# fragments of the orientation most of them have (the sign of each fragment normal's dominant
-# component), side 1 those of the opposite one where they face apart (the back of a sheet, the
-# far face of a slab thinner than a voxel). Each side has its own surface and light: a value
-# per record and side.
+# fragments of the orientation most of them have (with or against the voxel's most common
+# facing: lib/voxel_sums.glsl fragment_orientation), side 1 those of the opposite one where
+# they face apart (the back of a sheet, the far face of a slab thinner than a voxel). Each side
+# has its own surface and light: a value per record and side.
 VOXEL_SIDES: GLSL_INT = 2
 # The orientations of a voxel's fragments make two sides where their mean normals face apart,
 # cos(angle between them) < -SIDES_APART; else one side holds them all (a floor meeting a wall).
@@ -83,7 +83,7 @@ VOXEL_SUM_CHANNELS = ("COUNT", "ALBEDO_R", "ALBEDO_G", "ALBEDO_B", "NORMAL_X", "
 # Shader storage buffer bindings.
 STORAGE_BINDING = {
     "VOXEL_SUMS": 0,        # the voxelizer's sums of the touched voxels, a record per slot (lib/voxel_sums.glsl)
-    "FRONT_KEYS": 1,        # their front-layer keys, per slot and facing direction
+    "FRONT_KEYS": 1,        # their front-layer keys and fragment counts, per slot and facing direction
     "TOUCHED_RECORDS": 2,   # per place on the touched list: the voxel's word of the record index before the update
     "TOUCHED": 14,          # voxels the current voxelization touched (count, then packed coordinates)
     "COVERED": 15,          # voxels holding surface

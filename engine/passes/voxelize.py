@@ -82,7 +82,7 @@ class VoxelizePass:
         self._scratch.release()
         ctx, room = self.ctx, sum_room(n, grid.levels)
         self.sums = ctx.buffer(data=bytes(4 * VOXEL_SIDES * len(VOXEL_SUM_CHANNELS) * room))
-        self.front_keys = ctx.buffer(data=bytes(4 * VOXEL_FACES * room))
+        self.front_keys = ctx.buffer(data=bytes(4 * 2 * VOXEL_FACES * room))  # a key and a count per facing
         self.touched_records = ctx.buffer(reserve=4 * grid.touched_room)
         self.framebuffer = ctx.empty_framebuffer((n, n))
         self._scratch.hold((n, grid.levels, grid.touched_room), [self.sums, self.front_keys, self.touched_records, self.framebuffer])

@@ -60,17 +60,19 @@ void add_emission(int slot, int orientation, int low_channel, int carry_channel,
 }
 
 // A fragment of normal n and offset `offset` along it into voxel slot `slot`: its front-layer
-// key (VOXELIZE_FRONT), then, where it lies in the front layer of its facing, its sums.
+// key and its count (VOXELIZE_FRONT), then, where it lies in the front layer of its facing, its
+// sums.
 void add_fragment(int slot, vec3 n, float offset, MaterialSample m, vec3 emission, bool double_sided) {
     uint key = key_entry(slot, facing_face(n));
     if (stage == VOXELIZE_FRONT) {
         atomicMax(front_keys[key], layer_key(offset));
+        atomicAdd(front_keys[count_entry(slot, facing_face(n))], 1u);
         return;
     }
     if (layer_key(offset + LAYER_TOLERANCE) < front_keys[key]) return;  // behind the front layer
 
-    // Summed apart by orientation: the sign of the dominant component of the fragment's normal.
-    int orientation = n[dominant_axis(n)] < 0.0 ? 1 : 0;
+    // Summed apart by orientation: with or against the voxel's most common facing.
+    int orientation = fragment_orientation(slot, n);
     uint earlier_fragments = atomicAdd(voxel_sums[sum_entry(slot, orientation, SUM_COUNT)], 1u);
     if (earlier_fragments >= VOXEL_MAX_FRAGMENTS) return;  // headroom of the signed sums
     // A voxel keeps no direction, so what the specular layer reflects bounces on as a Lambertian

@@ -5,8 +5,8 @@
 // reads NO_VOXEL at them; then each covered voxel takes a record where it had none (the covered
 // list holds it at that record, and it is listed as newly covered), and the
 // fixed-point sums divided by the fragment count become its surfaces, a side per orientation
-// (VOXEL_SIDES): albedo, mean normal and opacity, emission with the surface offset in a. Both zero the sums and front-layer keys
-// for the next update and put back the voxel's word of the record index (its record now, or
+// (VOXEL_SIDES): albedo, mean normal and opacity, emission with the surface offset in a. Both
+// zero the sums and the front layers' keys and counts for the next update and put back the voxel's word of the record index (its record now, or
 // none: lib/voxel_slots.glsl), so that cones see at once the surfaces it holds, and none where
 // it holds none (level 0 is the records: lib/cone.glsl). Freeing first
 // keeps the records an update holds at once to the more of the voxels covered before it and
@@ -117,7 +117,7 @@ void main() {
         }
         if (record != NO_RECORD) {
             // Two sides where the orientations' surfaces face apart (sides_apart), side 0 the
-            // orientation most fragments have (the positive on a tie); one side, both
+            // orientation most fragments have (orientation 0 on a tie); one side, both
             // orientations together, where they do not (an edge where a floor meets a wall).
             bool double_sided = 2u * voxel_sums[sum_entry(i, 0, SUM_DOUBLE_SIDED)] >= counts[0]
                                 && 2u * voxel_sums[sum_entry(i, 1, SUM_DOUBLE_SIDED)] >= counts[1];
@@ -131,5 +131,5 @@ void main() {
     for (int orientation = 0; orientation < VOXEL_SIDES; ++orientation)
         for (int channel = 0; channel < VOXEL_SUM_CHANNELS; ++channel) voxel_sums[sum_entry(i, orientation, channel)] = 0u;
     voxel_records[voxel_index(v)] = record + 1u;  // its record, no longer flagged (0: none)
-    for (int f = 0; f < VOXEL_FACES; ++f) front_keys[key_entry(i, f)] = 0u;
+    for (int f = 0; f < VOXEL_FACES; ++f) front_keys[key_entry(i, f)] = front_keys[count_entry(i, f)] = 0u;
 }
