@@ -93,7 +93,9 @@ def test_a_blended_pane_lets_about_one_minus_alpha_of_the_direct_light_through(a
 @pytest.mark.parametrize("alpha", [0.3, 0.8])
 def test_a_blended_pane_is_alpha_opaque_in_its_voxels(alpha):
     """The voxels carry a blended surface's opacity (the normal volume's a): a pane of alpha a
-    is a opaque to the cones, and an opaque wall 1."""
+    is a opaque to the cones, and an opaque wall 1, where they cover a voxel's face (the voxels
+    their edges cross, that share of it: here half, their edges passing through voxel centres;
+    196 of the pane's 256 voxels read a, none more)."""
     scene = wall_and_pane(pane_alpha=alpha, pane_z=1.0)
     with engine.Renderer(32, 32) as r:
         r.render(scene, mode="voxels", grid=64)
@@ -102,5 +104,6 @@ def test_a_blended_pane_is_alpha_opaque_in_its_voxels(alpha):
     lo, size = layout.level_bounds(0)[0], layout.voxel_size
     pane = normal[int((1.0 - lo[2]) / size) - 1:int((1.0 - lo[2]) / size) + 2, ..., 3]
     wall = normal[int((0.0 - lo[2]) / size) - 1:int((0.0 - lo[2]) / size) + 2, ..., 3]
-    assert np.allclose(pane[pane > 0], alpha, atol=0.01) and np.count_nonzero(pane) > 50
-    assert np.all(wall[wall > 0] == 1.0)
+    covered = pane[pane > 0]
+    assert np.all(covered <= alpha + 0.01) and np.count_nonzero(np.abs(covered - alpha) <= 0.01) > 150
+    assert np.all(wall <= 1.0) and np.count_nonzero(wall == 1.0) > 3000

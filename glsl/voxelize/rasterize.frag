@@ -2,8 +2,9 @@
 // Voxelization, fragment stage: one fragment = one surface sample in one voxel. Its reflectance
 // (the layered model's hemispherical albedo, lib/brdf.glsl) and emission (the material's
 // factors times its textures, sampled at the mip level of a voxel's footprint), unit normal,
-// offset along the normal from the voxel centre are added to the voxel's fixed-point sums with
-// atomics, with a fragment count (lib/voxel_sums.glsl).
+// offset along the normal from the voxel centre and opacity (its alpha times the share of the
+// voxel's face the triangle covers: pixel_coverage) are added to the voxel's fixed-point sums
+// with atomics, with a fragment count (lib/voxel_sums.glsl).
 //
 // Surfaces that share a voxel and face the same way (a lamp under a ceiling, a picture on a
 // wall, a rug on a floor) hide one another: seen from their front, only the front-most shows.
@@ -35,6 +36,7 @@ in vec2 gs_texcoord;
 const vec3 gs_color = vec3(1.0);
 #endif
 flat in vec4 gs_pixel_bounds;
+flat in vec3 gs_edges[3];
 flat in uint gs_material;     // NO_MATERIAL: a held draw, marked as it is not cut out
 // The job's voxels [min, max) in its level's own coordinates (the whole cube, or the slab a
 // scrolled level took in); w: the level.
@@ -45,6 +47,27 @@ uniform int stage;
 // The offset of a surface along its normal from the voxel centre, in voxels, as an ordered key.
 uint layer_key(float offset) {
     return uint((clamp(offset, -1.0, 1.0) + 1.0) * 32767.0);
+}
+
+// Whether point p lies inside edge line e (e.xy . p + e.z > 0); a point on the line counts for
+// one of the two triangles sharing it, the one whose inside the line's normal points to first
+// along x, then y (a top-left rule), so that triangles sharing an edge cover it once.
+bool inside_edge(vec3 e, vec3 p) {
+    float d = dot(e, p);
+    return d > 0.0 || (d == 0.0 && (e.x > 0.0 || (e.x == 0.0 && e.y > 0.0)));
+}
+
+// The share of the fragment's pixel (a voxel's face) the undilated triangle covers: the
+// share of COVERAGE_SAMPLES^2 points spread evenly over the pixel inside its three edges.
+#define COVERAGE_SAMPLES 4
+float pixel_coverage(vec2 pixel_centre) {
+    int inside = 0;
+    for (int i = 0; i < COVERAGE_SAMPLES; ++i)
+        for (int j = 0; j < COVERAGE_SAMPLES; ++j) {
+            vec3 p = vec3(pixel_centre + (vec2(i, j) + 0.5) / float(COVERAGE_SAMPLES) - 0.5, 1.0);
+            if (inside_edge(gs_edges[0], p) && inside_edge(gs_edges[1], p) && inside_edge(gs_edges[2], p)) ++inside;
+        }
+    return float(inside) / float(COVERAGE_SAMPLES * COVERAGE_SAMPLES);
 }
 
 uint unit_fixed(float x) {  // two's complement of round(x * VOXEL_UNIT_SCALE), |x| <= 1
@@ -62,7 +85,7 @@ void add_emission(int slot, int orientation, int low_channel, int carry_channel,
 // A fragment of normal n and offset `offset` along it into voxel slot `slot`: its front-layer
 // key and its count (VOXELIZE_FRONT), then, where it lies in the front layer of its facing, its
 // sums.
-void add_fragment(int slot, vec3 n, float offset, MaterialSample m, vec3 emission, bool double_sided) {
+void add_fragment(int slot, vec3 n, float offset, MaterialSample m, vec3 emission, bool double_sided, float coverage) {
     uint key = key_entry(slot, facing_face(n));
     if (stage == VOXELIZE_FRONT) {
         atomicMax(front_keys[key], layer_key(offset));
@@ -87,7 +110,7 @@ void add_fragment(int slot, vec3 n, float offset, MaterialSample m, vec3 emissio
     atomicAdd(voxel_sums[sum_entry(slot, orientation, SUM_NORMAL_Z)], unit_fixed(n.z));
     atomicAdd(voxel_sums[sum_entry(slot, orientation, SUM_OFFSET)], unit_fixed(offset));
     // A blended surface covers alpha of what lies behind it; every other one all of it.
-    atomicAdd(voxel_sums[sum_entry(slot, orientation, SUM_OPACITY)], unit_fixed(m.alpha_cutoff == ALPHA_BLENDED ? m.alpha : 1.0));
+    atomicAdd(voxel_sums[sum_entry(slot, orientation, SUM_OPACITY)], unit_fixed(coverage * (m.alpha_cutoff == ALPHA_BLENDED ? m.alpha : 1.0)));
     add_emission(slot, orientation, SUM_EMISSION_R, SUM_EMISSION_CARRY_R, emission.r);
     add_emission(slot, orientation, SUM_EMISSION_G, SUM_EMISSION_CARRY_G, emission.g);
     add_emission(slot, orientation, SUM_EMISSION_B, SUM_EMISSION_CARRY_B, emission.b);
@@ -128,6 +151,7 @@ void main() {
     // A double-sided material's surface is seen from both sides: its fragment adds its back,
     // facing the other way, as a surface of its own (which does not emit).
     bool double_sided = gs_material != NO_MATERIAL && materials[gs_material].sides.x != 0u;
-    add_fragment(slot, n, offset, m, m.emission, double_sided);
-    if (double_sided) add_fragment(slot, -n, -offset, m, vec3(0.0), true);
+    float coverage = pixel_coverage(gl_FragCoord.xy);
+    add_fragment(slot, n, offset, m, m.emission, double_sided, coverage);
+    if (double_sided) add_fragment(slot, -n, -offset, m, vec3(0.0), true, coverage);
 }

@@ -50,8 +50,9 @@ void resolve_side(int i, uint orientations, uint record, int side, bool two_side
     vec3 albedo = vec3(float(int(sums[SUM_ALBEDO_R])), float(int(sums[SUM_ALBEDO_G])), float(int(sums[SUM_ALBEDO_B]))) * to_unit;
     vec3 normal = vec3(float(int(sums[SUM_NORMAL_X])), float(int(sums[SUM_NORMAL_Y])), float(int(sums[SUM_NORMAL_Z]))) * to_unit;
     float offset = float(int(sums[SUM_OFFSET])) * to_unit;
-    // The mean opacity of its surfaces: exactly 1 where all of them are opaque.
-    float opacity = sums[SUM_OPACITY] == uint(samples * VOXEL_UNIT_SCALE) ? 1.0 : float(sums[SUM_OPACITY]) * to_unit;
+    // The share of the voxel's face its surfaces cover (their fragments' pixel coverage times
+    // their opacity, summed), at most 1.
+    float opacity = min(float(sums[SUM_OPACITY]) / VOXEL_UNIT_SCALE, 1.0);
     vec3 emission = vec3(emission_sum(sums[SUM_EMISSION_R], sums[SUM_EMISSION_CARRY_R]),
                          emission_sum(sums[SUM_EMISSION_G], sums[SUM_EMISSION_CARRY_G]),
                          emission_sum(sums[SUM_EMISSION_B], sums[SUM_EMISSION_CARRY_B])) / (samples * VOXEL_EMISSION_SCALE);
