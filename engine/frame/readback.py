@@ -42,7 +42,8 @@ class Readback:
         """A voxel volume of the last frame as float32 (L n, n, n, 4), indexed [z, y, x] (the
         grid's L levels one after the other along z):
         "radiance" (emission + direct light, a = opacity), "normal" (mean normal, its length
-        the coherence; a: the surfaces' opacity, a blended one's mean alpha), "albedo",
+        the coherence; a: the surfaces' opacity, the share of the voxel's face they cover times
+        their alpha, at most 1), "albedo",
         "gathered" (the diffuse light each voxel gathered in the latest bounce,
         G = sum_j w_j L(p, w_j)); levels above 0 (up to log2 n, one voxel) come from hardware
         mipmaps."""

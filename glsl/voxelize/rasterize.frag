@@ -64,7 +64,8 @@ float pixel_coverage(vec2 pixel_centre) {
     int inside = 0;
     for (int i = 0; i < COVERAGE_SAMPLES; ++i)
         for (int j = 0; j < COVERAGE_SAMPLES; ++j) {
-            vec3 p = vec3(pixel_centre + (vec2(i, j) + 0.5) / float(COVERAGE_SAMPLES) - 0.5, 1.0);
+            vec2 sample_pixels = pixel_centre + (vec2(i, j) + 0.5) / float(COVERAGE_SAMPLES) - 0.5;
+            vec3 p = vec3(sample_pixels * (2.0 / float(voxel_grid)) - 1.0, 1.0);  // in NDC, as the edges
             if (inside_edge(gs_edges[0], p) && inside_edge(gs_edges[1], p) && inside_edge(gs_edges[2], p)) ++inside;
         }
     return float(inside) / float(COVERAGE_SAMPLES * COVERAGE_SAMPLES);

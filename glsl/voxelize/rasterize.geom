@@ -28,7 +28,7 @@ in vec2 vs_texcoord[];
 out vec2 gs_texcoord;
 #endif
 flat out vec4 gs_pixel_bounds;  // the undilated triangle's bounding box in pixels, grown by half a pixel
-flat out vec3 gs_edges[3];      // the undilated triangle's edge lines in pixels: line.xy . p + line.z >= 0 inside
+flat out vec3 gs_edges[3];      // the undilated triangle's edge lines in NDC: line.xy . p + line.z > 0 inside
 flat out uint gs_material;
 flat out ivec4 gs_voxels_min;   // the job's voxels [min, max) in its level's coordinates; w: the level
 flat out ivec3 gs_voxels_max;
@@ -64,20 +64,16 @@ void main() {
     float area = (corner[1].x - corner[0].x) * (corner[2].y - corner[0].y) - (corner[2].x - corner[0].x) * (corner[1].y - corner[0].y);
     int order[3] = area >= 0.0 ? int[3](0, 1, 2) : int[3](0, 2, 1);
 
-    vec3 edges_in_pixels[3];
-    for (int i = 0; i < 3; ++i) {
-        vec2 p0 = (corner[order[i]] * 0.5 + 0.5) * float(voxel_grid), p1 = (corner[order[(i + 1) % 3]] * 0.5 + 0.5) * float(voxel_grid);
-        edges_in_pixels[i] = cross(vec3(p0, 1.0), vec3(p1, 1.0));
-    }
     vec2 lo = min(corner[0], min(corner[1], corner[2])) - half_pixel;
     vec2 hi = max(corner[0], max(corner[1], corner[2])) + half_pixel;
     vec4 bounds = vec4((lo * 0.5 + 0.5) * float(voxel_grid), (hi * 0.5 + 0.5) * float(voxel_grid));
 
     // Edge lines shifted outward by half a pixel along the worst-case (diagonal) direction.
-    vec3 edge[3];
+    vec3 undilated[3], edge[3];
     for (int i = 0; i < 3; ++i) {
         vec2 p0 = corner[order[i]], p1 = corner[order[(i + 1) % 3]];
         vec3 line = cross(vec3(p0, 1.0), vec3(p1, 1.0));   // line through p0, p1: line.xy . p + line.z = 0
+        undilated[i] = line;
         line.z += half_pixel * (abs(line.x) + abs(line.y)); // inside is line . p > 0 for ccw order
         edge[i] = line;
     }
@@ -98,7 +94,7 @@ void main() {
         gs_texcoord = w.x * vs_texcoord[0] + w.y * vs_texcoord[1] + w.z * vs_texcoord[2];
 #endif
         gs_pixel_bounds = bounds;
-        gs_edges = edges_in_pixels;
+        gs_edges = undilated;
         gs_material = vs_material[0];
         gs_voxels_min = vs_voxels_min[0];
         gs_voxels_max = voxelized_max;

@@ -5,8 +5,9 @@
 // reads NO_VOXEL at them; then each covered voxel takes a record where it had none (the covered
 // list holds it at that record, and it is listed as newly covered), and the
 // fixed-point sums divided by the fragment count become its surfaces, a side per orientation
-// (VOXEL_SIDES): albedo, mean normal and opacity, emission with the surface offset in a. Both
-// zero the sums and the front layers' keys and counts for the next update and put back the voxel's word of the record index (its record now, or
+// (VOXEL_SIDES): albedo, mean normal and opacity (summed, not divided), emission with the
+// surface offset in a. Both zero the sums and the front layers' keys and counts for the next
+// update and put back the voxel's word of the record index (its record now, or
 // none: lib/voxel_slots.glsl), so that cones see at once the surfaces it holds, and none where
 // it holds none (level 0 is the records: lib/cone.glsl). Freeing first
 // keeps the records an update holds at once to the more of the voxels covered before it and
