@@ -177,3 +177,31 @@ def test_directional_light_gives_uniform_irradiance(tmp_path):
         radiance = r.render(scene, mode="direct")
     expected = np.array([0.5, 0.6, 0.7]) / math.pi * 3.0 * 0.8
     assert np.allclose(radiance[8:56, 8:56].reshape(-1, 3), expected, rtol=0.01)
+
+
+def test_a_thin_post_near_the_camera_casts_a_sharp_sun_shadow_in_a_wide_scene(tmp_path):
+    """The sun's shadow views follow the camera: on a 60 m wide field, a post 6 cm thick seen
+    from 4 m casts a shadow as dark as the post is solid and as wide as the post (3.3 pixels of
+    1.8 cm). One view of the whole field (16 cm texels) blurs it into a faint band."""
+    spec = {
+        "camera": {"position": [0.75, 4.0, 0.0], "look_at": [0.75, 0.0, 0.0], "up": [0.0, 0.0, -1.0],
+                   "vertical_fov_deg": 60.0, "width": 256, "height": 256},
+        "materials": {"white": {"albedo": [0.5, 0.5, 0.5]}},
+        "objects": [{"name": "Field", "type": "quad", "material": "white",
+                     "vertices": [[-30, 0, -30], [-30, 0, 30], [30, 0, 30], [30, 0, -30]]},
+                    {"name": "Post", "type": "box", "material": "white", "center": [0.0, 1.0, 0.0], "size": [0.06, 2.0, 0.06]}],
+        "lights": [{"name": "Sun", "type": "directional", "direction": [0.6, -0.8, 0.0], "irradiance": [3.0, 3.0, 3.0]}],
+    }
+    path = tmp_path / "field.json"
+    path.write_text(json.dumps(spec))
+    with engine.Renderer(256, 256) as r:
+        luminance = r.render(engine.load_scene(path), mode="direct").mean(axis=2)
+    lit = 0.5 / math.pi * 3.0 * 0.8
+    pixel = 2.0 * 4.0 * math.tan(math.radians(30.0)) / 256  # metres of field per pixel
+    # The shadow runs along +x from the post's foot to x = 1.5 m; across it, along z (image rows).
+    for x in (0.4, 0.8, 1.2):
+        column = 128 + round((x - 0.75) / pixel)
+        across = luminance[:, column]
+        shadowed = np.flatnonzero(across < 0.5 * lit)
+        assert across.min() < 0.05 * lit and 2 <= len(shadowed) <= 5, (x, across.min() / lit, len(shadowed))
+        assert np.all(np.abs(shadowed - 127.5) < 4), shadowed  # about z = 0

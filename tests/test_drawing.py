@@ -86,7 +86,9 @@ def test_the_camera_draws_the_clusters_in_its_frustum_and_no_others():
 
 def test_a_static_frame_reads_no_node_of_the_scene():
     """Once drawn, a frame where only the camera moved finds that nothing else changed from the
-    scene's edit log: it walks no node, computes no node's matrix and touches no draw's record."""
+    scene's edit log: it walks no node, computes no node's matrix and touches no draw's record;
+    it fits the sun's shadow cascades to the camera again (redrawing none, as they still hold its
+    view) and touches no voxel."""
     scene = field_of_boxes(256)
     with engine.Renderer(64, 64) as r:
         r.render(scene, mode="gi", grid=32)
@@ -97,7 +99,8 @@ def test_a_static_frame_reads_no_node_of_the_scene():
             r.render(scene, mode="gi", grid=32)
         finally:
             Node.walk, Node.local_matrix = walk, local
-        assert r.passes_ran == ["gbuffer", "lighting", "cone_trace"]
+        assert r.passes_ran == ["shadow", "gbuffer", "lighting", "cone_trace"]  # the sun's cascades follow the camera
+        assert r.shadow.drawn_tiles == []  # and still hold its view: none is drawn again
 
 
 @pytest.mark.parametrize("edit, passes", [

@@ -3,6 +3,7 @@ whose inputs are known, checked against the formula it implements."""
 import numpy as np
 import pytest
 
+from engine.frame.camera import frame_camera
 from engine.frame.settings import RenderSettings
 from engine.gpu.context import create_headless_context
 from engine.gpu.scene_buffers import SceneBuffers
@@ -12,7 +13,7 @@ from engine.passes.faces import FaceViewsPass
 from engine.passes.gather import GatherPass
 from engine.passes.inject import InjectPass
 from engine.passes.shadow import ShadowPass
-from engine.scene.model import Light, VoxelRegion
+from engine.scene.model import Camera, Light, VoxelRegion
 from engine.voxels.grid import VoxelGrid
 from engine.voxels.inspection import VoxelInspection
 
@@ -46,7 +47,9 @@ def centre(x, y, z):
 
 
 def lights(gl, *scene_lights):
-    return gl["shadow"].render(list(scene_lights), gl["buffers"], (REGION.center - 1, REGION.center + 1))
+    bounds = (REGION.center - 1, REGION.center + 1)
+    camera = frame_camera(Camera(position=REGION.center + [0.0, 0.0, 3.0], look_at=REGION.center), (64, 64), bounds)
+    return gl["shadow"].render(list(scene_lights), gl["buffers"], bounds, camera)
 
 
 def every_voxel(gl):

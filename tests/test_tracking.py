@@ -68,6 +68,21 @@ def test_a_moved_object_redraws_only_the_shadow_views_that_see_it():
         assert r.shadow.drawn_tiles == [3]  # CUBE_FACES: +x, -x, +y, -y, +z, -z
 
 
+def test_a_light_redraws_its_shadow_views_only_when_they_move():
+    """A shadow tile holds the depths its view sees: the omni light turned twice as bright
+    draws none of its cube faces again (its frame lit twice as brightly), moved it draws all six."""
+    scene = engine.load_scene(SCENES / "cornell_box.json")
+    with engine.Renderer(64, 64) as r:
+        before = r.render(scene, grid=32, mode="direct")
+        lamp = scene.root.find("Omni Light").light
+        lamp.intensity = lamp.intensity * 2.0
+        brighter = r.render(scene, grid=32, mode="direct")
+        assert r.shadow.drawn_tiles == [] and np.allclose(brighter, 2.0 * before, rtol=1e-5, atol=1e-7)
+        lamp.position = lamp.position + [0.1, 0.0, 0.0]
+        r.render(scene, grid=32, mode="direct")
+        assert r.shadow.drawn_tiles == [0, 1, 2, 3, 4, 5]
+
+
 def test_tracked_frames_equal_recomputed_frames_bit_for_bit():
     """Converged bounces: camera, light, material and object edits, each frame rendered with
     change tracking equals the same frame with every stage recomputed, bit for bit (integer

@@ -165,7 +165,8 @@ VERTEX_TANGENT_AT: GLSL_INT = 8
 GLSL_STRUCTS = {
     # A punctual light (glsl/lib/lights.glsl): world position (xyz) and LIGHT_TYPE (w); the
     # direction it shines (xyz) and its range (w, 0: no cut-off); W/sr or W/m^2 (rgb) and its
-    # first shadow view (w, -1: none); a spot's cos(inner angle), cos(outer angle) (xy).
+    # first shadow view (w, -1: none; a directional light's is its whole-scene view, its
+    # SHADOW_CASCADES camera cascades follow it); a spot's cos(inner angle), cos(outer angle) (xy).
     "Light": (("vec4", "position_type"), ("vec4", "direction_range"), ("vec4", "intensity_shadow"),
               ("vec4", "spot_cosines")),
     # One view of the shadow atlas: its view-projection; its tile's origin (xy) and size (zw) in
@@ -231,6 +232,9 @@ UNIFORM_BLOCK = {
 
 MAX_LIGHTS: GLSL_INT = 16
 MAX_SHADOW_VIEWS: GLSL_INT = 6 * MAX_LIGHTS  # a point light casts shadows through six cube faces
+# Views of a directional light fitted to slices of the camera's frustum, after its whole-scene
+# view (engine/passes/shadow.py): the pixels' light looks up the finest that holds them.
+SHADOW_CASCADES: GLSL_INT = 3
 
 LIGHT_TYPE = {"point": 0, "spot": 1, "directional": 2}
 

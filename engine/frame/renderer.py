@@ -103,8 +103,8 @@ class Renderer(WorkItems, Readback):
         self.eye = None             # where the camera was at the last frame
         self.held = HeldDraws()     # the draws as the voxels hold them
         self._caster_bounds = None  # (table structure, the draws' bounds as the shadow maps hold them)
-        self.stages = {name: Stage() for name in ("shadows", "gbuffer", "lighting", "emitters", "environment", "voxels",
-                                                  "emitter_light", "sky_light", "radiance", "bounces")}
+        self.stages = {name: Stage() for name in ("shadows", "cascades", "gbuffer", "lighting", "emitters", "environment",
+                                                  "voxels", "emitter_light", "sky_light", "radiance", "bounces")}
 
     def _create_passes(self):
         """The passes of a frame, each with its programs and targets."""
@@ -273,7 +273,7 @@ class Renderer(WorkItems, Readback):
         its image."""
         resting = self.eye is not None and np.array_equal(camera.position, self.eye)
         self.eye = camera.position
-        shadow_maps = self._shadows(frame, scene.source)
+        shadow_maps = self._shadows(frame, camera, scene.source)
         gbuffer = self._gbuffer(frame, camera, motion=s.temporal)
         if s.shown.stage == "gbuffer":
             with self.timed("gbuffer_view"):
@@ -323,31 +323,37 @@ class Renderer(WorkItems, Readback):
                            field="level")
         return s.voxel_level
 
-    def _shadows(self, frame, source):
-        """Shadow maps: the tiles of the lights that changed, or of the views that see a
-        shadow caster that moved; all of them when both changed, the scene bounds changed or
-        lights came or went."""
+    def _shadows(self, frame, camera, source):
+        """Shadow maps: when the lights, the scene's bounds or its shadow casters changed, the
+        tiles whose view moved or sees a caster that moved (every tile when the casters changed
+        and which is not known); when the camera moved, the directional lights' cascades it
+        left."""
         stage, table = self.stages["shadows"], self.table
         inputs = dict(casters=(table.structure, table.casters_changed_at), bounds=_bytes(frame.bounds), lights=frame.light_values)
         changed = stage.changed(inputs, self.track_changes)
         if changed:
-            redraw = changed_casters = None
-            if changed == {"lights"} and len(stage.last("lights")) == len(inputs["lights"]):
-                redraw = {i for i, (a, b) in enumerate(zip(stage.last("lights"), inputs["lights"])) if a != b}
             held = self._caster_bounds
             moved = None
             if held is not None and held[0] == table.structure and stage.last("casters") is not None:
                 moved = table.changed_casters(stage.last("casters")[1])
-            if changed == {"casters"} and moved is not None:
-                redraw = set()
+            changed_casters = None  # every tile
+            if self.track_changes and "casters" not in changed:
+                changed_casters = []
+            elif self.track_changes and moved is not None:
                 changed_casters = [(lo, hi) for lo, hi in held[1][moved]] + [(lo, hi) for lo, hi in table.draw_bounds[moved]]
             with self.timed("shadow"):
-                self.shadow.render(frame.lights, self.scene_buffers, frame.bounds, redraw, source, changed_casters)
+                self.shadow.render(frame.lights, self.scene_buffers, frame.bounds, camera, changed_casters, source)
             if moved is None:
                 self._caster_bounds = (table.structure, table.draw_bounds.copy())
             else:
                 held[1][moved] = table.draw_bounds[moved]
             stage.ran(inputs)
+        cascades = self.stages["cascades"]
+        inputs = dict(view=_bytes(camera.centred_view_projection), shadows=stage.version)
+        if self.shadow.cascaded and cascades.changed(inputs, self.track_changes):
+            with self.timed("shadow"):
+                redrawn = self.shadow.follow_camera(self.scene_buffers, camera)
+            (cascades.ran if redrawn else cascades.extended)(inputs)
         return self.shadow.maps
 
     def _gbuffer(self, frame, camera, motion):
@@ -367,7 +373,8 @@ class Renderer(WorkItems, Readback):
         """Direct light, again when the G-buffer (and so the viewpoint) or the shadow maps (and so
         the lights) changed."""
         stage = self.stages["lighting"]
-        inputs = dict(gbuffer=self.stages["gbuffer"].version, shadows=self.stages["shadows"].version)
+        inputs = dict(gbuffer=self.stages["gbuffer"].version, shadows=self.stages["shadows"].version,
+                      cascades=self.stages["cascades"].version)
         if stage.changed(inputs, self.track_changes):
             with self.timed("lighting"):
                 self.lighting.render(gbuffer, shadow_maps, camera)

@@ -1,14 +1,18 @@
 """Shadow maps for every light in one depth atlas: six cube faces per point light, one
-perspective view per spot light, one orthographic view per directional light. Returns the
-ShadowMaps that the lighting and light-injection passes read. Only the tiles of the lights
-whose inputs changed are redrawn, and of the views that see a caster that changed."""
+perspective view per spot light, and per directional light one orthographic view of the whole
+scene followed by SHADOW_CASCADES views fitted to slices of the camera's frustum, finest first
+(the pixels' light looks up the finest that holds them; the voxels', which must not change with
+the camera, the whole-scene view). Returns the ShadowMaps that the lighting and
+light-injection passes read. A tile is drawn again when its view moved (a light that moved or
+turned, a cascade the camera left) or its view sees a caster that changed."""
 import ctypes
 import math
+from typing import NamedTuple
 
 import numpy as np
 
 from ..core import transforms
-from ..core.constants import DRAW_TEST_FRUSTUM, LIGHT_TYPE, MAX_LIGHTS, MAX_SHADOW_VIEWS, struct_dtype
+from ..core.constants import DRAW_TEST_FRUSTUM, LIGHT_TYPE, MAX_LIGHTS, MAX_SHADOW_VIEWS, SHADOW_CASCADES, struct_dtype
 from ..core.errors import VctError
 from ..gpu.functions import clear_depth, gl_functions, write_buffer
 from ..gpu.scene_buffers import DRAW_FLAGS
@@ -20,8 +24,76 @@ CUBE_FACES = (  # (direction, up) in the order of cube_face() in glsl/lib/lights
     ((0, 0, 1), (0, -1, 0)), ((0, 0, -1), (0, -1, 0)),
 )
 NEAR_PLANE = 0.01
+CASCADE_REACH = 3.0   # each cascade's slice of the view reaches this many times as deep as the one before it
+CASCADE_SLACK = 1.15  # a cascade holds its slice's box this much wider, and is kept while it still holds it
 NORMAL_OFFSET_TEXELS = 1.5  # shadow lookups move off the surface by this many texels times sin(angle to the light)
 GL_CLIP_DISTANCES = [0x3000 + plane for plane in range(4)]  # GL_CLIP_DISTANCE0..3: a view's frustum sides (draw_depth.vert)
+
+
+class View(NamedTuple):
+    """A shadow view: its view-projection and the world size of a texel per unit of clip w;
+    for a cascade, what it was fitted to (`fitted`: the light's direction and the scene's
+    bounds, as bytes) and its box in the light's frame ((lo_x, lo_y), (hi_x, hi_y))."""
+
+    view_projection: np.ndarray
+    texel_world: float
+    fitted: bytes = None
+    box: tuple = None
+
+
+def cascade_views(direction, bounds, camera, tile_size, held=()):
+    """SHADOW_CASCADES orthographic Views along `direction`, each holding a slice of the
+    frustum of `camera` (a FrameCamera; through the pixels' centres), finest first. The slices
+    start where the scene's bounds do in depth; the last reaches as deep as the bounds are
+    across, each before it 1/CASCADE_REACH as deep. A view holds its slice's box in the light's
+    frame, cut to the scene's and CASCADE_SLACK wider, its half sizes rounded up to steps of
+    2^(1/4) and its centre snapped to whole texels of a light frame fixed in the world, so a
+    camera that moves or turns does not drag the texels over the scene (no crawling shadow
+    edges). A view of `held` (the cascades as the tiles hold them, in order) is kept while it
+    holds its slice's box and is at most twice as wide: a camera that turns a little or walks a
+    step redraws none. A view's depth range spans the scene's bounds, which hold every
+    caster."""
+    lo, hi = bounds
+    fitted = np.concatenate([direction, lo, hi]).astype("f8").tobytes()
+    diameter = max(float(np.linalg.norm(hi - lo)), 1e-3)
+    up = (0, 1, 0) if abs(direction[1]) < 0.99 else (1, 0, 0)
+    light_frame = transforms.look_at(np.zeros(3), direction, up)  # looks along the light: depth -z
+    scene_corners = transforms.box_corners(lo, hi)
+    scene_light = transforms.transform_points(light_frame, scene_corners)
+    scene_lo, scene_hi = scene_light[:, :2].min(axis=0), scene_light[:, :2].max(axis=0)
+    top, depth_span = scene_light[:, 2].max(), np.ptp(scene_light[:, 2])
+    margin = 0.01 * diameter
+    ndc = np.array([(x, y, z, 1.0) for z in (-1, 1) for y in (-1, 1) for x in (-1, 1)])
+    corners = ndc @ np.linalg.inv(camera.centred_view_projection).T
+    corners = corners[:, :3] / corners[:, 3:]
+    near_corners, far_corners = corners[:4], corners[4:]
+    near_depth, far_depth = ((c[0] - camera.position) @ camera.forward for c in (near_corners, far_corners))
+    start = float(np.clip(((scene_corners - camera.position) @ camera.forward).min(), near_depth, far_depth))
+
+    def at_depth(depth):  # the frustum's four edges where they reach `depth`
+        f = (np.clip(depth, near_depth, far_depth) - near_depth) / (far_depth - near_depth)
+        return near_corners + (far_corners - near_corners) * f
+
+    views = []
+    for k in range(SHADOW_CASCADES):
+        depths = [start + diameter / CASCADE_REACH ** (SHADOW_CASCADES - k) if k else start,
+                  start + diameter / CASCADE_REACH ** (SHADOW_CASCADES - 1 - k)]
+        slice_xy = transforms.transform_points(light_frame, np.concatenate([at_depth(d) for d in depths]))[:, :2]
+        lo_xy = np.maximum(slice_xy.min(axis=0), scene_lo)
+        hi_xy = np.maximum(np.minimum(slice_xy.max(axis=0), scene_hi), lo_xy)
+        kept = held[k] if k < len(held) else None
+        if (kept is not None and kept.fitted == fitted and np.all(kept.box[0] <= lo_xy) and np.all(hi_xy <= kept.box[1])
+                and np.all(np.subtract(kept.box[1], kept.box[0]) <= 2.0 * np.maximum(hi_xy - lo_xy, 1e-4))):
+            views.append(kept)
+            continue
+        half = 2.0 ** (np.ceil(np.log2(np.maximum(CASCADE_SLACK * (hi_xy - lo_xy) / 2.0, 1e-4)) * 4.0) / 4.0)
+        texel = 2.0 * half / tile_size
+        centre = np.round((lo_xy + hi_xy) / 2.0 / texel) * texel
+        shift = np.eye(4)
+        shift[:3, 3] = (-centre[0], -centre[1], -top)
+        projection = transforms.orthographic(half[0], half[1], -margin, depth_span + margin)
+        views.append(View(projection @ shift @ light_frame, float(texel.max()), fitted, (centre - half, centre + half)))
+    return views
 
 
 class ShadowMaps:
@@ -100,9 +172,13 @@ class ShadowPass:
         self.draw_list = DrawList(ctx, lambda flags: ((flags & DRAW_FLAGS["alpha_tested"]) != 0).astype(np.int64), 2)
         self.maps = ShadowMaps(ctx, tile_size)
         self.drawn_tiles = []  # the tiles (views) the last render drew, in atlas order
+        self.held = []         # the Views the tiles hold, in atlas order
+        self.cascaded = []     # (first cascade's view index, direction) of each directional light with shadows
+        self.bounds = None     # the scene's bounds the views were fitted to
 
-    def _views(self, light, bounds):
-        """[(view_projection, texel_world_per_w)] of one light."""
+    def _views(self, light, bounds, camera, held):
+        """The Views of one light; a directional light's cascades fitted to `camera`, keeping
+        those of `held` (its cascades as the tiles hold them) that still fit (cascade_views)."""
         lo, hi = bounds
         corners = transforms.box_corners(lo, hi)
         margin = 2.0 / self.maps.tile_size  # a border of texels so 2x2 filtering never leaves its tile
@@ -112,7 +188,8 @@ class ShadowPass:
             up = (0, 1, 0) if abs(light.direction[1]) < 0.99 else (1, 0, 0)
             view = transforms.look_at(center - light.direction * 2.0 * radius, center, up)
             proj = transforms.orthographic(radius, radius, radius * 0.5, radius * 3.5)
-            return [(proj @ view, 2.0 * radius / self.maps.tile_size)]
+            return [View(proj @ view, 2.0 * radius / self.maps.tile_size),
+                    *cascade_views(light.direction, bounds, camera, self.maps.tile_size, held)]
         far = max(np.max(np.linalg.norm(corners - light.position, axis=1)) * 1.01, NEAR_PLANE * 4)
         if light.type == "spot":
             half = math.radians(min(light.outer_angle_deg, 89.0))
@@ -120,56 +197,76 @@ class ShadowPass:
             up = (0, 1, 0) if abs(light.direction[1]) < 0.99 else (1, 0, 0)
             view = transforms.look_at(light.position, light.position + light.direction, up)
             proj = transforms.perspective(math.degrees(2 * math.atan(tan_half)), 1.0, NEAR_PLANE, far)
-            return [(proj @ view, 2.0 * tan_half / self.maps.tile_size)]
+            return [View(proj @ view, 2.0 * tan_half / self.maps.tile_size)]
         tan_half = 1.0 + margin
         proj = transforms.perspective(math.degrees(2 * math.atan(tan_half)), 1.0, NEAR_PLANE, far)
-        return [(proj @ transforms.look_at(light.position, light.position + np.array(d), up), 2.0 * tan_half / self.maps.tile_size)
-                for d, up in CUBE_FACES]
+        return [View(proj @ transforms.look_at(light.position, light.position + np.array(d), up),
+                     2.0 * tan_half / self.maps.tile_size) for d, up in CUBE_FACES]
 
-    def render(self, lights, buffers, bounds, redraw=None, source=None, changed_casters=None):
-        """Pack the lights and their views; draw the scene's draws (SceneBuffers) into the tiles
-        of the lights whose indices are in `redraw` and of the views that see one of the world
-        boxes `changed_casters` (every tile when both are None, or when the atlas had to be
-        remade). Returns the maps."""
+    def render(self, lights, buffers, bounds, camera, changed_casters=None, source=None):
+        """Pack the lights and their views (the directional lights' cascades fitted to `camera`,
+        a FrameCamera); draw the scene's draws (SceneBuffers) into the tiles whose view moved
+        and those whose view sees one of the world boxes `changed_casters` (None: every tile;
+        every tile too when the atlas had to be remade). Returns the maps."""
         if len(lights) > MAX_LIGHTS:
             raise VctError(f"{len(lights)} lights, at most {MAX_LIGHTS} are supported", source=source, field="lights")
         maps = self.maps
-        views, light_rows, owners = [], [], []
-        for index, light in enumerate(lights):
+        views, light_rows, cascaded = [], [], []
+        for light in lights:
             first = -1
             if light.cast_shadows:
                 first = len(views)
-                light_views = self._views(light, bounds)
-                views += light_views
-                owners += [index] * len(light_views)
+                views += self._views(light, bounds, camera, self.held[first + 1:first + 1 + SHADOW_CASCADES])
+                if light.type == "directional":
+                    cascaded.append((first + 1, light.direction))
             range_ = light.range if light.type != "directional" else 0.0
             light_rows.append(([*light.position, LIGHT_TYPE[light.type]], [*light.direction, range_],
                                [*light.intensity, first],
                                [math.cos(math.radians(light.inner_angle_deg)), math.cos(math.radians(light.outer_angle_deg)), 0.0, 0.0]))
+        self.cascaded, self.bounds = cascaded, bounds
         maps.light_count = len(lights)
         if light_rows:
             write_buffer(maps.light_buffer, np.array(light_rows, struct_dtype("Light")).tobytes())
         if maps.ensure_atlas(len(views)):
-            redraw = changed_casters = None
-        everything = redraw is None and changed_casters is None
+            self.held, changed_casters = [], None
+        everything = changed_casters is None
         changed_corners = transforms.box_corners(*np.array(changed_casters).transpose(1, 0, 2)) if changed_casters else None
-        rows = []
+        drawn = [index for index, view in enumerate(views) if everything or self._moved(index, view) or (
+            changed_corners is not None and not np.all(transforms.outside_frustum(changed_corners, view.view_projection)))]
+        self._place(views, drawn, buffers, everything)
+        return maps
+
+    def follow_camera(self, buffers, camera):
+        """Fit the directional lights' cascades to `camera` (a FrameCamera), keeping those that
+        still hold their slices, and draw those that moved. Returns whether any did."""
+        views = list(self.held)
+        for first, direction in self.cascaded:
+            views[first:first + SHADOW_CASCADES] = cascade_views(direction, self.bounds, camera, self.maps.tile_size,
+                                                                 views[first:first + SHADOW_CASCADES])
+        drawn = [index for index, view in enumerate(views) if self._moved(index, view)]
+        self.drawn_tiles = drawn
+        if drawn:
+            self._place(views, drawn, buffers, False)
+        return bool(drawn)
+
+    def _moved(self, index, view):
+        return index >= len(self.held) or not np.array_equal(self.held[index].view_projection, view.view_projection)
+
+    def _place(self, views, drawn, buffers, whole_atlas):
+        """Write the Views' records and draw the tiles of the views whose indices are in `drawn`."""
+        maps, tile = self.maps, self.maps.tile_size
         atlas_w, atlas_h = maps.atlas.size
-        tile = maps.tile_size
-        self.drawn_tiles = []
-        for index, ((view_projection, texel_world), owner) in enumerate(zip(views, owners)):
+        rows = []
+        for index, view in enumerate(views):
             x, y = maps.tile_origin(index)
-            sees_change = changed_corners is not None and not np.all(transforms.outside_frustum(changed_corners, view_projection))
-            if everything or owner in (redraw or ()) or sees_change:
-                self.drawn_tiles.append(index)
-            rows.append((np.asarray(view_projection).T.ravel(), [x / atlas_w, y / atlas_h, tile / atlas_w, tile / atlas_h],
-                         [texel_world, 1.0 / tile, 0.0, 0.0]))
+            rows.append((np.asarray(view.view_projection).T.ravel(), [x / atlas_w, y / atlas_h, tile / atlas_w, tile / atlas_h],
+                         [view.texel_world, 1.0 / tile, 0.0, 0.0]))
         if rows:
             write_buffer(maps.view_buffer, np.array(rows, struct_dtype("ShadowView")).tobytes())
-        if self.drawn_tiles:
-            self._draw_tiles(buffers, [(views[index][0], maps.tile_origin(index)) for index in self.drawn_tiles],
-                             everything)
-        return maps
+        self.held = views
+        self.drawn_tiles = drawn
+        if drawn:
+            self._draw_tiles(buffers, [(views[index].view_projection, maps.tile_origin(index)) for index in drawn], whole_atlas)
 
     def _draw_tiles(self, buffers, tiles, whole_atlas):
         """Clear the tiles ((view_projection, origin) each), then cull the scene's draws for

@@ -30,7 +30,7 @@ void main() {
         if (dot(s.mean_normal, s.mean_normal) > 0.0 && any(greaterThan(s.albedo, vec3(0.0)))) {
             for (int i = 0; i < light_count; ++i) {
                 vec3 l;
-                irradiance += light_irradiance(i, s.position, s.mean_normal, VOXEL_SHADOW_LIFT * voxel_extent(v), l);
+                irradiance += light_irradiance(i, s.position, s.mean_normal, VOXEL_SHADOW_LIFT * voxel_extent(v), false, l);
             }
             if (voxel_emitters) irradiance += unpack_value(voxel_emitter_irradiance[at]).rgb;
             if (voxel_sky) irradiance += unpack_value(voxel_sky_irradiance[at]).rgb;

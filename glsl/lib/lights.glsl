@@ -16,13 +16,29 @@ int cube_face(vec3 d) {
     return d.z >= 0.0 ? 4 : 5;
 }
 
+// The view of a light's shadows p is looked up in: where `camera_cascades`, a directional
+// light's finest camera cascade that holds p with room for the lookup's offset and 2x2 filter;
+// a point light's cube face of p; else the light's first view (a directional light's whole scene).
+int shadow_view_index(Light light, vec3 p, bool camera_cascades) {
+    int first = int(light.intensity_shadow.w);
+    int type = int(light.position_type.w);
+    if (type == LIGHT_POINT) return first + cube_face(p - light.position_type.xyz);
+    if (type == LIGHT_DIRECTIONAL && camera_cascades) {
+        for (int k = 1; k <= SHADOW_CASCADES; ++k) {
+            ShadowView view = shadow_views[first + k];
+            vec2 ndc = (view.view_projection * vec4(p, 1.0)).xy; // orthographic: w = 1
+            if (all(lessThan(abs(ndc), vec2(1.0 - 2.0 * (shadow_normal_offset + 2.0) * view.texel.y)))) return first + k;
+        }
+    }
+    return first;
+}
+
 // Fraction of the light that reaches p (1 lit, 0 shadowed), 2x2 hardware PCF. `lift`: how far
-// (world units) the surface p stands for may reach out of p along n, added to the lookup's offset.
-float shadow_visibility(Light light, vec3 p, vec3 n, vec3 to_light, float lift) {
-    int view_index = int(light.intensity_shadow.w);
-    if (view_index < 0) return 1.0;
-    if (int(light.position_type.w) == LIGHT_POINT) view_index += cube_face(p - light.position_type.xyz);
-    ShadowView view = shadow_views[view_index];
+// (world units) the surface p stands for may reach out of p along n, added to the lookup's
+// offset; `camera_cascades`: p is a point the camera sees (shadow_view_index).
+float shadow_visibility(Light light, vec3 p, vec3 n, vec3 to_light, float lift, bool camera_cascades) {
+    if (light.intensity_shadow.w < 0.0) return 1.0;
+    ShadowView view = shadow_views[shadow_view_index(light, p, camera_cascades)];
     // Normal offset: move the lookup off the surface by a few texels times sin(theta), the angle
     // between the normal and the light (no acne where the light grazes, where a texel spans the
     // most depth; no lost contact shadows where it faces the surface).
@@ -41,8 +57,8 @@ float shadow_visibility(Light light, vec3 p, vec3 n, vec3 to_light, float lift) 
 // Irradiance at p from light i on a surface with normal n: E = I cos(theta) / d^2 (point, spot),
 // E = E_perp cos(theta) (directional), times shadow and spot/range windows. l: unit direction to the light.
 // n may be a voxel's mean normal: dot(n, l) is then the mean of its fragments' cosines; `lift`
-// as for shadow_visibility (0 for a point of a surface).
-vec3 light_irradiance(int i, vec3 p, vec3 n, float lift, out vec3 l) {
+// and `camera_cascades` as for shadow_visibility (0 and true for a point the camera sees).
+vec3 light_irradiance(int i, vec3 p, vec3 n, float lift, bool camera_cascades, out vec3 l) {
     Light light = lights[i];
     int type = int(light.position_type.w);
     float attenuation;
@@ -69,5 +85,5 @@ vec3 light_irradiance(int i, vec3 p, vec3 n, float lift, out vec3 l) {
     }
     float cos_theta = dot(n, l);
     if (cos_theta <= 0.0 || attenuation <= 0.0) return vec3(0.0);
-    return light.intensity_shadow.rgb * attenuation * cos_theta * shadow_visibility(light, p, n, l, lift);
+    return light.intensity_shadow.rgb * attenuation * cos_theta * shadow_visibility(light, p, n, l, lift, camera_cascades);
 }

@@ -14,7 +14,7 @@ void main() {
     vec3 radiance = s.emission;
     for (int i = 0; i < light_count; ++i) {
         vec3 l;
-        vec3 irradiance = light_irradiance(i, s.position, s.normal, 0.0, l);
+        vec3 irradiance = light_irradiance(i, s.position, s.normal, 0.0, true, l);
         if (any(greaterThan(irradiance, vec3(0.0))))
             radiance += brdf(s.normal, l, v, s.albedo, s.roughness, s.metalness, s.dielectric_f0) * irradiance;
     }

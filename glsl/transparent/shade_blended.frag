@@ -48,7 +48,7 @@ void main() {
         radiance += gl_FrontFacing ? m.emission : vec3(0.0);  // one-sided emitters, as in the G-buffer
         for (int i = 0; i < light_count; ++i) {
             vec3 l;
-            vec3 irradiance = light_irradiance(i, s.position, s.normal, 0.0, l);
+            vec3 irradiance = light_irradiance(i, s.position, s.normal, 0.0, true, l);
             if (any(greaterThan(irradiance, vec3(0.0))))
                 radiance += brdf(s.normal, l, v, s.albedo, s.roughness, s.metalness, s.dielectric_f0) * irradiance;
         }
