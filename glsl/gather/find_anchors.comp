@@ -25,28 +25,40 @@ void main() {
         v = unpack_voxel(stale[k]);
         record = voxel_record(v);
     }
-    vec3 n = unpack_value(voxel_normal[side_value(record, 0)]).xyz;
+    vec4 normal = unpack_value(voxel_normal[side_value(record, 0)]);
+    vec3 n = normal.xyz;
+    int sides = sides_of(normal);
+    bvec2 reflects = bvec2(reflects_light(side_value(record, 0), n), false);
+    vec3 back = vec3(0.0);  // side 1's mean normal
+    if (sides > 1) {
+        back = unpack_value(voxel_normal[side_value(record, 1)]).xyz;
+        reflects.y = reflects_light(side_value(record, 1), back);
+    }
     uint anchors = 0u;
-    bool back = back_reflects_light(record);
-    if (reflects_light(side_value(record, 0), n) || back) {
+    if (any(reflects)) {
         if (beneath_finer_level(v)) {
             anchors = ANCHOR_FINER;
-        } else if (back || on_anchor_lattice(v, n)) {  // a two-sided voxel traces both sides
+        } else if (on_anchor_lattice(v, n)) {
             anchors = ANCHOR_SELF;
-        } else {
-            vec3 unit = normalize(n);
-            float total = 0.0;
+        } else {  // each side that reflects light needs enough weight of anchors facing its way
+            vec3 units[2] = vec3[2](reflects.x ? normalize(n) : vec3(0.0), reflects.y ? normalize(back) : vec3(0.0));
+            vec2 total = vec2(0.0);
             for (int k = 0; k < 26; ++k) {
                 ivec3 u = neighbour(v, k);
                 uint u_record = neighbour_record(v, u);
                 if (u_record == NO_RECORD) continue;
-                vec3 n_u = unpack_value(voxel_normal[side_value(u_record, 0)]).xyz;
-                if (dot(n, n_u) <= 0.0 || !on_anchor_lattice(u, n_u) || beneath_finer_level(u)
-                    || !reflects_light(side_value(u_record, 0), n_u)) continue;
-                anchors |= 1u << k;
-                total += anchor_weight(v, unit, u, n_u);
+                vec4 u_normal = unpack_value(voxel_normal[side_value(u_record, 0)]);
+                if (!on_anchor_lattice(u, u_normal.xyz) || beneath_finer_level(u)) continue;
+                vec2 weight = vec2(0.0);
+                for (int t = 0; t < sides_of(u_normal); ++t) {
+                    for (int side = 0; side < 2; ++side) {
+                        if (reflects[side]) weight[side] += side_anchor_weight(v, units[side], u, u_record, t);
+                    }
+                }
+                if (weight.x + weight.y > 0.0) anchors |= 1u << k;
+                total += weight;
             }
-            if (total < MIN_ANCHOR_WEIGHT) anchors = ANCHOR_SELF;
+            if ((reflects.x && total.x < MIN_ANCHOR_WEIGHT) || (reflects.y && total.y < MIN_ANCHOR_WEIGHT)) anchors = ANCHOR_SELF;
         }
     }
     gather_anchors[record] = anchors | (uint(voxel_facing(n)) << ANCHOR_FACING_SHIFT);

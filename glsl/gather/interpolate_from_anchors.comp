@@ -3,7 +3,8 @@
 // gather/find_anchors.comp found around them (those beneath a finer level take the finer
 // voxels' after: gather/take_finer_gather.comp):
 //   G(v) = sum_u W(v, u) G(u) / sum_u W(v, u),
-// 0 where the voxel reflects no light (no anchors recorded). Reads and writes one record array:
+// each side of the voxel from the sides of its anchors that face its way; 0 where a side reflects
+// no light. Reads and writes one record array:
 // the anchors it reads are not among the voxels it writes.
 #include "lib/gather_anchors.glsl"
 
@@ -20,19 +21,27 @@ void main() {
     uint record = voxel_record(v);
     if (record == NO_RECORD || (gather_anchors[record] & (ANCHOR_SELF | ANCHOR_FINER)) != 0u) return;  // empty, traced, or from finer
     uint anchors = gather_anchors[record] & ANCHOR_NEIGHBOURS;
-    vec4 result = vec4(0.0);
-    if (anchors != 0u) {
-        vec3 n = normalize(unpack_value(voxel_normal[side_value(record, 0)]).xyz);
-        vec3 sum = vec3(0.0);
-        float total = 0.0;
-        for (; anchors != 0u; anchors &= anchors - 1u) {
-            ivec3 u = neighbour(v, findLSB(anchors));
-            uint anchor = voxel_record(u);  // recorded anchors are covered
-            float weight = anchor_weight(v, n, u, unpack_value(voxel_normal[side_value(anchor, 0)]).xyz);
-            sum += weight * unpack_value(gathered[side_value(anchor, 0)]).rgb;
-            total += weight;
+    VoxelSurface s = voxel_surface(v, record, 0);  // side 0 says how many sides there are
+    int sides = s.sides;
+    for (int side = 0; side < sides; ++side) {  // each side from the anchors' sides facing its way
+        if (side > 0) s = voxel_surface(v, record, side);
+        vec4 result = vec4(0.0);
+        if (anchors != 0u && reflects_light(side_value(record, side), s.mean_normal)) {
+            vec3 n = normalize(s.mean_normal);
+            vec3 sum = vec3(0.0);
+            float total = 0.0;
+            for (uint bits = anchors; bits != 0u; bits &= bits - 1u) {
+                ivec3 u = neighbour(v, findLSB(bits));
+                uint anchor = voxel_record(u);  // recorded anchors are covered
+                int anchor_sides = sides_of(unpack_value(voxel_normal[side_value(anchor, 0)]));
+                for (int t = 0; t < anchor_sides; ++t) {
+                    float weight = side_anchor_weight(v, n, u, anchor, t);
+                    sum += weight * unpack_value(gathered[side_value(anchor, t)]).rgb;
+                    total += weight;
+                }
+            }
+            result = vec4(sum / total, 1.0);  // total >= MIN_ANCHOR_WEIGHT
         }
-        result = vec4(sum / total, 1.0);  // total >= MIN_ANCHOR_WEIGHT
+        gathered[side_value(record, side)] = pack_value(result);
     }
-    gathered[side_value(record, 0)] = pack_value(result);  // a voxel that interpolates has one side
 }

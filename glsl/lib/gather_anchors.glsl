@@ -16,9 +16,10 @@
 // anchors depend on it, its neighbours and where the finer level lies only: after a
 // voxelization, gather/mark_stale_anchors.comp marks those around the voxels it touched
 // ANCHOR_STALE, and only those are found again; after a scroll, those of the scrolled levels
-// and of the next coarser ones (GatherPass.find_anchors). A voxel whose side 1 reflects light
-// (the back of a sheet: few voxels) is an anchor and traces both sides' gathers, and a voxel
-// beneath a finer level takes both from it; interpolation from anchors is side 0's alone.
+// and of the next coarser ones (GatherPass.find_anchors). The lattice is side 0's: an anchor
+// traces each of its sides' gathers, a voxel that interpolates takes each side's from the
+// sides of its anchors that face alike (side_anchor_weight), and a voxel beneath a finer level
+// takes both from the finer voxels.
 #include "lib/voxel_surface.glsl"
 
 layout(std430, binding = SSBO_GATHER_ANCHORS) buffer GatherAnchors { uint gather_anchors[]; };
@@ -91,8 +92,11 @@ float anchor_weight(ivec3 v, vec3 n, ivec3 u, vec3 n_u) {
     return tent * facing_weight(n, n_u);
 }
 
-// Whether side 1 of a voxel (its surfaces facing opposite to most of them) reflects light.
-bool back_reflects_light(uint record) {
-    uint at = side_value(record, 1);
-    return reflects_light(at, unpack_value(voxel_normal[at]).xyz);
+// How much side t of the anchor at neighbour u (its record u_record) stands for a side of voxel
+// v with unit normal n (anchor_weight): 0 where that side faces away or reflects no light.
+float side_anchor_weight(ivec3 v, vec3 n, ivec3 u, uint u_record, int t) {
+    uint at = side_value(u_record, t);
+    vec3 n_u = unpack_value(voxel_normal[at]).xyz;
+    if (dot(n, n_u) <= 0.0 || !reflects_light(at, n_u)) return 0.0;
+    return anchor_weight(v, n, u, n_u);
 }
