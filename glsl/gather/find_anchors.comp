@@ -26,22 +26,17 @@ void main() {
         record = voxel_record(v);
     }
     vec4 normal = unpack_value(voxel_normal[side_value(record, 0)]);
-    vec3 n = normal.xyz;
-    int sides = sides_of(normal);
-    bvec2 reflects = bvec2(reflects_light(side_value(record, 0), n), false);
-    vec3 back = vec3(0.0);  // side 1's mean normal
-    if (sides > 1) {
-        back = unpack_value(voxel_normal[side_value(record, 1)]).xyz;
-        reflects.y = reflects_light(side_value(record, 1), back);
-    }
+    vec3 sides[2];
+    reflecting_sides(record, normal, false, sides[0], sides[1]);
+    bvec2 reflects = bvec2(dot(sides[0], sides[0]) > 0.0, dot(sides[1], sides[1]) > 0.0);
     uint anchors = 0u;
     if (any(reflects)) {
         if (beneath_finer_level(v)) {
             anchors = ANCHOR_FINER;
-        } else if (on_anchor_lattice(v, n)) {
+        } else if (on_anchor_lattice(v, normal.xyz)) {
             anchors = ANCHOR_SELF;
         } else {  // each side that reflects light needs enough weight of anchors facing its way
-            vec3 units[2] = vec3[2](reflects.x ? normalize(n) : vec3(0.0), reflects.y ? normalize(back) : vec3(0.0));
+            vec3 units[2] = vec3[2](reflects.x ? normalize(sides[0]) : vec3(0.0), reflects.y ? normalize(sides[1]) : vec3(0.0));
             vec2 total = vec2(0.0);
             for (int k = 0; k < 26; ++k) {
                 ivec3 u = neighbour(v, k);
@@ -49,11 +44,12 @@ void main() {
                 if (u_record == NO_RECORD) continue;
                 vec4 u_normal = unpack_value(voxel_normal[side_value(u_record, 0)]);
                 if (!on_anchor_lattice(u, u_normal.xyz) || beneath_finer_level(u)) continue;
+                vec3 u_sides[2];
+                reflecting_sides(u_record, u_normal, false, u_sides[0], u_sides[1]);
                 vec2 weight = vec2(0.0);
-                for (int t = 0; t < sides_of(u_normal); ++t) {
-                    for (int side = 0; side < 2; ++side) {
-                        if (reflects[side]) weight[side] += side_anchor_weight(v, units[side], u, u_record, t);
-                    }
+                for (int side = 0; side < 2; ++side) {
+                    if (!reflects[side]) continue;
+                    weight[side] = side_anchor_weight(v, units[side], u, u_sides[0]) + side_anchor_weight(v, units[side], u, u_sides[1]);
                 }
                 if (weight.x + weight.y > 0.0) anchors |= 1u << k;
                 total += weight;
@@ -61,5 +57,5 @@ void main() {
             if ((reflects.x && total.x < MIN_ANCHOR_WEIGHT) || (reflects.y && total.y < MIN_ANCHOR_WEIGHT)) anchors = ANCHOR_SELF;
         }
     }
-    gather_anchors[record] = anchors | (uint(voxel_facing(n)) << ANCHOR_FACING_SHIFT);
+    gather_anchors[record] = anchors | (uint(voxel_facing(normal.xyz)) << ANCHOR_FACING_SHIFT);
 }

@@ -21,22 +21,23 @@ void main() {
     uint record = voxel_record(v);
     if (record == NO_RECORD || (gather_anchors[record] & (ANCHOR_SELF | ANCHOR_FINER)) != 0u) return;  // empty, traced, or from finer
     uint anchors = gather_anchors[record] & ANCHOR_NEIGHBOURS;
-    VoxelSurface s = voxel_surface(v, record, 0);  // side 0 says how many sides there are
-    int sides = s.sides;
-    for (int side = 0; side < sides; ++side) {  // each side from the anchors' sides facing its way
-        if (side > 0) s = voxel_surface(v, record, side);
+    vec4 normal = unpack_value(voxel_normal[side_value(record, 0)]);
+    vec3 sides[2];
+    reflecting_sides(record, normal, anchors != 0u, sides[0], sides[1]);
+    for (int side = 0; side < sides_of(normal); ++side) {  // each side from the anchors' sides facing its way
         vec4 result = vec4(0.0);
-        if (anchors != 0u && reflects_light(side_value(record, side), s.mean_normal)) {
-            vec3 n = normalize(s.mean_normal);
+        if (anchors != 0u && dot(sides[side], sides[side]) > 0.0) {
+            vec3 n = normalize(sides[side]);
             vec3 sum = vec3(0.0);
             float total = 0.0;
             for (uint bits = anchors; bits != 0u; bits &= bits - 1u) {
                 ivec3 u = neighbour(v, findLSB(bits));
                 uint anchor = voxel_record(u);  // recorded anchors are covered
-                int anchor_sides = sides_of(unpack_value(voxel_normal[side_value(anchor, 0)]));
-                for (int t = 0; t < anchor_sides; ++t) {
-                    float weight = side_anchor_weight(v, n, u, anchor, t);
-                    sum += weight * unpack_value(gathered[side_value(anchor, t)]).rgb;
+                vec3 u_sides[2];
+                reflecting_sides(anchor, unpack_value(voxel_normal[side_value(anchor, 0)]), true, u_sides[0], u_sides[1]);
+                for (int t = 0; t < 2; ++t) {
+                    float weight = side_anchor_weight(v, n, u, u_sides[t]);
+                    if (weight > 0.0) sum += weight * unpack_value(gathered[side_value(anchor, t)]).rgb;
                     total += weight;
                 }
             }

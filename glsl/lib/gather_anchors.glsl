@@ -92,11 +92,24 @@ float anchor_weight(ivec3 v, vec3 n, ivec3 u, vec3 n_u) {
     return tent * facing_weight(n, n_u);
 }
 
-// How much side t of the anchor at neighbour u (its record u_record) stands for a side of voxel
-// v with unit normal n (anchor_weight): 0 where that side faces away or reflects no light.
-float side_anchor_weight(ivec3 v, vec3 n, ivec3 u, uint u_record, int t) {
-    uint at = side_value(u_record, t);
-    vec3 n_u = unpack_value(voxel_normal[at]).xyz;
-    if (dot(n, n_u) <= 0.0 || !reflects_light(at, n_u)) return 0.0;
-    return anchor_weight(v, n, u, n_u);
+// The mean normals of the sides of the covered voxel at `record` that reflect light, zero for
+// a side that reflects none or that it lacks, from its side 0's normal `normal` (read already).
+// `one_side_reflects`: a one-sided voxel is known to reflect light (an anchor, or a voxel with
+// anchors recorded), so its reflectance need not be read.
+void reflecting_sides(uint record, vec4 normal, bool one_side_reflects, out vec3 front, out vec3 back) {
+    front = normal.xyz;
+    back = vec3(0.0);
+    if (sides_of(normal) > 1) {
+        vec3 n_1 = unpack_value(voxel_normal[side_value(record, 1)]).xyz;
+        if (reflects_light(side_value(record, 1), n_1)) back = n_1;
+        if (!reflects_light(side_value(record, 0), front)) front = vec3(0.0);
+    } else if (!one_side_reflects && !reflects_light(side_value(record, 0), front)) {
+        front = vec3(0.0);
+    }
+}
+
+// How much an anchor's side with mean normal n_u (zero: none) at neighbour u stands for a side
+// of voxel v with unit normal n: anchor_weight where it faces n's way, else 0.
+float side_anchor_weight(ivec3 v, vec3 n, ivec3 u, vec3 n_u) {
+    return dot(n, n_u) > 0.0 ? anchor_weight(v, n, u, n_u) : 0.0;
 }
