@@ -42,6 +42,7 @@ PROTOTYPES = {
     "glBindTextureUnit": (None, _u, _u),
     "glPixelStorei": (None, _u, _i),
     "glViewportArrayv": (None, _u, _i, ctypes.POINTER(ctypes.c_float)),
+    "glScissorArrayv": (None, _u, _i, ctypes.POINTER(ctypes.c_int)),
     "glUseProgram": (None, _u),
     "glNamedBufferSubData": (None, _u, ctypes.c_ssize_t, ctypes.c_ssize_t, _p),
     "glClearTexSubImage": (None, _u, _i, _i, _i, _i, _i, _i, _i, _u, _u, _p),

@@ -28,6 +28,7 @@ CASCADE_REACH = 3.0   # each cascade's slice of the view reaches this many times
 CASCADE_SLACK = 1.15  # a cascade holds its slice's box this much wider, and is kept while it still holds it
 NORMAL_OFFSET_TEXELS = 1.5  # shadow lookups move off the surface by this many texels times sin(angle to the light)
 GL_CLIP_DISTANCES = [0x3000 + plane for plane in range(4)]  # GL_CLIP_DISTANCE0..3: a view's frustum sides (draw_depth.vert)
+GL_SCISSOR_TEST = 0x0C11
 
 
 class View(NamedTuple):
@@ -231,10 +232,32 @@ class ShadowPass:
             self.held, changed_casters = [], None
         everything = changed_casters is None
         changed_corners = transforms.box_corners(*np.array(changed_casters).transpose(1, 0, 2)) if changed_casters else None
-        drawn = [index for index, view in enumerate(views) if everything or self._moved(index, view) or (
-            changed_corners is not None and not np.all(transforms.outside_frustum(changed_corners, view.view_projection)))]
-        self._place(views, drawn, buffers, everything)
+        drawn, regions = [], {}
+        for index, view in enumerate(views):
+            if everything or self._moved(index, view):
+                drawn.append(index)
+                continue
+            seen = ~transforms.outside_frustum(changed_corners, view.view_projection) if changed_corners is not None else None
+            if seen is not None and seen.any():
+                drawn.append(index)
+                regions[index] = self._region(view.view_projection, changed_corners[seen])
+        self._place(views, drawn, buffers, everything, regions)
         return maps
+
+    def _region(self, view_projection, corners):
+        """The texels of a tile (x, y, width, height, from its corner) that boxes given by
+        their corners (..., 8, 3) may cover as its view sees them, a texel wider each way: where
+        only they changed, only these are drawn again. The whole tile where a box reaches
+        behind the view's eye, or where the driver cannot give each tile of a batch its own
+        scissor box (no viewport indices)."""
+        tile = self.maps.tile_size
+        clip = np.concatenate([corners.reshape(-1, 3), np.ones((corners[..., 0].size, 1))], axis=1) @ np.asarray(view_projection).T
+        if not self.viewport_index or np.any(clip[:, 3] <= 1e-9):
+            return 0, 0, tile, tile
+        texels = (np.clip(clip[:, :2] / clip[:, 3:], -1.0, 1.0) * 0.5 + 0.5) * tile
+        lo = np.maximum(np.floor(texels.min(axis=0)).astype(int) - 1, 0)
+        hi = np.minimum(np.ceil(texels.max(axis=0)).astype(int) + 1, tile)
+        return int(lo[0]), int(lo[1]), int(hi[0] - lo[0]), int(hi[1] - lo[1])
 
     def follow_camera(self, buffers, camera):
         """Fit the directional lights' cascades to `camera` (a FrameCamera), keeping those that
@@ -252,8 +275,9 @@ class ShadowPass:
     def _moved(self, index, view):
         return index >= len(self.held) or not np.array_equal(self.held[index].view_projection, view.view_projection)
 
-    def _place(self, views, drawn, buffers, whole_atlas):
-        """Write the Views' records and draw the tiles of the views whose indices are in `drawn`."""
+    def _place(self, views, drawn, buffers, whole_atlas, regions=None):
+        """Write the Views' records and draw the tiles of the views whose indices are in `drawn`
+        (of those in `regions`, {index: (x, y, width, height) in the tile}, that part alone)."""
         maps, tile = self.maps, self.maps.tile_size
         atlas_w, atlas_h = maps.atlas.size
         rows = []
@@ -266,25 +290,30 @@ class ShadowPass:
         self.held = views
         self.drawn_tiles = drawn
         if drawn:
-            self._draw_tiles(buffers, [(views[index].view_projection, maps.tile_origin(index)) for index in drawn], whole_atlas)
+            whole = (0, 0, tile, tile)
+            self._draw_tiles(buffers, [(views[index].view_projection, maps.tile_origin(index), (regions or {}).get(index, whole))
+                                       for index in drawn], whole_atlas)
 
     def _draw_tiles(self, buffers, tiles, whole_atlas):
-        """Clear the tiles ((view_projection, origin) each), then cull the scene's draws for
-        them and draw them in: a batch of up to `batch` tiles at a time, each tile a viewport of
-        the batch (one batch, the whole atlas, without viewport indices)."""
+        """Clear the tiles ((view_projection, origin, region) each: the region of the tile to
+        draw, x, y, width, height from its origin), then cull the scene's draws for them and draw
+        them in: a batch of up to `batch` tiles at a time, each tile a viewport of the batch
+        scissored to its region (one batch, the whole atlas, without viewport indices, each
+        region its whole tile)."""
         maps, tile = self.maps, self.maps.tile_size
         atlas_w, atlas_h = maps.atlas.size
+        boxes = [(x + rx, y + ry, width, height) for _, (x, y), (rx, ry, width, height) in tiles]
         if whole_atlas:
             maps.framebuffer.use()
             maps.framebuffer.clear(depth=1.0)
         else:
-            for _, (x, y) in tiles:
-                clear_depth(maps.atlas, (x, y, tile, tile))
+            for box in boxes:
+                clear_depth(maps.atlas, box)
         self.draw_list.build(buffers)
         for start in range(0, len(tiles), self.batch):
             batch = tiles[start:start + self.batch]
             views = view_records(len(batch))
-            for view, (view_projection, (x, y)) in zip(views, batch):
+            for view, (view_projection, (x, y), _) in zip(views, batch):
                 view["view_projection"] = np.asarray(view_projection, "f4").T.ravel()
                 # NDC in the tile -> NDC in the atlas: x' = x scale + offset.
                 view["tile"] = ((2 * x + tile) / atlas_w - 1.0, (2 * y + tile) / atlas_h - 1.0, tile / atlas_w, tile / atlas_h)
@@ -293,8 +322,12 @@ class ShadowPass:
             maps.framebuffer.use()
             self.ctx.enable_only(self.ctx.DEPTH_TEST)
             if self.viewport_index:
-                rects = np.array([(x, y, tile, tile) for _, (x, y) in batch], np.float32)
-                gl_functions(self.ctx).glViewportArrayv(0, len(batch), rects.ctypes.data_as(ctypes.POINTER(ctypes.c_float)))
+                functions = gl_functions(self.ctx)
+                rects = np.array([(x, y, tile, tile) for _, (x, y), _ in batch], np.float32)
+                functions.glViewportArrayv(0, len(batch), rects.ctypes.data_as(ctypes.POINTER(ctypes.c_float)))
+                scissors = np.array(boxes[start:start + self.batch], np.int32)
+                functions.glScissorArrayv(0, len(batch), scissors.ctypes.data_as(ctypes.POINTER(ctypes.c_int)))
+                self.ctx.enable_direct(GL_SCISSOR_TEST)
             else:
                 self.ctx.viewport = (0, 0, atlas_w, atlas_h)
                 for plane in GL_CLIP_DISTANCES:
@@ -302,7 +335,9 @@ class ShadowPass:
             depth_reads = {**buffers.records(), "SSBO_DRAW_VIEWS": self.draw_list.views}
             self.draw_list.draw(0, self.depth_program, buffers, depth_reads)
             self.draw_list.draw(1, self.cut_out_program, buffers, {**depth_reads, **buffers.textures.resources()})
-            if not self.viewport_index:
+            if self.viewport_index:
+                self.ctx.disable_direct(GL_SCISSOR_TEST)
+            else:
                 for plane in GL_CLIP_DISTANCES:
                     self.ctx.disable_direct(plane)
         self.ctx.viewport = (0, 0, atlas_w, atlas_h)  # every viewport of the array
