@@ -179,16 +179,19 @@ def test_directional_light_gives_uniform_irradiance(tmp_path):
     assert np.allclose(radiance[8:56, 8:56].reshape(-1, 3), expected, rtol=0.01)
 
 
-def test_a_thin_post_near_the_camera_casts_a_sharp_sun_shadow_in_a_wide_scene(tmp_path):
-    """The sun's shadow views follow the camera: on a 60 m wide field, a post 6 cm thick seen
-    from 4 m casts a shadow as dark as the post is solid and as wide as the post (3.3 pixels of
-    1.8 cm). One view of the whole field (16 cm texels) blurs it into a faint band."""
+@pytest.mark.parametrize("field", [60.0, 600.0])
+def test_a_thin_post_near_the_camera_casts_a_sharp_sun_shadow_in_a_wide_scene(tmp_path, field):
+    """The sun's shadow views follow the camera, as many as the scene's size asks for: on a field
+    60 m or 600 m wide, a post 6 cm thick seen from 4 m casts a shadow as dark as the post is
+    solid and as wide as the post (3.3 pixels of 1.8 cm). One view of the whole field (16 cm or
+    1.6 m texels) loses it; three cascades over the 600 m field (their finest 94 m deep) too."""
+    half = field / 2.0
     spec = {
         "camera": {"position": [0.75, 4.0, 0.0], "look_at": [0.75, 0.0, 0.0], "up": [0.0, 0.0, -1.0],
                    "vertical_fov_deg": 60.0, "width": 256, "height": 256},
         "materials": {"white": {"albedo": [0.5, 0.5, 0.5]}},
         "objects": [{"name": "Field", "type": "quad", "material": "white",
-                     "vertices": [[-30, 0, -30], [-30, 0, 30], [30, 0, 30], [30, 0, -30]]},
+                     "vertices": [[-half, 0, -half], [-half, 0, half], [half, 0, half], [half, 0, -half]]},
                     {"name": "Post", "type": "box", "material": "white", "center": [0.0, 1.0, 0.0], "size": [0.06, 2.0, 0.06]}],
         "lights": [{"name": "Sun", "type": "directional", "direction": [0.6, -0.8, 0.0], "irradiance": [3.0, 3.0, 3.0]}],
     }

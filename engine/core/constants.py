@@ -165,10 +165,11 @@ VERTEX_TANGENT_AT: GLSL_INT = 8
 GLSL_STRUCTS = {
     # A punctual light (glsl/lib/lights.glsl): world position (xyz) and LIGHT_TYPE (w); the
     # direction it shines (xyz) and its range (w, 0: no cut-off); W/sr or W/m^2 (rgb) and its
-    # first shadow view (w, -1: none; a directional light's is its whole-scene view, its
-    # SHADOW_CASCADES camera cascades follow it); a spot's cos(inner angle), cos(outer angle) (xy).
+    # first shadow view (w, -1: none; a directional light's is its whole-scene view, its camera
+    # cascades follow it); a spot's cos(inner angle), cos(outer angle) (xy), a directional
+    # light's count of camera cascades (z).
     "Light": (("vec4", "position_type"), ("vec4", "direction_range"), ("vec4", "intensity_shadow"),
-              ("vec4", "spot_cosines")),
+              ("vec4", "shape")),
     # One view of the shadow atlas: its view-projection; its tile's origin (xy) and size (zw) in
     # atlas uv; the world size of a texel per unit of clip w (x) and a texel's size in tile uv (y).
     "ShadowView": (("mat4", "view_projection"), ("vec4", "atlas_rect"), ("vec4", "texel")),
@@ -233,8 +234,9 @@ UNIFORM_BLOCK = {
 MAX_LIGHTS: GLSL_INT = 16
 MAX_SHADOW_VIEWS: GLSL_INT = 6 * MAX_LIGHTS  # a point light casts shadows through six cube faces
 # Views of a directional light fitted to slices of the camera's frustum, after its whole-scene
-# view (engine/passes/shadow.py): the pixels' light looks up the finest that holds them.
-SHADOW_CASCADES: GLSL_INT = 3
+# view (engine/passes/shadow.py, cascade_count): the pixels' light looks up the finest that
+# holds them. With the whole-scene view, a point light's six views at most.
+MAX_SHADOW_CASCADES: GLSL_INT = 5
 
 LIGHT_TYPE = {"point": 0, "spot": 1, "directional": 2}
 

@@ -1,6 +1,6 @@
 """Shadow maps for every light in one depth atlas: six cube faces per point light, one
 perspective view per spot light, and per directional light one orthographic view of the whole
-scene followed by SHADOW_CASCADES views fitted to slices of the camera's frustum, finest first
+scene followed by cascade_count views fitted to slices of the camera's frustum, finest first
 (the pixels' light looks up the finest that holds them; the voxels', which must not change with
 the camera, the whole-scene view). Returns the ShadowMaps that the lighting and
 light-injection passes read. A tile is drawn again when its view moved (a light that moved or
@@ -12,7 +12,7 @@ from typing import NamedTuple
 import numpy as np
 
 from ..core import transforms
-from ..core.constants import DRAW_TEST_FRUSTUM, LIGHT_TYPE, MAX_LIGHTS, MAX_SHADOW_VIEWS, SHADOW_CASCADES, struct_dtype
+from ..core.constants import DRAW_TEST_FRUSTUM, LIGHT_TYPE, MAX_LIGHTS, MAX_SHADOW_CASCADES, MAX_SHADOW_VIEWS, struct_dtype
 from ..core.errors import VctError
 from ..gpu.functions import clear_depth, gl_functions, write_buffer
 from ..gpu.scene_buffers import DRAW_FLAGS
@@ -25,6 +25,7 @@ CUBE_FACES = (  # (direction, up) in the order of cube_face() in glsl/lib/lights
 )
 NEAR_PLANE = 0.01
 CASCADE_REACH = 3.0   # each cascade's slice of the view reaches this many times as deep as the one before it
+CASCADE_NEAREST_REACH = 5.0  # metres: the finest cascade reaches at least this deep (the camera's near field)
 CASCADE_SLACK = 1.15  # a cascade holds its slice's box this much wider, and is kept while it still holds it
 NORMAL_OFFSET_TEXELS = 1.5  # shadow lookups move off the surface by this many texels times sin(angle to the light)
 GL_CLIP_DISTANCES = [0x3000 + plane for plane in range(4)]  # GL_CLIP_DISTANCE0..3: a view's frustum sides (draw_depth.vert)
@@ -42,8 +43,17 @@ class View(NamedTuple):
     box: tuple = None
 
 
+def cascade_count(bounds):
+    """How many camera cascades a directional light has in a scene of `bounds`: as many as it
+    takes, each reaching 1/CASCADE_REACH as deep as the next, from as deep as the bounds are
+    across to CASCADE_NEAREST_REACH or less; at least 1, at most MAX_SHADOW_CASCADES."""
+    lo, hi = bounds
+    ratio = max(float(np.linalg.norm(hi - lo)), 1e-3) / CASCADE_NEAREST_REACH
+    return int(np.clip(1 + math.ceil(math.log(max(ratio, 1.0), CASCADE_REACH)), 1, MAX_SHADOW_CASCADES))
+
+
 def cascade_views(direction, bounds, camera, tile_size, held=()):
-    """SHADOW_CASCADES orthographic Views along `direction`, each holding a slice of the
+    """cascade_count(bounds) orthographic Views along `direction`, each holding a slice of the
     frustum of `camera` (a FrameCamera; through the pixels' centres), finest first. The slices
     start where the scene's bounds do in depth; the last reaches as deep as the bounds are
     across, each before it 1/CASCADE_REACH as deep. A view holds its slice's box in the light's
@@ -76,9 +86,10 @@ def cascade_views(direction, bounds, camera, tile_size, held=()):
         return near_corners + (far_corners - near_corners) * f
 
     views = []
-    for k in range(SHADOW_CASCADES):
-        depths = [start + diameter / CASCADE_REACH ** (SHADOW_CASCADES - k) if k else start,
-                  start + diameter / CASCADE_REACH ** (SHADOW_CASCADES - 1 - k)]
+    count = cascade_count(bounds)
+    for k in range(count):
+        depths = [start + diameter / CASCADE_REACH ** (count - k) if k else start,
+                  start + diameter / CASCADE_REACH ** (count - 1 - k)]
         slice_xy = transforms.transform_points(light_frame, np.concatenate([at_depth(d) for d in depths]))[:, :2]
         lo_xy = np.maximum(slice_xy.min(axis=0), scene_lo)
         hi_xy = np.maximum(np.minimum(slice_xy.max(axis=0), scene_hi), lo_xy)
@@ -217,13 +228,14 @@ class ShadowPass:
             first = -1
             if light.cast_shadows:
                 first = len(views)
-                views += self._views(light, bounds, camera, self.held[first + 1:first + 1 + SHADOW_CASCADES])
+                views += self._views(light, bounds, camera, self.held[first + 1:first + 1 + MAX_SHADOW_CASCADES])
                 if light.type == "directional":
                     cascaded.append((first + 1, light.direction))
             range_ = light.range if light.type != "directional" else 0.0
             light_rows.append(([*light.position, LIGHT_TYPE[light.type]], [*light.direction, range_],
                                [*light.intensity, first],
-                               [math.cos(math.radians(light.inner_angle_deg)), math.cos(math.radians(light.outer_angle_deg)), 0.0, 0.0]))
+                               [math.cos(math.radians(light.inner_angle_deg)), math.cos(math.radians(light.outer_angle_deg)),
+                                cascade_count(bounds) if light.type == "directional" and light.cast_shadows else 0, 0.0]))
         self.cascaded, self.bounds = cascaded, bounds
         maps.light_count = len(lights)
         if light_rows:
@@ -262,10 +274,10 @@ class ShadowPass:
     def follow_camera(self, buffers, camera):
         """Fit the directional lights' cascades to `camera` (a FrameCamera), keeping those that
         still hold their slices, and draw those that moved. Returns whether any did."""
-        views = list(self.held)
+        views, count = list(self.held), cascade_count(self.bounds)
         for first, direction in self.cascaded:
-            views[first:first + SHADOW_CASCADES] = cascade_views(direction, self.bounds, camera, self.maps.tile_size,
-                                                                 views[first:first + SHADOW_CASCADES])
+            views[first:first + count] = cascade_views(direction, self.bounds, camera, self.maps.tile_size,
+                                                       views[first:first + count])
         drawn = [index for index, view in enumerate(views) if self._moved(index, view)]
         self.drawn_tiles = drawn
         if drawn:

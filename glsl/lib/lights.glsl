@@ -24,7 +24,7 @@ int shadow_view_index(Light light, vec3 p, bool camera_cascades) {
     int type = int(light.position_type.w);
     if (type == LIGHT_POINT) return first + cube_face(p - light.position_type.xyz);
     if (type == LIGHT_DIRECTIONAL && camera_cascades) {
-        for (int k = 1; k <= SHADOW_CASCADES; ++k) {
+        for (int k = 1; k <= int(light.shape.z); ++k) {
             ShadowView view = shadow_views[first + k];
             vec2 ndc = (view.view_projection * vec4(p, 1.0)).xy; // orthographic: w = 1
             if (all(lessThan(abs(ndc), vec2(1.0 - 2.0 * (shadow_normal_offset + 2.0) * view.texel.y)))) return first + k;
@@ -79,7 +79,7 @@ vec3 light_irradiance(int i, vec3 p, vec3 n, float lift, bool camera_cascades, o
         if (type == LIGHT_SPOT) {
             float c = dot(-l, light.direction_range.xyz);
             // smoothstep(cos outer, cos inner, c), defined also where the two angles are equal
-            float t = clamp((c - light.spot_cosines.y) / max(light.spot_cosines.x - light.spot_cosines.y, 1e-6), 0.0, 1.0);
+            float t = clamp((c - light.shape.y) / max(light.shape.x - light.shape.y, 1e-6), 0.0, 1.0);
             attenuation *= t * t * (3.0 - 2.0 * t);
         }
     }
