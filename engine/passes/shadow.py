@@ -32,6 +32,11 @@ GL_CLIP_DISTANCES = [0x3000 + plane for plane in range(4)]  # GL_CLIP_DISTANCE0.
 GL_SCISSOR_TEST = 0x0C11
 
 
+def view_up(direction):
+    """An up vector for a view looking along `direction`: +y, or +x where it looks nearly along y."""
+    return (0, 1, 0) if abs(direction[1]) < 0.99 else (1, 0, 0)
+
+
 class View(NamedTuple):
     """A shadow view: its view-projection and the world size of a texel per unit of clip w;
     for a cascade, what it was fitted to (`fitted`: the light's direction and the scene's
@@ -67,8 +72,7 @@ def cascade_views(direction, bounds, camera, tile_size, held=()):
     lo, hi = bounds
     fitted = np.concatenate([direction, lo, hi]).astype("f8").tobytes()
     diameter = max(float(np.linalg.norm(hi - lo)), 1e-3)
-    up = (0, 1, 0) if abs(direction[1]) < 0.99 else (1, 0, 0)
-    light_frame = transforms.look_at(np.zeros(3), direction, up)  # looks along the light: depth -z
+    light_frame = transforms.look_at(np.zeros(3), direction, view_up(direction))  # looks along the light: depth -z
     scene_corners = transforms.box_corners(lo, hi)
     scene_light = transforms.transform_points(light_frame, scene_corners)
     scene_lo, scene_hi = scene_light[:, :2].min(axis=0), scene_light[:, :2].max(axis=0)
@@ -197,8 +201,7 @@ class ShadowPass:
         if light.type == "directional":
             center = (lo + hi) / 2.0
             radius = max(np.linalg.norm(hi - lo) / 2.0, 1e-3)
-            up = (0, 1, 0) if abs(light.direction[1]) < 0.99 else (1, 0, 0)
-            view = transforms.look_at(center - light.direction * 2.0 * radius, center, up)
+            view = transforms.look_at(center - light.direction * 2.0 * radius, center, view_up(light.direction))
             proj = transforms.orthographic(radius, radius, radius * 0.5, radius * 3.5)
             return [View(proj @ view, 2.0 * radius / self.maps.tile_size),
                     *cascade_views(light.direction, bounds, camera, self.maps.tile_size, held)]
@@ -206,8 +209,7 @@ class ShadowPass:
         if light.type == "spot":
             half = math.radians(min(light.outer_angle_deg, 89.0))
             tan_half = math.tan(half) * (1.0 + margin)
-            up = (0, 1, 0) if abs(light.direction[1]) < 0.99 else (1, 0, 0)
-            view = transforms.look_at(light.position, light.position + light.direction, up)
+            view = transforms.look_at(light.position, light.position + light.direction, view_up(light.direction))
             proj = transforms.perspective(math.degrees(2 * math.atan(tan_half)), 1.0, NEAR_PLANE, far)
             return [View(proj @ view, 2.0 * tan_half / self.maps.tile_size)]
         tan_half = 1.0 + margin
