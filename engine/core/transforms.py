@@ -58,6 +58,12 @@ def transform_points(m, points):
     return p @ m[:3, :3].T + m[:3, 3]
 
 
+def clip_points(m, points):
+    """Points (..., 3) through a view-projection m: their homogeneous clip coordinates (..., 4)."""
+    p = np.asarray(points, float)
+    return np.concatenate([p, np.ones(p.shape[:-1] + (1,))], axis=-1) @ np.asarray(m, float).T
+
+
 def gl_bytes(m):
     """Bytes of a matrix in the column-major order GLSL expects."""
     return np.asarray(m, dtype="f4").T.tobytes()
@@ -74,7 +80,7 @@ def outside_frustum(corners, view_projection):
     box's corners beyond one clip plane (-w <= x, y, z <= w). The conditions are linear in the
     homogeneous point, so the whole box is then beyond it; a box across the frustum's edges
     counts as inside."""
-    clip = np.concatenate([corners, np.ones(corners.shape[:-1] + (1,))], axis=-1) @ np.asarray(view_projection, float).T
+    clip = clip_points(view_projection, corners)
     w = clip[..., 3:]
     return np.any(np.all(clip[..., :3] > w, axis=-2) | np.all(clip[..., :3] < -w, axis=-2), axis=-1)
 

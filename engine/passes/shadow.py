@@ -189,7 +189,7 @@ class ShadowPass:
         self.maps = ShadowMaps(ctx, tile_size)
         self.drawn_tiles = []  # the tiles (views) the last render drew, in atlas order
         self.held = []         # the Views the tiles hold, in atlas order
-        self.cascaded = []     # (first cascade's view index, direction) of each directional light with shadows
+        self.cascaded = []     # (first cascade's view index, direction, cascade count) of each directional light with shadows
         self.bounds = None     # the scene's bounds the views were fitted to
 
     def _views(self, light, bounds, camera, held):
@@ -227,17 +227,19 @@ class ShadowPass:
         maps = self.maps
         views, light_rows, cascaded = [], [], []
         for light in lights:
-            first = -1
+            first, cascades = -1, 0
             if light.cast_shadows:
                 first = len(views)
-                views += self._views(light, bounds, camera, self.held[first + 1:first + 1 + MAX_SHADOW_CASCADES])
+                light_views = self._views(light, bounds, camera, self.held[first + 1:first + 1 + MAX_SHADOW_CASCADES])
+                views += light_views
                 if light.type == "directional":
-                    cascaded.append((first + 1, light.direction))
+                    cascades = len(light_views) - 1  # after its whole-scene view
+                    cascaded.append((first + 1, light.direction, cascades))
             range_ = light.range if light.type != "directional" else 0.0
             light_rows.append(([*light.position, LIGHT_TYPE[light.type]], [*light.direction, range_],
                                [*light.intensity, first],
                                [math.cos(math.radians(light.inner_angle_deg)), math.cos(math.radians(light.outer_angle_deg)),
-                                cascade_count(bounds) if light.type == "directional" and light.cast_shadows else 0, 0.0]))
+                                cascades, 0.0]))
         self.cascaded, self.bounds = cascaded, bounds
         maps.light_count = len(lights)
         if light_rows:
@@ -250,11 +252,11 @@ class ShadowPass:
         for index, view in enumerate(views):
             if everything or self._moved(index, view):
                 drawn.append(index)
-                continue
-            seen = ~transforms.outside_frustum(changed_corners, view.view_projection) if changed_corners is not None else None
-            if seen is not None and seen.any():
-                drawn.append(index)
-                regions[index] = self._region(view.view_projection, changed_corners[seen])
+            elif changed_corners is not None:
+                seen = ~transforms.outside_frustum(changed_corners, view.view_projection)
+                if seen.any():
+                    drawn.append(index)
+                    regions[index] = self._region(view.view_projection, changed_corners[seen])
         self._place(views, drawn, buffers, everything, regions)
         return maps
 
@@ -265,7 +267,7 @@ class ShadowPass:
         behind the view's eye, or where the driver cannot give each tile of a batch its own
         scissor box (no viewport indices)."""
         tile = self.maps.tile_size
-        clip = np.concatenate([corners.reshape(-1, 3), np.ones((corners[..., 0].size, 1))], axis=1) @ np.asarray(view_projection).T
+        clip = transforms.clip_points(view_projection, corners.reshape(-1, 3))
         if not self.viewport_index or np.any(clip[:, 3] <= 1e-9):
             return 0, 0, tile, tile
         texels = (np.clip(clip[:, :2] / clip[:, 3:], -1.0, 1.0) * 0.5 + 0.5) * tile
@@ -276,8 +278,8 @@ class ShadowPass:
     def follow_camera(self, buffers, camera):
         """Fit the directional lights' cascades to `camera` (a FrameCamera), keeping those that
         still hold their slices, and draw those that moved. Returns whether any did."""
-        views, count = list(self.held), cascade_count(self.bounds)
-        for first, direction in self.cascaded:
+        views = list(self.held)
+        for first, direction, count in self.cascaded:
             views[first:first + count] = cascade_views(direction, self.bounds, camera, self.maps.tile_size,
                                                        views[first:first + count])
         drawn = [index for index, view in enumerate(views) if self._moved(index, view)]
