@@ -62,7 +62,12 @@ VOXEL_SIDES: GLSL_INT = 2
 # The orientations of a voxel's fragments make two sides where their mean normals face apart,
 # cos(angle between them) < -SIDES_APART; else one side holds them all (a floor meeting a wall).
 SIDES_APART: GLSL_FLOAT = 0.5
-SIDES_GAP: GLSL_FLOAT = 0.05  # voxels between the two sides' planes, at least (glsl/voxelize/resolve_sums.comp)
+# ... and where the plane of orientation 0 lies in front of orientation 1's by more than
+# SIDES_GAP voxels (glsl/voxelize/resolve_sums.comp): ten times the rounding that parts
+# coincident faces (a box standing on a floor: below 0.001 voxels on the Cornell box's grids),
+# so that sheets a few millimetres apart keep their two faces on a coarse grid (two sheets 1 cm
+# apart are 0.04 of a voxel of a 128^3 grid over a 30 m courtyard).
+SIDES_GAP: GLSL_FLOAT = 0.01
 # The cones a side of a two-sided voxel traces itself (its gather, the sky's light at it) start up to
 # this many voxels further along its normal (short of any other surface there): the cells around the voxel hold its other side's
 # light, which cones starting nearer read as if in front (the thin sheet's reference scene:
