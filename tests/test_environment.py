@@ -134,7 +134,7 @@ def test_the_viewers_sky_light_spread_over_frames_ends_as_one_frames(small):
 
 def test_while_an_object_moves_under_a_sky_only_the_voxels_near_it_are_relit_the_rest_once_it_rests(tmp_path):
     """A 0.5 m plate slides 3.5 m above a floor under a sky: in the viewer each step relights the
-    sky's light within SKY_NEAR_REACH times its size of it (an occluder hides at most 1/128 of
+    sky's light within SKY_NEAR_REACH times its size of it (an occluder hides at most 1/72 of
     the sky beyond), so the floor below it, further away than that and the sky filter's reach,
     keeps the light it had to the bit, though the plate's shadow on the sky moved; once the
     plate rests, a round over the classes gives every voxel the light a new renderer's has."""
