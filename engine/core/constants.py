@@ -369,8 +369,8 @@ SKY_CONE_HALF_ANGLE: GLSL_FLOAT = math.acos(1.0 - 1.0 / SKY_CONE_COUNT)
 SKY_FILTER_RADIUS: GLSL_INT = 3
 # While draws move, the sky's light is traced again at the voxels within this many times the
 # largest moved draw's size of where they were and are, the others once the draws rest: an occluder of size s at distance d hides at
-# most pi (s/2)^2 / d^2 of the sky's 2 pi, 1/72 at d = 3 s (Sponza's object frame at 128^3 on
-# llvmpipe: the sky's light 450 ms at 4 s, 1/128, and 176 ms at 3 s).
+# most pi (s/2)^2 / d^2 of the sky's 2 pi, 1/72 at d = 3 s. The voxels relit, and the frame's
+# cost, grow about as the cube of it (docs/PERFORMANCE.md, Sponza's object frame).
 SKY_NEAR_REACH = 3.0
 # The sky's cones read 1.75 mip levels below their footprint's (lookups over the inner 30 % of the
 # cone's diameter, 2^-1.75) and step by those: a surface beside the cone (a wall along a cone that
