@@ -22,27 +22,28 @@ void main() {
     if (record == NO_RECORD || (gather_anchors[record] & (ANCHOR_SELF | ANCHOR_FINER)) != 0u) return;  // empty, traced, or from finer
     uint anchors = gather_anchors[record] & ANCHOR_NEIGHBOURS;
     vec4 normal = unpack_value(voxel_normal[side_value(record, 0)]);
-    vec3 sides[2];
-    reflecting_sides(record, normal, anchors != 0u, sides[0], sides[1]);
-    for (int side = 0; side < sides_of(normal); ++side) {  // each side from the anchors' sides facing its way
-        vec4 result = vec4(0.0);
-        if (anchors != 0u && dot(sides[side], sides[side]) > 0.0) {
-            vec3 n = normalize(sides[side]);
-            vec3 sum = vec3(0.0);
-            float total = 0.0;
-            for (uint bits = anchors; bits != 0u; bits &= bits - 1u) {
-                ivec3 u = neighbour(v, findLSB(bits));
-                uint anchor = voxel_record(u);  // recorded anchors are covered
-                vec3 u_sides[2];
-                reflecting_sides(anchor, unpack_value(voxel_normal[side_value(anchor, 0)]), true, u_sides[0], u_sides[1]);
-                for (int t = 0; t < 2; ++t) {
-                    float weight = side_anchor_weight(v, n, u, u_sides[t]);
-                    if (weight > 0.0) sum += weight * unpack_value(gathered[side_value(anchor, t)]).rgb;
-                    total += weight;
-                }
+    int sides = sides_of(normal);
+    vec3 n[2];
+    reflecting_sides(record, normal, anchors != 0u, n[0], n[1]);
+    bvec2 wanted = bvec2(anchors != 0u && dot(n[0], n[0]) > 0.0, anchors != 0u && dot(n[1], n[1]) > 0.0);
+    for (int side = 0; side < 2; ++side) n[side] = wanted[side] ? normalize(n[side]) : vec3(0.0);
+    // Each side from the anchors' sides facing its way, every anchor's sides read once.
+    vec3 sum[2] = vec3[2](vec3(0.0), vec3(0.0));
+    vec2 total = vec2(0.0);
+    for (uint bits = anchors; bits != 0u; bits &= bits - 1u) {
+        ivec3 u = neighbour(v, findLSB(bits));
+        uint anchor = voxel_record(u);  // recorded anchors are covered
+        vec3 u_sides[2];
+        reflecting_sides(anchor, unpack_value(voxel_normal[side_value(anchor, 0)]), true, u_sides[0], u_sides[1]);
+        for (int side = 0; side < sides; ++side) {
+            if (!wanted[side]) continue;
+            for (int t = 0; t < 2; ++t) {
+                float weight = side_anchor_weight(v, n[side], u, u_sides[t]);
+                if (weight > 0.0) sum[side] += weight * unpack_value(gathered[side_value(anchor, t)]).rgb;
+                total[side] += weight;
             }
-            result = vec4(sum / total, 1.0);  // total >= MIN_ANCHOR_WEIGHT
         }
-        gathered[side_value(record, side)] = pack_value(result);
     }
+    for (int side = 0; side < sides; ++side)  // total >= MIN_ANCHOR_WEIGHT where wanted
+        gathered[side_value(record, side)] = pack_value(wanted[side] ? vec4(sum[side] / total[side], 1.0) : vec4(0.0));
 }
