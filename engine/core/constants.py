@@ -426,6 +426,7 @@ MIN_ROUGHNESS: GLSL_FLOAT = 0.05
 # What a pixel of the cone-trace list still needs (lib/cone_pixels.glsl): bit flags.
 PIXEL_DIFFUSE_CONES: GLSL_UINT = 1
 PIXEL_SPECULAR_CONE: GLSL_UINT = 2
+PIXEL_AO_CONES: GLSL_UINT = 4
 
 
 def struct_dtype(name):

@@ -1,11 +1,11 @@
 """Cone-tracing pass: the image over the G-buffer. Direct light (with emission, and the light of
 emissive surfaces shadowed through the voxels) plus the diffuse gather of the voxels
 interpolated per pixel, plus a specular cone traced at every other pixel in x and y and shared
-with the pixels between; or per-pixel AO cones. Pixels that need cones (specular surfaces, and
+with the pixels between; or per-pixel AO cones. Pixels that need cones (specular surfaces,
 thin surfaces seen from behind, which no voxel faces and whose diffuse cones are shared the
-same way) are listed and traced by compute passes, so the other pixels never wait on them: the
-anchors and unshared cones first, then the pixels between anchors, then those of them that no
-anchor stood for."""
+same way, and every pixel for AO) are listed and traced by compute passes, so the other pixels
+never wait on them: the anchors and unshared cones first, then the pixels between anchors,
+then those of them that no anchor stood for."""
 import numpy as np
 
 from ..core.constants import GL_IMAGE_FORMAT, SHADER_ENUMS
@@ -71,8 +71,7 @@ class ConeTracePass:
         grid_uniforms = dict(grid.uniforms(), voxel_emitters=emitters.count > 0)
         program.set(**grid_uniforms, **cone_uniforms, **emitters.uniforms(),
                     output_kind=SHADER_ENUMS["OUTPUT"]["ao" if terms.ao else "radiance"], include_direct=terms.direct,
-                    include_diffuse=terms.diffuse, include_specular=terms.specular, ao_distance=float(ao_distance),
-                    pixel_angle=float(camera.pixel_angle))
+                    include_diffuse=terms.diffuse, include_specular=terms.specular, pixel_angle=float(camera.pixel_angle))
         for pixel_list in (self.cone_pixels, self.shared_pixels, self.unshared_pixels):
             write_buffer(pixel_list, np.array([0, 1, 1, 0], dtype="u4").tobytes())  # no group, no pixel yet
         rgba32f = GL_IMAGE_FORMAT["rgba32f"]
@@ -87,7 +86,7 @@ class ConeTracePass:
                                    "SSBO_VOXEL_EMITTER_IRRADIANCE": emitter_irradiance,
                                    "SSBO_VOXEL_SKY_IRRADIANCE": sky_irradiance, **environment.resources(),
                                    **emitters.resources()})
-        if terms.diffuse or terms.specular:
+        if terms.diffuse or terms.specular or terms.ao:
             self.ctx.memory_barrier(self.ctx.SHADER_STORAGE_BARRIER_BIT | self.ctx.COMMAND_BARRIER_BIT
                                     | self.ctx.SHADER_IMAGE_ACCESS_BARRIER_BIT)
             image_out = Image(self.target.texture, read=True, write=True, format=rgba32f)
@@ -100,7 +99,7 @@ class ConeTracePass:
             # The anchors first, then the pixels between them, then those no anchor stood for.
             for handle, pixel_list, resources in ((cone_program, self.cone_pixels, traced), (self.shared_program, self.shared_pixels, shared),
                                                   (unshared_program, self.unshared_pixels, traced)):
-                handle.set(**grid_uniforms, **cone_uniforms)
+                handle.set(**grid_uniforms, **cone_uniforms, ao_distance=float(ao_distance))
                 handle.run_indirect(pixel_list, **resources)
                 self.ctx.memory_barrier(barrier)
         return self.target

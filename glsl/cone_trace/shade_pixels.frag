@@ -16,9 +16,10 @@
 //             directional albedo (lib/brdf.glsl specular_layer_albedo), traced at every
 //             other pixel in x and y and shared with the pixels between where they match
 //   AO:       1 - sum_j w_j alpha_j within ao_distance, traced per pixel
-// The cones run in cone_trace/trace_listed_pixels.comp (the anchors' and the unshared ones) and cone_trace/share_anchor_cones.comp
-// (the pixels between anchors) over the pixels listed here, so pixels that need none never
-// wait on them.
+// The cones run in cone_trace/trace_listed_pixels.comp (the anchors' and the unshared ones, and
+// every pixel's AO cones) and cone_trace/share_anchor_cones.comp (the pixels between anchors)
+// over the pixels listed here, so pixels that need none never wait on them (nor carry the cone
+// marching's code: on llvmpipe a branch never taken still cost a third of this pass).
 #include "lib/gbuffer.glsl"
 #include "lib/voxel_interpolation.glsl"
 #include "lib/cone.glsl"
@@ -45,7 +46,6 @@ uniform int output_kind;
 uniform bool include_direct;
 uniform bool include_diffuse;
 uniform bool include_specular;
-uniform float ao_distance;
 uniform float pixel_angle;  // radians between neighbouring pixels' rays
 layout(location = 0) out vec4 out_radiance;
 
@@ -66,8 +66,8 @@ void main() {
         return;
     }
     if (output_kind == OUTPUT_AO) {
-        float occlusion = trace_diffuse(s.position, s.normal, surface_level(s.position), ao_distance, SCREEN_DIFFUSE_READING).a;
-        out_radiance = vec4(vec3(1.0 - clamp(occlusion, 0.0, 1.0)), 1.0);
+        list_cone_pixel(uvec2(pack_pixel(pixel), PIXEL_AO_CONES));
+        out_radiance = vec4(0.0, 0.0, 0.0, 1.0);
         return;
     }
     vec3 diffuse_layer = diffuse_albedo(s);

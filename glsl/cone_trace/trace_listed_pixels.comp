@@ -6,6 +6,7 @@
 //             (cone_trace/share_anchor_cones.comp)
 //   specular: A(w_o) Lv(p, w_s, a_s) at the anchor pixels (lib/specular_cone.glsl), whose
 //             Lv is kept likewise, and at every pixel whose cone is too narrow to share
+//   AO:       1 - sum_j w_j alpha_j of the diffuse cones within ao_distance, at every pixel
 // Built twice: over the cone pixels cone_trace/shade_pixels.frag listed, and (TRACE_UNSHARED)
 // over the pixels between anchors that no anchor stood for (cone_trace/share_anchor_cones.comp
 // lists them). Dispatched indirectly with the group count the listing counted.
@@ -17,6 +18,7 @@
 
 layout(local_size_x = LIST_GROUP) in;
 layout(binding = IMG_IMAGE_OUT, rgba32f) uniform image2D image_out;
+uniform float ao_distance;
 
 #ifdef TRACE_UNSHARED
 #define traced_count unshared_count
@@ -41,6 +43,10 @@ void main() {
         vec3 incoming = specular_incoming(s);
         if (is_anchor(pixel)) imageStore(specular_in, pixel / 2, vec4(incoming, 1.0));
         radiance += specular_reflectance(s) * incoming;
+    }
+    if ((entry.y & PIXEL_AO_CONES) != 0u) {
+        float occlusion = trace_diffuse(s.position, s.normal, surface_level(s.position), ao_distance, SCREEN_DIFFUSE_READING).a;
+        radiance += vec3(1.0 - clamp(occlusion, 0.0, 1.0));
     }
     imageStore(image_out, pixel, imageLoad(image_out, pixel) + vec4(radiance, 0.0));
 }
