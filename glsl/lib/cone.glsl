@@ -46,6 +46,8 @@ struct FaceWeights {
     vec3 weight;
     ivec3 back;        // the two minor axes' back faces, then the dominant axis's
     vec3 back_weight;
+    bvec3 along;       // per axis: the cone travels along +k (its face looks along -k: odd)
+    vec3 back_weight_by_axis;  // back_weight per axis x, y, z
 };
 
 FaceWeights face_weights(vec3 w, float spread) {
@@ -53,12 +55,16 @@ FaceWeights face_weights(vec3 w, float spread) {
     int major = dominant_axis(w);
     ivec3 order = ivec3((major + 1) % 3, (major + 2) % 3, major);
     FaceWeights f;
-    f.face = ivec3(0, 2, 4) + ivec3(greaterThan(w, vec3(0.0)));
+    f.along = greaterThan(w, vec3(0.0));
+    f.face = ivec3(0, 2, 4) + ivec3(f.along);
     for (int k = 0; k < 3; ++k) {
         f.weight[k] = ray_share(c[k], spread);
+        f.back_weight_by_axis[k] = ray_share(-c[k], spread);
+    }
+    for (int k = 0; k < 3; ++k) {
         int axis = order[k];
         f.back[k] = 2 * axis + int(w[axis] <= 0.0);
-        f.back_weight[k] = ray_share(-c[axis], spread);
+        f.back_weight[k] = f.back_weight_by_axis[axis];
     }
     return f;
 }
@@ -78,15 +84,12 @@ vec4 face_lod(int face, vec3 uvw, int level, float mip) {
 }
 
 // How much of a voxel with mean normal n a cone sees through its face weights: front_share of
-// the faces it looks into, and the back faces where `backs` (as sample_faces weighs the views).
-float seen_coverage(vec3 n, FaceWeights f, float front_share, bool backs, bool wide) {
-    float seen = front_share * (f.weight.x * face_coverage(n, f.face.x) + f.weight.y * face_coverage(n, f.face.y)
-                                + f.weight.z * face_coverage(n, f.face.z));
-    if (backs) {
-        if (f.back_weight.x > 0.0) seen += f.back_weight.x * face_coverage(n, f.back.x);
-        if (f.back_weight.y > 0.0) seen += f.back_weight.y * face_coverage(n, f.back.y);
-        if (wide && f.back_weight.z > 0.0) seen += f.back_weight.z * face_coverage(n, f.back.z);
-    }
+// the faces it looks into, and the back faces where `backs` (as sample_faces weighs the views;
+// a back face takes rays only where its weight is nonzero, the dominant axis's in wide cones).
+float seen_coverage(vec3 n, FaceWeights f, float front_share, bool backs) {
+    FaceCoverage c = face_coverages(n);
+    float seen = front_share * dot(f.weight, mix(c.plus, c.minus, f.along));
+    if (backs) seen += dot(f.back_weight_by_axis, mix(c.minus, c.plus, f.along));
     return seen;
 }
 
@@ -94,7 +97,7 @@ float seen_coverage(vec3 n, FaceWeights f, float front_share, bool backs, bool w
 // would read them from a volume: the 8 voxels around uvw (clamped to the level, as the lookups
 // clamp), each weighted by its share of the lookup and seen through the face weights
 // (seen_coverage).
-vec4 faces_at_level_zero(vec3 uvw, int level, FaceWeights f, float front_share, bool backs, bool wide) {
+vec4 faces_at_level_zero(vec3 uvw, int level, FaceWeights f, float front_share, bool backs) {
     TrilinearVoxels lookup = trilinear_voxels(uvw);
     vec4 sum = vec4(0.0);
     for (int k = 0; k < 8; ++k) {
@@ -104,11 +107,11 @@ vec4 faces_at_level_zero(vec3 uvw, int level, FaceWeights f, float front_share, 
         vec4 normal = unpack_value(voxel_normal[side_value(record, 0)]);  // w: its opacity
         float weight = trilinear_weight(lookup, k);
         sum += weight * voxel_face(unpack_value(voxel_reflected[side_value(record, 0)]).rgb,
-                                   abs(normal.w) * seen_coverage(normal.xyz, f, front_share, backs, wide));
+                                   abs(normal.w) * seen_coverage(normal.xyz, f, front_share, backs));
         if (sides_of(normal) > 1) {
             vec4 back = unpack_value(voxel_normal[side_value(record, 1)]);
             sum += weight * voxel_face(unpack_value(voxel_reflected[side_value(record, 1)]).rgb,
-                                       back.w * seen_coverage(back.xyz, f, front_share, backs, wide));
+                                       back.w * seen_coverage(back.xyz, f, front_share, backs));
         }
     }
     return sum;
@@ -137,7 +140,7 @@ vec4 sample_faces(vec3 uvw, int level, float mip, FaceWeights f, bool wide) {
         if (f.back_weight.y > 0.0) sum += f.back_weight.y * face_lod(f.back.y, uvw, level, nearest);
         if (wide && f.back_weight.z > 0.0) sum += f.back_weight.z * face_lod(f.back.z, uvw, level, nearest);
     }
-    if (level_zero_share > 0.0 || nearest == 0.0) sum += faces_at_level_zero(uvw, level, f, level_zero_share, nearest == 0.0, wide);
+    if (level_zero_share > 0.0 || nearest == 0.0) sum += faces_at_level_zero(uvw, level, f, level_zero_share, nearest == 0.0);
     return sum;
 }
 

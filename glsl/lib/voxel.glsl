@@ -163,17 +163,26 @@ float facing_weight(vec3 n, vec3 n_v) {
     return pow(max(dot(n, n_v) / coherence, 0.0), FACING_EXPONENT) * coherence;
 }
 
-// Fraction of a voxel's cross-section, seen against face f, that its surfaces cover. A plane
-// with unit normal n inside a voxel covers |n_k| / max_j |n_j| of the face perpendicular to
-// axis k, and only when it faces that way. The mean normal's length is the coherence of the
-// surfaces in the voxel: spread normals (edges, thin two-sided parts) cover every face.
-float face_coverage(vec3 mean_normal, int face) {
+// Fraction of a voxel's cross-section, seen against each face, that its surfaces cover: the
+// faces 2k (surfaces facing +k) in `plus`, 2k + 1 (facing -k) in `minus`. A plane with unit
+// normal n inside a voxel covers |n_k| / max_j |n_j| of the face perpendicular to axis k, and
+// only when it faces that way. The mean normal's length is the coherence of the surfaces in
+// the voxel: spread normals (edges, thin two-sided parts) cover every face.
+struct FaceCoverage {
+    vec3 plus;
+    vec3 minus;
+};
+
+FaceCoverage face_coverages(vec3 mean_normal) {
     float coherence = min(length(mean_normal), 1.0);
-    if (coherence <= 0.0) return 1.0;
+    if (coherence <= 0.0) return FaceCoverage(vec3(1.0), vec3(1.0));
     vec3 n = mean_normal / length(mean_normal);
-    float towards = (face & 1) == 0 ? n[face >> 1] : -n[face >> 1];
-    float projected = max(towards, 0.0) / max(max(abs(n.x), abs(n.y)), abs(n.z));
-    return coherence * projected + (1.0 - coherence);
+    float scale = coherence / max(max(abs(n.x), abs(n.y)), abs(n.z));
+    return FaceCoverage(scale * max(n, 0.0) + (1.0 - coherence), scale * max(-n, 0.0) + (1.0 - coherence));
+}
+
+float face_coverage(FaceCoverage c, int face) {
+    return (face & 1) == 0 ? c.plus[face >> 1] : c.minus[face >> 1];
 }
 
 // Voxel coordinates packed into one uint for the voxel lists (N <= 2^VOXEL_PACK_BITS; z, which
