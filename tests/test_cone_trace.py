@@ -95,6 +95,32 @@ def test_flat_lit_floor_is_not_darkened_by_self_occlusion(tmp_path, cone_offset)
     assert np.abs(gi - direct)[covered].max() <= 0.01 * direct[covered].max()
 
 
+@pytest.mark.parametrize("grid", [64, 128])
+def test_a_floor_hides_at_most_half_of_a_wall_points_hemisphere(tmp_path, grid):
+    """A point on a wall standing on a wide floor can see the floor only through the lower half
+    of its hemisphere, however near the floor it lies: the cones' occlusion there stays about 1/2
+    (a path tracer: 0.47-0.49). Cones grazing the floor used to take it as if it stood across
+    their whole path, 0.53-0.66."""
+    scene = write_scene(tmp_path, {
+        "name": "wall_on_floor",
+        "camera": {"position": [0, 1, 6], "look_at": [0, 1, -2], "up": [0, 1, 0], "vertical_fov_deg": 40.0},
+        "materials": {"white": {"albedo": [0.5, 0.5, 0.5]}},
+        "objects": [{"name": "Floor", "type": "quad", "material": "white",
+                     "vertices": [[-20, 0, 20], [20, 0, 20], [20, 0, -20], [-20, 0, -20]]},
+                    {"name": "Wall", "type": "quad", "material": "white",
+                     "vertices": [[-3, 0, -2], [3, 0, -2], [3, 6, -2], [-3, 6, -2]]}],
+        "lights": [{"name": "Sun", "type": "directional", "direction": [0, -1, -1], "irradiance": [1, 1, 1]}],
+    })
+    with engine.Renderer(64, 64) as r:
+        occlusion = 1.0 - r.render(scene, mode="ao", grid=grid, ao_distance=100.0)[..., 0]
+        position = r.positions()
+    wall = np.abs(position[..., 2] + 2.0) < 1e-3
+    for low, high in ((0.0, 0.25), (0.25, 0.5), (0.5, 1.0), (1.0, 2.0)):
+        band = wall & (position[..., 1] >= low) & (position[..., 1] < high)
+        assert band.sum() > 100
+        assert 0.38 < occlusion[band].mean() < 0.53, (low, high, occlusion[band].mean())
+
+
 # ---- light paths -----------------------------------------------------------------------------
 
 def test_emissive_ceiling_alone_lights_the_floor_by_its_view_factor(tmp_path):

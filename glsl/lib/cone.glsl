@@ -48,7 +48,19 @@ struct FaceWeights {
     vec3 back_weight;
     bvec3 along;       // per axis: the cone travels along +k (its face looks along -k: odd)
     vec3 back_weight_by_axis;  // back_weight per axis x, y, z
+    vec3 front_cap;    // per axis: the share of the cone's rays travelling its way along it
 };
+
+// The share of a cone's rays (half-angle theta, uniform over its solid angle) whose direction
+// has a positive component along an axis at elevation e = asin(c) from the plane normal to it:
+// the part of a disc of radius theta beyond a chord e from its centre,
+// 1/2 + (x sqrt(1 - x^2) + asin x) / pi with x = e / theta (within 0.5 % of the spherical cap's
+// share at 30 degrees). Surfaces facing -k are met by those rays only: an infinite floor under a
+// level cone takes half of it, not all.
+float rays_along(float c, float half_angle) {
+    float x = min(asin(c) / half_angle, 1.0);
+    return 0.5 + (x * sqrt(1.0 - x * x) + asin(x)) / PI;
+}
 
 FaceWeights face_weights(vec3 w, float spread) {
     vec3 c = abs(w);
@@ -56,10 +68,12 @@ FaceWeights face_weights(vec3 w, float spread) {
     ivec3 order = ivec3((major + 1) % 3, (major + 2) % 3, major);
     FaceWeights f;
     f.along = greaterThan(w, vec3(0.0));
+    float half_angle = asin(spread);
     f.face = ivec3(0, 2, 4) + ivec3(f.along);
     for (int k = 0; k < 3; ++k) {
         f.weight[k] = ray_share(c[k], spread);
         f.back_weight_by_axis[k] = ray_share(-c[k], spread);
+        f.front_cap[k] = rays_along(c[k], half_angle);
     }
     for (int k = 0; k < 3; ++k) {
         int axis = order[k];
@@ -83,21 +97,25 @@ vec4 face_lod(int face, vec3 uvw, int level, float mip) {
     return textureLod(voxel_faces, stacked_uvw(uvw, level, face, VOXEL_FACES, side), mip - 1.0);  // it holds levels 1 and up
 }
 
-// How much of a voxel with mean normal n a cone sees through its face weights: front_share of
-// the faces it looks into, and the back faces where `backs` (as sample_faces weighs the views;
-// a back face takes rays only where its weight is nonzero, the dominant axis's in wide cones).
-float seen_coverage(vec3 n, FaceWeights f, float front_share, bool backs) {
+// How much of a voxel with mean normal n a cone sees through its face weights, per axis: front_share
+// of the faces it looks into (front), and the back faces where `backs` (as sample_faces weighs the
+// views; a back face takes rays only where its weight is nonzero, the dominant axis's in wide cones).
+struct SeenCoverage {
+    vec3 front;
+    vec3 back;
+};
+
+SeenCoverage seen_coverage(vec3 n, FaceWeights f, float front_share, bool backs) {
     FaceCoverage c = face_coverages(n);
-    float seen = front_share * dot(f.weight, mix(c.plus, c.minus, f.along));
-    if (backs) seen += dot(f.back_weight_by_axis, mix(c.minus, c.plus, f.along));
-    return seen;
+    return SeenCoverage(front_share * f.weight * mix(c.plus, c.minus, f.along),
+                        backs ? f.back_weight_by_axis * mix(c.minus, c.plus, f.along) : vec3(0.0));
 }
 
 // The face views at mip level 0 around uvw (in level `level`'s cube), read as a trilinear lookup
 // would read them from a volume: the 8 voxels around uvw (clamped to the level, as the lookups
 // clamp), each weighted by its share of the lookup and seen through the face weights
 // (seen_coverage).
-vec4 faces_at_level_zero(vec3 uvw, int level, FaceWeights f, float front_share, bool backs) {
+vec4 faces_at_level_zero(vec3 uvw, int level, FaceWeights f, float front_share, bool backs, inout SeenCoverage seen) {
     TrilinearVoxels lookup = trilinear_voxels(uvw);
     vec4 sum = vec4(0.0);
     for (int k = 0; k < 8; ++k) {
@@ -106,12 +124,20 @@ vec4 faces_at_level_zero(vec3 uvw, int level, FaceWeights f, float front_share, 
         // Each side seen through the faces it faces (the second where the voxel has two).
         vec4 normal = unpack_value(voxel_normal[side_value(record, 0)]);  // w: its opacity
         float weight = trilinear_weight(lookup, k);
-        sum += weight * voxel_face(unpack_value(voxel_reflected[side_value(record, 0)]).rgb,
-                                   abs(normal.w) * seen_coverage(normal.xyz, f, front_share, backs));
+        SeenCoverage side = seen_coverage(normal.xyz, f, front_share, backs);
+        float side_weight = weight * abs(normal.w);
+        sum += voxel_face(unpack_value(voxel_reflected[side_value(record, 0)]).rgb,
+                          side_weight * (dot(side.front, vec3(1.0)) + dot(side.back, vec3(1.0))));
+        seen.front += side_weight * side.front;
+        seen.back += side_weight * side.back;
         if (sides_of(normal) > 1) {
             vec4 back = unpack_value(voxel_normal[side_value(record, 1)]);
-            sum += weight * voxel_face(unpack_value(voxel_reflected[side_value(record, 1)]).rgb,
-                                       back.w * seen_coverage(back.xyz, f, front_share, backs));
+            side = seen_coverage(back.xyz, f, front_share, backs);
+            side_weight = weight * back.w;
+            sum += voxel_face(unpack_value(voxel_reflected[side_value(record, 1)]).rgb,
+                              side_weight * (dot(side.front, vec3(1.0)) + dot(side.back, vec3(1.0))));
+            seen.front += side_weight * side.front;
+            seen.back += side_weight * side.back;
         }
     }
     return sum;
@@ -124,23 +150,29 @@ vec4 faces_at_level_zero(vec3 uvw, int level, FaceWeights f, float front_share, 
 // faces' jumps between levels do not show (front faces read at the nearest level too made
 // coarse grids read bright against the path tracer). The dominant axis's back face takes rays
 // only in cones wider than 35.3 degrees (face_weights): `wide` ones.
-vec4 sample_faces(vec3 uvw, int level, float mip, FaceWeights f, bool wide) {
+vec4 sample_faces(vec3 uvw, int level, float mip, FaceWeights f, bool wide, out SeenCoverage seen) {
     float nearest = round(mip);
     float level_zero_share = max(1.0 - mip, 0.0);  // of the front faces' lookups, blended
     vec4 sum = vec4(0.0);
+    seen = SeenCoverage(vec3(0.0), vec3(0.0));
     if (mip > 0.0) {
         float coarse = max(mip, 1.0);
-        sum += (1.0 - level_zero_share) * (f.weight.x * face_lod(f.face.x, uvw, level, coarse)
-                                           + f.weight.y * face_lod(f.face.y, uvw, level, coarse)
-                                           + f.weight.z * face_lod(f.face.z, uvw, level, coarse));
+        float share = 1.0 - level_zero_share;
+        vec4 x = face_lod(f.face.x, uvw, level, coarse), y = face_lod(f.face.y, uvw, level, coarse),
+             z = face_lod(f.face.z, uvw, level, coarse);
+        sum += share * (f.weight.x * x + f.weight.y * y + f.weight.z * z);
+        seen.front += share * f.weight * vec3(x.a, y.a, z.a);
     }
     // A back face no ray diverges to (|w_k| >= spread) is not read: most cones have one or none.
     if (nearest > 0.0) {
-        if (f.back_weight.x > 0.0) sum += f.back_weight.x * face_lod(f.back.x, uvw, level, nearest);
-        if (f.back_weight.y > 0.0) sum += f.back_weight.y * face_lod(f.back.y, uvw, level, nearest);
-        if (wide && f.back_weight.z > 0.0) sum += f.back_weight.z * face_lod(f.back.z, uvw, level, nearest);
+        for (int k = 0; k < 3; ++k) {
+            if (f.back_weight[k] <= 0.0 || (k == 2 && !wide)) continue;
+            vec4 back = f.back_weight[k] * face_lod(f.back[k], uvw, level, nearest);
+            sum += back;
+            seen.back[f.back[k] >> 1] += back.a;
+        }
     }
-    if (level_zero_share > 0.0 || nearest == 0.0) sum += faces_at_level_zero(uvw, level, f, level_zero_share, nearest == 0.0);
+    if (level_zero_share > 0.0 || nearest == 0.0) sum += faces_at_level_zero(uvw, level, f, level_zero_share, nearest == 0.0, seen);
     return sum;
 }
 
@@ -191,15 +223,18 @@ const ConeReading EMITTER_READING        = ConeReading(false, 0.0,              
 // level k reads its own mip - k, which is 1..2 where the level matches the footprint), a step of
 // `step_length` on (trace_cone): the radiance it meets (rgb, emission added where the reading
 // says) and the covered fraction of the step's cross-section (a).
-vec4 level_lookup(vec3 p, int level, float mip, FaceWeights weights, ConeReading reading, float step_length) {
+vec4 level_lookup(vec3 p, int level, float mip, FaceWeights weights, ConeReading reading, float step_length,
+                  out SeenCoverage seen) {
     float local_mip = clamp(mip - float(level), 0.0, voxel_max_mip);
     if (!reading.blend_mips) local_mip = round(local_mip);
     vec3 uvw = level_uvw(p, level);
-    vec4 s = sample_faces(uvw, level, local_mip, weights, reading.wide);
+    vec4 s = sample_faces(uvw, level, local_mip, weights, reading.wide, seen);
     if (s.a <= 0.0) return vec4(0.0);
     // c = min(1, a 2^mip) over cells 2^mip of the level's voxels (trace_cone)
     float cell = exp2(local_mip) * level_voxel_size[level];
     float coverage = reading.opacity_scale * min(1.0, s.a * exp2(local_mip)) * step_length / cell;
+    seen.front *= coverage / s.a;  // each axis's faces' part of it
+    seen.back *= coverage / s.a;
     vec3 radiance = s.rgb / s.a;
     if (reading.emitted && voxel_emitters) {
         vec3 e_uvw = stacked_uvw(uvw, level, 0, 1, float(voxel_grid >> int(ceil(local_mip))));
@@ -228,7 +263,11 @@ vec4 level_lookup(vec3 p, int level, float mip, FaceWeights weights, ConeReading
 //                                                the cone: a plane stays opaque at every level
 //   alpha += min(k c step / (2^mip v0), 1 - alpha)  the covered fraction of a step through
 //                                                cells 2^mip voxels wide, front to back, which
-//                                                makes the result independent of the step
+//                                                makes the result independent of the step,
+//                                                split among the faces read; the faces facing
+//                                                against an axis's travel cover at most the
+//                                                share of rays travelling that way (rays_along),
+//                                                those facing along it the rest
 //   t += step = cone_step * (step_by_lookup ? d : D)
 vec4 trace_cone(vec3 p, vec3 n, int start_level, vec3 direction, float tan_half_angle, float max_distance,
                 ConeReading reading) {
@@ -245,6 +284,11 @@ vec4 trace_cone(vec3 p, vec3 n, int start_level, vec3 direction, float tan_half_
     // loop small.
     bool coarser_due = false;
     vec4 finer = vec4(0.0);  // the finer level's share of the step, premultiplied, while coarser_due
+    SeenCoverage finer_seen = SeenCoverage(vec3(0.0), vec3(0.0));
+    // The coverage taken so far from the surfaces facing against each axis's travel (front) and
+    // along it (back), each at most the share of the rays that can meet them (front_cap).
+    vec3 covered_front = vec3(0.0), covered_back = vec3(0.0);
+    vec3 back_cap = 1.0 - weights.front_cap;
     float cone_diameter, diameter, mip, step_length, share;
     vec3 q;
     int level;
@@ -273,18 +317,29 @@ vec4 trace_cone(vec3 p, vec3 n, int start_level, vec3 direction, float tan_half_
                 share = 1.0;
             }
         }
-        vec4 lookup = level_lookup(q, coarser_due ? level + 1 : level, mip, weights, reading, step_length);
-        vec4 s = finer + (coarser_due ? 1.0 - share : share) * vec4(lookup.rgb * lookup.a, lookup.a);
+        SeenCoverage seen;
+        vec4 lookup = level_lookup(q, coarser_due ? level + 1 : level, mip, weights, reading, step_length, seen);
+        float level_part = coarser_due ? 1.0 - share : share;
+        vec4 s = finer + level_part * vec4(lookup.rgb * lookup.a, lookup.a);
+        seen.front = finer_seen.front + level_part * seen.front;
+        seen.back = finer_seen.back + level_part * seen.back;
         if (!coarser_due && share < 1.0) {
             finer = s;
+            finer_seen = seen;
             coarser_due = true;
             continue;
         }
         coarser_due = false;
         finer = vec4(0.0);
+        finer_seen = SeenCoverage(vec3(0.0), vec3(0.0));
         if (s.a > 0.0) {
-            // Covered fraction of the cross-section added by this step, front to back.
-            float alpha = min(s.a, 1.0 - gathered.a);
+            // Covered fraction of the cross-section added by this step, front to back, each
+            // facing's part within the rays left that can meet it.
+            vec3 front = clamp(weights.front_cap - covered_front, vec3(0.0), seen.front);
+            vec3 back = clamp(back_cap - covered_back, vec3(0.0), seen.back);
+            covered_front += front;
+            covered_back += back;
+            float alpha = min(dot(front, vec3(1.0)) + dot(back, vec3(1.0)), 1.0 - gathered.a);
             gathered.rgb += alpha * (s.rgb / s.a);
             gathered.a += alpha;
         }
