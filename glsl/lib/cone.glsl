@@ -111,10 +111,20 @@ SeenCoverage seen_coverage(vec3 n, FaceWeights f, float front_share, bool backs)
                         backs ? f.back_weight_by_axis * mix(c.minus, c.plus, f.along) : vec3(0.0));
 }
 
+// Add a voxel side with reflected light `reflected` and mean normal n, at `weight` (its share of
+// the lookup times its opacity), to a lookup's premultiplied sum and its coverage per axis.
+void add_seen_side(inout vec4 sum, inout SeenCoverage seen, vec3 reflected, vec3 n, float weight, FaceWeights f,
+                   float front_share, bool backs) {
+    SeenCoverage side = seen_coverage(n, f, front_share, backs);
+    sum += voxel_face(reflected, weight * (dot(side.front, vec3(1.0)) + dot(side.back, vec3(1.0))));
+    seen.front += weight * side.front;
+    seen.back += weight * side.back;
+}
+
 // The face views at mip level 0 around uvw (in level `level`'s cube), read as a trilinear lookup
 // would read them from a volume: the 8 voxels around uvw (clamped to the level, as the lookups
 // clamp), each weighted by its share of the lookup and seen through the face weights
-// (seen_coverage).
+// (seen_coverage), their coverage per axis added to `seen`.
 vec4 faces_at_level_zero(vec3 uvw, int level, FaceWeights f, float front_share, bool backs, inout SeenCoverage seen) {
     TrilinearVoxels lookup = trilinear_voxels(uvw);
     vec4 sum = vec4(0.0);
@@ -124,20 +134,12 @@ vec4 faces_at_level_zero(vec3 uvw, int level, FaceWeights f, float front_share, 
         // Each side seen through the faces it faces (the second where the voxel has two).
         vec4 normal = unpack_value(voxel_normal[side_value(record, 0)]);  // w: its opacity
         float weight = trilinear_weight(lookup, k);
-        SeenCoverage side = seen_coverage(normal.xyz, f, front_share, backs);
-        float side_weight = weight * abs(normal.w);
-        sum += voxel_face(unpack_value(voxel_reflected[side_value(record, 0)]).rgb,
-                          side_weight * (dot(side.front, vec3(1.0)) + dot(side.back, vec3(1.0))));
-        seen.front += side_weight * side.front;
-        seen.back += side_weight * side.back;
+        add_seen_side(sum, seen, unpack_value(voxel_reflected[side_value(record, 0)]).rgb, normal.xyz,
+                      weight * abs(normal.w), f, front_share, backs);
         if (sides_of(normal) > 1) {
             vec4 back = unpack_value(voxel_normal[side_value(record, 1)]);
-            side = seen_coverage(back.xyz, f, front_share, backs);
-            side_weight = weight * back.w;
-            sum += voxel_face(unpack_value(voxel_reflected[side_value(record, 1)]).rgb,
-                              side_weight * (dot(side.front, vec3(1.0)) + dot(side.back, vec3(1.0))));
-            seen.front += side_weight * side.front;
-            seen.back += side_weight * side.back;
+            add_seen_side(sum, seen, unpack_value(voxel_reflected[side_value(record, 1)]).rgb, back.xyz, weight * back.w,
+                          f, front_share, backs);
         }
     }
     return sum;
@@ -149,7 +151,8 @@ vec4 faces_at_level_zero(vec3 uvw, int level, FaceWeights f, float front_share, 
 // diverge sideways, the nearest level: a blended lookup reads twice the texels, and the back
 // faces' jumps between levels do not show (front faces read at the nearest level too made
 // coarse grids read bright against the path tracer). The dominant axis's back face takes rays
-// only in cones wider than 35.3 degrees (face_weights): `wide` ones.
+// only in cones wider than 35.3 degrees (face_weights): `wide` ones. `seen`: the coverage read
+// through each axis's front and back faces (their sum is a).
 vec4 sample_faces(vec3 uvw, int level, float mip, FaceWeights f, bool wide, out SeenCoverage seen) {
     float nearest = round(mip);
     float level_zero_share = max(1.0 - mip, 0.0);  // of the front faces' lookups, blended
@@ -222,7 +225,7 @@ const ConeReading EMITTER_READING        = ConeReading(false, 0.0,              
 // A cone's lookup at p in level `level` for lookups at mip `mip` (in the finest level's voxels;
 // level k reads its own mip - k, which is 1..2 where the level matches the footprint), a step of
 // `step_length` on (trace_cone): the radiance it meets (rgb, emission added where the reading
-// says) and the covered fraction of the step's cross-section (a).
+// says) and the covered fraction of the step's cross-section (a), split per axis in `seen`.
 vec4 level_lookup(vec3 p, int level, float mip, FaceWeights weights, ConeReading reading, float step_length,
                   out SeenCoverage seen) {
     float local_mip = clamp(mip - float(level), 0.0, voxel_max_mip);
