@@ -230,7 +230,7 @@ def test_sponzas_indirect_light_keeps_the_light_of_surfaces_back_to_back():
     """Sponza under its sky at 128^3: banners and curtains are two sheets back to back, draped,
     and a third of its bricks have an opposite face within a voxel. With a side per orientation
     (with or against a voxel's most common facing) its indirect light (GI less direct, on both
-    sides) is 0.85 of the path tracer's, the image within 0.15 (measured 0.853 and 0.140; with
+    sides) is 0.85 of the path tracer's, the image within 0.15 (measured 0.856 and 0.140; with
     one sun shadow view over the whole courtyard instead of cascades following the camera,
     0.163; with each fragment covering its voxel's face whole, 0.775 and 0.170; with the
     orientations split by the sign of each normal's dominant component, which mixed a banner's
@@ -244,19 +244,20 @@ def test_sponzas_indirect_light_keeps_the_light_of_surfaces_back_to_back():
     assert rel_mae(gi, expected_gi) <= 0.15
 
 
-@pytest.mark.parametrize("grid", [32, 64])
-def test_a_slab_thinner_than_a_voxel_passes_on_the_light_of_its_lit_face_alone(grid):
+@pytest.mark.parametrize("grid, face_bound", [(32, 0.15), (64, 0.15), (128, 0.4)])
+def test_a_slab_thinner_than_a_voxel_passes_on_the_light_of_its_lit_face_alone(grid, face_bound):
     """A 2 cm slab whose back face alone a spot lights, both its faces inside one voxel of the
     32^3 and 64^3 grids: the voxels' two sides keep them apart, and the room's light is the
-    path tracer's within 15 % (measured 1.037, 1.109; one side a voxel: 0.139, 0.073), the
-    camera's face of the slab within 15 % (1.072, 1.109). At 128^3 the faces lie in two
-    neighbouring voxels, one side each, and the lit face's light leaks through (1.42, its
-    camera face 4.8x: docs/ACCURACY.md)."""
+    path tracer's within 15 % (measured 1.057, 1.114; one side a voxel: 0.139, 0.073), the
+    camera's face of the slab within 15 % (1.117, 1.121). At 128^3 the faces lie in two
+    neighbouring voxels, one side each: the camera's face starts its cones away from the lit
+    face behind it as a voxel's second side does (room 0.998, the camera's face 1.35, its near
+    cells holding the lit face's light; 1.42 and 4.8x when its cones started on the face)."""
     image = render("thin_slab", grid=grid)
     expected = reference("thin_slab_gi")
     assert not reference("thin_slab_direct").any()  # every pixel's light is indirect
     assert luminance_ratio(image, expected) == pytest.approx(1.0, abs=0.15)
-    assert image[THIN_SHEET_FRONT].mean() / expected[THIN_SHEET_FRONT].mean() == pytest.approx(1.0, abs=0.15)
+    assert image[THIN_SHEET_FRONT].mean() / expected[THIN_SHEET_FRONT].mean() == pytest.approx(1.0, abs=face_bound)
 
 
 @pytest.mark.parametrize("grid, error_bound, luminance_bound", [(32, 0.31, 0.25), (64, 0.25, 0.20), (128, 0.19, 0.10)])

@@ -40,12 +40,32 @@ VoxelSurface voxel_surface(ivec3 v, uint record, int side) {
 }
 
 
+// Whether the first surface behind a side's surface point, within BACKING_REACH voxels against
+// its normal n, faces the other way: the far face of a slab whose faces fall in other voxels.
+bool backed_by_neighbour(VoxelSurface s, vec3 n, ivec3 v) {
+    int level = voxel_level(v);
+    for (float k = 1.0; k <= BACKING_REACH; k += 1.0) {
+        ivec3 u = level_voxel(ivec3(floor(level_uvw(s.position - k * voxel_extent(v) * n, level) * float(voxel_grid))), level);
+        if (u == v) continue;
+        uint record = neighbour_record(v, u);
+        if (record == NO_RECORD) continue;
+        vec4 normal = unpack_value(voxel_normal[side_value(record, 0)]);
+        for (int side = 0; side < sides_of(normal); ++side) {
+            vec3 m = side == 0 ? normal.xyz : unpack_value(voxel_normal[side_value(record, 1)]).xyz;
+            if (dot(m, n) < -SIDES_APART * length(m)) return true;
+        }
+        return false;
+    }
+    return false;
+}
+
 // Where the cones a side traces itself start from: its surface point, in a voxel with two
-// sides (`sides`), whose near cells hold its other side's light, moved further along its normal
-// n by up to TWO_SIDED_START voxels, whole voxels at a time while they hold no other surface
-// (a curtain's fold above a floor starts over the floor, not under it).
+// sides (`sides`) or backed by a neighbour (backed_by_neighbour), whose near cells hold the
+// other face's light, moved further along its normal n by up to TWO_SIDED_START voxels, whole
+// voxels at a time while they hold no other surface (a curtain's fold above a floor starts over
+// the floor, not under it).
 vec3 side_cone_start(VoxelSurface s, vec3 n, ivec3 v, int sides) {
-    if (sides < 2) return s.position;
+    if (sides < 2 && !backed_by_neighbour(s, n, v)) return s.position;
     int level = voxel_level(v);
     float extent = voxel_extent(v);
     float free_voxels = 0.0;
