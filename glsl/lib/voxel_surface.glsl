@@ -40,14 +40,19 @@ VoxelSurface voxel_surface(ivec3 v, uint record, int side) {
 }
 
 
+// The record of the voxel of v's level that holds point p, other than v (NO_RECORD: v itself,
+// or a voxel no surface covers).
+uint other_record_at(ivec3 v, vec3 p) {
+    int level = voxel_level(v);
+    ivec3 u = level_voxel(ivec3(floor(level_uvw(p, level) * float(voxel_grid))), level);
+    return u == v ? NO_RECORD : neighbour_record(v, u);
+}
+
 // Whether the first surface behind a side's surface point, within BACKING_REACH voxels against
 // its normal n, faces the other way: the far face of a slab whose faces fall in other voxels.
 bool backed_by_neighbour(VoxelSurface s, vec3 n, ivec3 v) {
-    int level = voxel_level(v);
     for (float k = 1.0; k <= BACKING_REACH; k += 1.0) {
-        ivec3 u = level_voxel(ivec3(floor(level_uvw(s.position - k * voxel_extent(v) * n, level) * float(voxel_grid))), level);
-        if (u == v) continue;
-        uint record = neighbour_record(v, u);
+        uint record = other_record_at(v, s.position - k * voxel_extent(v) * n);
         if (record == NO_RECORD) continue;
         vec4 normal = unpack_value(voxel_normal[side_value(record, 0)]);
         for (int side = 0; side < sides_of(normal); ++side) {
@@ -66,12 +71,10 @@ bool backed_by_neighbour(VoxelSurface s, vec3 n, ivec3 v) {
 // the floor, not under it).
 vec3 side_cone_start(VoxelSurface s, vec3 n, ivec3 v, int sides) {
     if (sides < 2 && !backed_by_neighbour(s, n, v)) return s.position;
-    int level = voxel_level(v);
     float extent = voxel_extent(v);
     float free_voxels = 0.0;
     for (float k = 1.0; k <= TWO_SIDED_START; k += 1.0) {
-        ivec3 u = level_voxel(ivec3(floor(level_uvw(s.position + k * extent * n, level) * float(voxel_grid))), level);
-        if (u != v && neighbour_record(v, u) != NO_RECORD) break;
+        if (other_record_at(v, s.position + k * extent * n) != NO_RECORD) break;
         free_voxels = k;
     }
     return s.position + free_voxels * extent * n;
