@@ -28,15 +28,13 @@ void main() {
             uint record = voxel_record(v);
             if (record == NO_RECORD) continue;
             // Each side in the faces it faces (the second where the voxel has two).
-            vec4 mean_normal = unpack_value(voxel_normal[side_value(record, 0)]);  // w: its opacity
-            vec3 reflected = unpack_value(voxel_reflected[side_value(record, 0)]).rgb;
-            FaceCoverage coverage = face_coverages(mean_normal.xyz);
-            for (int f = 0; f < VOXEL_FACES; ++f) mean[f] += 0.125 * voxel_face(reflected, abs(mean_normal.w) * face_coverage(coverage, f));
-            if (sides_of(mean_normal) > 1) {
-                vec4 back = unpack_value(voxel_normal[side_value(record, 1)]);
-                vec3 back_reflected = unpack_value(voxel_reflected[side_value(record, 1)]).rgb;
-                FaceCoverage back_coverage = face_coverages(back.xyz);
-                for (int f = 0; f < VOXEL_FACES; ++f) mean[f] += 0.125 * voxel_face(back_reflected, back.w * face_coverage(back_coverage, f));
+            vec4 mean_normal = unpack_value(voxel_normal[side_value(record, 0)]);  // w: its opacity (negative: two sides)
+            int sides = sides_of(mean_normal);
+            for (int side = 0; side < sides; ++side) {
+                if (side > 0) mean_normal = unpack_value(voxel_normal[side_value(record, side)]);
+                vec3 reflected = unpack_value(voxel_reflected[side_value(record, side)]).rgb;
+                FaceCoverage coverage = face_coverages(mean_normal.xyz);
+                for (int f = 0; f < VOXEL_FACES; ++f) mean[f] += 0.125 * voxel_face(reflected, abs(mean_normal.w) * face_coverage(coverage, f));
             }
         }
     } else {

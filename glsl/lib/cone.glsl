@@ -132,14 +132,13 @@ vec4 faces_at_level_zero(vec3 uvw, int level, FaceWeights f, float front_share, 
         uint record = level_record(clamp(lookup.first + corner_offset(k), ivec3(0), ivec3(voxel_grid - 1)), level);
         if (record == NO_RECORD) continue;
         // Each side seen through the faces it faces (the second where the voxel has two).
-        vec4 normal = unpack_value(voxel_normal[side_value(record, 0)]);  // w: its opacity
+        vec4 normal = unpack_value(voxel_normal[side_value(record, 0)]);  // w: its opacity (negative: two sides)
         float weight = trilinear_weight(lookup, k);
-        add_seen_side(sum, seen, unpack_value(voxel_reflected[side_value(record, 0)]).rgb, normal.xyz,
-                      weight * abs(normal.w), f, front_share, backs);
-        if (sides_of(normal) > 1) {
-            vec4 back = unpack_value(voxel_normal[side_value(record, 1)]);
-            add_seen_side(sum, seen, unpack_value(voxel_reflected[side_value(record, 1)]).rgb, back.xyz, weight * back.w,
-                          f, front_share, backs);
+        int sides = sides_of(normal);
+        for (int side = 0; side < sides; ++side) {
+            if (side > 0) normal = unpack_value(voxel_normal[side_value(record, side)]);
+            add_seen_side(sum, seen, unpack_value(voxel_reflected[side_value(record, side)]).rgb, normal.xyz,
+                          weight * abs(normal.w), f, front_share, backs);
         }
     }
     return sum;
