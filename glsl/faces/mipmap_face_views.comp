@@ -28,10 +28,9 @@ void main() {
             uint record = voxel_record(v);
             if (record == NO_RECORD) continue;
             // Each side in the faces it faces (the second where the voxel has two).
-            vec4 mean_normal = unpack_value(voxel_normal[side_value(record, 0)]);  // w: its opacity (negative: two sides)
-            int sides = sides_of(mean_normal);
-            for (int side = 0; side < sides; ++side) {
-                if (side > 0) mean_normal = unpack_value(voxel_normal[side_value(record, side)]);
+            vec4 side_0_normal = unpack_value(voxel_normal[side_value(record, 0)]);
+            for (int side = 0; side < sides_of(side_0_normal); ++side) {
+                vec4 mean_normal = side_normal(record, side, side_0_normal);  // w: its opacity
                 vec3 reflected = unpack_value(voxel_reflected[side_value(record, side)]).rgb;
                 FaceCoverage coverage = face_coverages(mean_normal.xyz);
                 for (int f = 0; f < VOXEL_FACES; ++f) mean[f] += 0.125 * voxel_face(reflected, abs(mean_normal.w) * face_coverage(coverage, f));

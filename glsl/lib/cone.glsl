@@ -132,11 +132,10 @@ vec4 faces_at_level_zero(vec3 uvw, int level, FaceWeights f, float front_share, 
         uint record = level_record(clamp(lookup.first + corner_offset(k), ivec3(0), ivec3(voxel_grid - 1)), level);
         if (record == NO_RECORD) continue;
         // Each side seen through the faces it faces (the second where the voxel has two).
-        vec4 normal = unpack_value(voxel_normal[side_value(record, 0)]);  // w: its opacity (negative: two sides)
+        vec4 side_0_normal = unpack_value(voxel_normal[side_value(record, 0)]);
         float weight = trilinear_weight(lookup, k);
-        int sides = sides_of(normal);
-        for (int side = 0; side < sides; ++side) {
-            if (side > 0) normal = unpack_value(voxel_normal[side_value(record, side)]);
+        for (int side = 0; side < sides_of(side_0_normal); ++side) {
+            vec4 normal = side_normal(record, side, side_0_normal);  // w: its opacity
             add_seen_side(sum, seen, unpack_value(voxel_reflected[side_value(record, side)]).rgb, normal.xyz,
                           weight * abs(normal.w), f, front_share, backs);
         }

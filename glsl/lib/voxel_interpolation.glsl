@@ -52,13 +52,11 @@ void add_level_voxels(inout VoxelSums sums, Surface s, int level, float share, b
     for (int k = 0; k < 8; ++k) {
         uint record = level_record(lookup.first + corner_offset(k), level);
         if (record == NO_RECORD) continue;  // no surface
-        vec4 normal = unpack_value(voxel_normal[side_value(record, 0)]);
+        vec4 side_0_normal = unpack_value(voxel_normal[side_value(record, 0)]);
         float weight = share * trilinear_weight(lookup, k);
-        int sides = sides_of(normal);
-        for (int side = 0; side < sides; ++side) {  // a voxel with two sides: its other one too
-            if (side > 0) normal = unpack_value(voxel_normal[side_value(record, side)]);
-            add_side(sums, s, side_value(record, side), normal.xyz, weight, want_gathered, want_visibility, want_sky);
-        }
+        for (int side = 0; side < sides_of(side_0_normal); ++side)  // a voxel with two sides: its other one too
+            add_side(sums, s, side_value(record, side), side_normal(record, side, side_0_normal).xyz, weight, want_gathered,
+                     want_visibility, want_sky);
     }
 }
 

@@ -14,6 +14,14 @@ int sides_of(vec4 side_0_normal) {
     return side_0_normal.w < 0.0 ? 2 : 1;
 }
 
+// The normal of side `side` of the voxel at `record` (w: its opacity, negative at side 0 of a
+// voxel with two), from side 0's (read already). A loop over a voxel's sides up to sides_of
+// rather than an if for side 1: llvmpipe runs an if's body under a lane mask whether or not a
+// lane takes it, and a loop ends where no lane has another side.
+vec4 side_normal(uint record, int side, vec4 side_0_normal) {
+    return side == 0 ? side_0_normal : unpack_value(voxel_normal[side_value(record, side)]);
+}
+
 struct VoxelSurface {
     vec3 albedo;       // reflectance (lib/brdf.glsl layered_albedo), averaged over the voxel's fragments
     vec3 mean_normal;  // mean of the fragments' unit normals: its length is their coherence
@@ -56,7 +64,7 @@ bool backed_by_neighbour(VoxelSurface s, vec3 n, ivec3 v) {
         if (record == NO_RECORD) continue;
         vec4 normal = unpack_value(voxel_normal[side_value(record, 0)]);
         for (int side = 0; side < sides_of(normal); ++side) {
-            vec3 m = side == 0 ? normal.xyz : unpack_value(voxel_normal[side_value(record, 1)]).xyz;
+            vec3 m = side_normal(record, side, normal).xyz;
             if (dot(m, n) < -SIDES_APART * length(m)) return true;
         }
         return false;
