@@ -176,9 +176,10 @@ def metal_floor_under_a_glowing_wall(tmp_path, emission, roughness):
 
 def test_mirror_reflects_what_the_specular_cone_sees(tmp_path):
     """A metal floor with roughness 0 reflects the emissive far wall exactly (F = albedo = 1)
-    and nothing where the mirrored ray meets black walls; at roughness 1 the cone opens to
-    the hemisphere and blurs the reflection, which Smith's masking of the rough lobe dims to
-    0.4-0.7 of what the cone gathers (its directional albedo)."""
+    and nothing where the mirrored ray meets black walls; at roughness 1 the lobe spans the
+    hemisphere and takes the light arriving from every direction, as the diffuse layer does,
+    which blurs the reflection, and Smith's masking of the rough lobe dims it to 0.4-0.7 of
+    what arrives (its directional albedo)."""
     scene = metal_floor_under_a_glowing_wall(tmp_path, emission=[1, 0.2, 0.1], roughness=0.0)
     with engine.Renderer(64, 64) as r:
         sharp = r.render(scene, mode="specular", grid=64)

@@ -99,7 +99,8 @@ class ConeTracePass:
             # The anchors first, then the pixels between them, then those no anchor stood for.
             for handle, pixel_list, resources in ((cone_program, self.cone_pixels, traced), (self.shared_program, self.shared_pixels, shared),
                                                   (unshared_program, self.unshared_pixels, traced)):
-                handle.set(**grid_uniforms, **cone_uniforms, ao_distance=float(ao_distance))
+                handle.set(**grid_uniforms, **cone_uniforms, ao_distance=float(ao_distance), include_diffuse=terms.diffuse,
+                           include_specular=terms.specular)
                 handle.run_indirect(pixel_list, **resources)
                 self.ctx.memory_barrier(barrier)
         return self.target

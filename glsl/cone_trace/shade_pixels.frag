@@ -70,28 +70,34 @@ void main() {
         out_radiance = vec4(0.0, 0.0, 0.0, 1.0);
         return;
     }
-    vec3 diffuse_layer = diffuse_albedo(s);
-    bool diffuse = any(greaterThan(diffuse_layer, vec3(0.0)));
-    bool lit_by_emitters = EMITTER_LIGHT && include_direct && diffuse;
-    bool lit_by_sky = SKY_LIGHT && include_direct && diffuse;
-    VoxelInterpolation voxels = interpolate_voxels(s, include_diffuse && diffuse, lit_by_emitters, lit_by_sky);
+    // What the surface reflects of the voxels' gathered light and of the sky's and the
+    // emitters' light: the diffuse layer's share (indirect and direct light), and the specular
+    // layer's where its lobe spans the hemisphere (the specular term, as what a cone gathers).
+    vec3 gathered_reflectance = hemisphere_reflectance(s, include_diffuse, include_specular);
+    vec3 light_reflectance = hemisphere_reflectance(s, include_direct, include_specular);
+    bool gathers = any(greaterThan(gathered_reflectance, vec3(0.0)));
+    bool lit = any(greaterThan(light_reflectance, vec3(0.0)));
+    bool lit_by_emitters = EMITTER_LIGHT && lit;
+    bool lit_by_sky = SKY_LIGHT && lit;
+    VoxelInterpolation voxels = interpolate_voxels(s, gathers, lit_by_emitters, lit_by_sky);
     vec3 radiance = include_direct ? texelFetch(direct_light, pixel, 0).rgb : vec3(0.0);
 #ifdef EMITTERS
     if (lit_by_emitters)
-        radiance += diffuse_layer / PI * emitter_irradiance(s.position, s.normal) * voxels.emitter_visibility;
+        radiance += light_reflectance / PI * emitter_irradiance(s.position, s.normal) * voxels.emitter_visibility;
 #endif
-    if (lit_by_sky) radiance += diffuse_layer / PI * voxels.sky_irradiance;
+    if (lit_by_sky) radiance += light_reflectance / PI * voxels.sky_irradiance;
     // Pixels that need cones are listed (lib/cone_pixels.glsl): the diffuse cones where no
-    // voxel faces the pixel's way, the specular cone where the surface reflects specularly;
-    // traced at the anchors (even x and y) and shared with the pixels between them.
+    // voxel faces the pixel's way, the specular cone where the surface reflects specularly
+    // through a lobe narrower than the hemisphere; traced at the anchors (even x and y) and
+    // shared with the pixels between them.
     uint cones = 0u, shared_cones = 0u;
     bool anchor = is_anchor(pixel);
-    if (include_diffuse && diffuse) {
-        if (voxels.gathered_found) radiance += diffuse_layer * voxels.gathered;
+    if (gathers) {
+        if (voxels.gathered_found) radiance += gathered_reflectance * voxels.gathered;
         else if (anchor) cones |= PIXEL_DIFFUSE_CONES;
         else shared_cones |= PIXEL_DIFFUSE_CONES;
     }
-    if (include_specular && has_specular_layer(specular_f0(s.albedo, s.metalness, s.dielectric_f0))) {
+    if (include_specular && traces_specular_cone(s)) {
         // Between anchors two pixels apart the reflected direction turns by about four pixels'
         // angle: a cone at least that wide is shared, a narrower one (near a mirror) is not.
         bool shared_cone = atan(specular_tan_half_angle(s.roughness)) >= 4.0 * pixel_angle;

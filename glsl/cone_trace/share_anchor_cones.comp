@@ -17,6 +17,8 @@
 
 layout(local_size_x = LIST_GROUP) in;
 layout(binding = IMG_IMAGE_OUT, rgba32f) uniform image2D image_out;
+uniform bool include_diffuse;   // the image's terms, as cone_trace/shade_pixels.frag takes them
+uniform bool include_specular;
 
 #define NORMAL_EXPONENT 32.0   // an anchor whose normal is 10 degrees off counts 0.6
 #define PLANE_TOLERANCE 0.01   // of the distance to the camera
@@ -55,8 +57,7 @@ void main() {
             diffuse_total += weight;
         }
         // An anchor traced a specular cone where its surface reflects specularly.
-        if (specular && has_specular_layer(specular_f0(a.albedo, a.metalness, a.dielectric_f0))
-                && abs(a.roughness - s.roughness) <= ROUGHNESS_TOLERANCE) {
+        if (specular && traces_specular_cone(a) && abs(a.roughness - s.roughness) <= ROUGHNESS_TOLERANCE) {
             specular_sum += weight * imageLoad(specular_in, base + corner).rgb;
             specular_total += weight;
         }
@@ -64,7 +65,8 @@ void main() {
     vec3 radiance = vec3(0.0);
     uint unshared = 0u;  // the terms this pixel traces itself
     if (diffuse) {
-        if (diffuse_total > SHARED_WEIGHT_MIN) radiance += diffuse_albedo(s) * diffuse_sum / diffuse_total;
+        if (diffuse_total > SHARED_WEIGHT_MIN)
+            radiance += hemisphere_reflectance(s, include_diffuse, include_specular) * diffuse_sum / diffuse_total;
         else unshared |= PIXEL_DIFFUSE_CONES;
     }
     if (specular) {

@@ -19,6 +19,8 @@
 layout(local_size_x = LIST_GROUP) in;
 layout(binding = IMG_IMAGE_OUT, rgba32f) uniform image2D image_out;
 uniform float ao_distance;
+uniform bool include_diffuse;   // the image's terms, as cone_trace/shade_pixels.frag takes them
+uniform bool include_specular;
 
 #ifdef TRACE_UNSHARED
 #define traced_count unshared_count
@@ -37,7 +39,7 @@ void main() {
     if ((entry.y & PIXEL_DIFFUSE_CONES) != 0u) {
         vec3 gathered = trace_diffuse(s.position, s.normal, surface_level(s.position), 1e9, SCREEN_DIFFUSE_READING).rgb;
         if (is_anchor(pixel)) imageStore(diffuse_in, pixel / 2, vec4(gathered, 1.0));
-        radiance += diffuse_albedo(s) * gathered;
+        radiance += hemisphere_reflectance(s, include_diffuse, include_specular) * gathered;
     }
     if ((entry.y & PIXEL_SPECULAR_CONE) != 0u) {
         vec3 incoming = specular_incoming(s);

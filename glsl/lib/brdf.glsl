@@ -27,15 +27,28 @@ vec3 specular_f0(vec3 albedo, float metalness, float dielectric_f0) {
     return mix(vec3(dielectric_f0), albedo, metalness);
 }
 
-// Specular cone aperture from the normalized Blinn-Phong lobe of exponent s = 2/r^4 - 2:
+// The width of the normalized Blinn-Phong lobe of exponent s = 2/r^4 - 2 around w_s:
 // sigma^2 = c r^4 / (1 - r^4) with c = 2 (the lobe around w_s is twice as wide as around h),
-// sin(a/2) = sigma, tan(a/2) = sqrt(sigma^2 / (1 - sigma^2)); r = 0 gives the one-voxel
-// mirror cone (the marcher floors the diameter at a voxel), r = 1 a hemisphere.
-float specular_tan_half_angle(float roughness) {
+// at most 1, which it reaches at r^4 = 1/3 (r = 0.76): a lobe as wide as the hemisphere.
+float specular_lobe_sigma2(float roughness) {
     float r4 = pow(roughness, 4.0);
-    if (r4 >= 1.0) return 1e4;
-    float sigma2 = min(2.0 * r4 / (1.0 - r4), 1.0);
-    return sigma2 >= 1.0 ? 1e4 : sqrt(sigma2 / (1.0 - sigma2));
+    return r4 >= 1.0 / 3.0 ? 1.0 : 2.0 * r4 / (1.0 - r4);
+}
+
+// Whether the specular lobe of roughness r spans the hemisphere (sigma^2 = 1): it weighs the
+// light arriving from every direction nearly alike, and takes it as the diffuse layer does
+// (lib/specular_cone.glsl hemisphere_reflectance) where a single cone that wide along w_s
+// would read the grid's coarsest cell.
+bool hemisphere_lobe(float roughness) {
+    return specular_lobe_sigma2(roughness) >= 1.0;
+}
+
+// Specular cone aperture of a lobe narrower than the hemisphere: sin(a/2) = sigma,
+// tan(a/2) = sqrt(sigma^2 / (1 - sigma^2)); r = 0 gives the one-voxel mirror cone (the marcher
+// floors the diameter at a voxel).
+float specular_tan_half_angle(float roughness) {
+    float sigma2 = specular_lobe_sigma2(roughness);
+    return sqrt(sigma2 / (1.0 - sigma2));
 }
 
 // Whether a surface with this F0 has a specular layer at all (F0 = 0: Lambert alone).

@@ -1,7 +1,9 @@
 // The specular cone of a pixel: Lv(p, w_s, a_s) along w_s = 2 (w_o . n) n - w_o, with the
 // aperture of the normalized Blinn-Phong lobe of exponent 2/r^4 - 2 (lib/brdf.glsl). Traced
 // at the anchor pixels (even x and y) and where it is too narrow to share; the pixels between
-// anchors take it from the anchors like them (cone_trace/share_anchor_cones.comp).
+// anchors take it from the anchors like them (cone_trace/share_anchor_cones.comp). A lobe as
+// wide as the hemisphere traces none: it takes what the diffuse layer takes
+// (hemisphere_reflectance).
 #include "lib/gbuffer.glsl"
 #include "lib/cone.glsl"
 #include "lib/brdf.glsl"
@@ -30,4 +32,20 @@ vec3 specular_reflectance(Surface s) {
 // The diffuse layer's albedo of surface s seen from the camera, (1 - m) k_d (1 - F(w_o . n)).
 vec3 diffuse_albedo(Surface s) {
     return diffuse_layer_albedo(s.albedo, s.metalness, s.dielectric_f0, dot(to_camera(s.position), s.normal));
+}
+
+// Whether surface s traces a specular cone: it has a specular layer whose lobe is narrower than
+// the hemisphere (hemisphere_lobe).
+bool traces_specular_cone(Surface s) {
+    return has_specular_layer(specular_f0(s.albedo, s.metalness, s.dielectric_f0)) && !hemisphere_lobe(s.roughness);
+}
+
+// What surface s reflects towards the camera of the light that arrives from every direction
+// (the diffuse cones' gather, the sky's and the emitters' light): the diffuse layer's albedo
+// where `diffuse`, plus, where `specular` and its lobe spans the hemisphere, the specular
+// layer's directional albedo A(w_o).
+vec3 hemisphere_reflectance(Surface s, bool diffuse, bool specular) {
+    vec3 reflectance = diffuse ? diffuse_albedo(s) : vec3(0.0);
+    if (specular && hemisphere_lobe(s.roughness)) reflectance += specular_reflectance(s);
+    return reflectance;
 }

@@ -54,11 +54,12 @@ void main() {
         }
     }
 #ifdef VOXELS
-    vec3 diffuse_layer = diffuse_albedo(s);
-    VoxelInterpolation voxels = interpolate_voxels(s, include_diffuse, false, SKY_LIGHT && include_direct);
-    radiance += diffuse_layer * voxels.gathered + diffuse_layer / PI * voxels.sky_irradiance;
-    if (include_specular && has_specular_layer(specular_f0(s.albedo, s.metalness, s.dielectric_f0)))
-        radiance += specular_reflectance(s) * specular_incoming(s);
+    vec3 gathered_reflectance = hemisphere_reflectance(s, include_diffuse, include_specular);
+    vec3 sky_reflectance = hemisphere_reflectance(s, include_direct, include_specular);
+    VoxelInterpolation voxels = interpolate_voxels(s, any(greaterThan(gathered_reflectance, vec3(0.0))), false,
+                                                   SKY_LIGHT && any(greaterThan(sky_reflectance, vec3(0.0))));
+    radiance += gathered_reflectance * voxels.gathered + sky_reflectance / PI * voxels.sky_irradiance;
+    if (include_specular && traces_specular_cone(s)) radiance += specular_reflectance(s) * specular_incoming(s);
 #endif
     float z = distance(camera.position.xyz, s.position);
     float w = a * clamp(10.0 / (1e-5 + pow(z / 5.0, 2.0) + pow(z / 200.0, 6.0)), 1e-2, 3e3);
