@@ -378,12 +378,13 @@ SKY_FILTER_RADIUS: GLSL_INT = 3
 # most pi (s/2)^2 / d^2 of the sky's 2 pi, 1/72 at d = 3 s. The voxels relit, and the frame's
 # cost, grow about as the cube of it (docs/PERFORMANCE.md, Sponza's object frame).
 SKY_NEAR_REACH = 3.0
-# The sky's cones read 1.75 mip levels below their footprint's (lookups over the inner 30 % of the
-# cone's diameter, 2^-1.75) and step by those: a surface beside the cone (a wall along a cone that
+# The sky's cones read 2.75 mip levels below their footprint's (lookups over the inner 15 % of the
+# cone's diameter, 2^-2.75) and step by those: a surface beside the cone (a wall along a cone that
 # leaves through an opening) stays out of its lookups until the cone itself reaches it, where at
 # the footprint's own level the lookups take it in long before. (Measured against path-traced
-# skies through a ceiling opening and an open ceiling: docs/DESIGN.md, "Sky cones read finer".)
-SKY_CONE_LEVEL_OFFSET: GLSL_FLOAT = 1.75
+# skies through a ceiling opening, an open ceiling and Sponza's courtyard: docs/DESIGN.md, "Sky
+# cones read finer".)
+SKY_CONE_LEVEL_OFFSET: GLSL_FLOAT = 2.75
 # The diffuse cones read 0.4 mip levels below their footprint's (lookups over 2^-0.4 of the
 # cone's diameter) and still step by the footprint: at the footprint's own level the walls
 # beside a cone cover it before it reaches what lies ahead, and light reflected from a bright

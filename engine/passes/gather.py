@@ -61,9 +61,12 @@ class AnchorFill:
 class GatherPass:
     def __init__(self, ctx, programs):
         self.ctx = ctx
-        self.trace_program = programs.compute(
-            "gather/trace_anchor_cones.comp", writes=("SSBO_GATHERED_OUT",),
-            reads=("SSBO_CLASS_LIST", "SSBO_SEGMENTS", "SSBO_GATHER_ANCHORS", *VoxelGrid.CONE_READS))
+        # The anchors' cones, by whether the scene has a sky (SKY: they read its open share).
+        trace_reads = ("SSBO_CLASS_LIST", "SSBO_SEGMENTS", "SSBO_GATHER_ANCHORS", *VoxelGrid.CONE_READS)
+        self.trace_programs = {sky: programs.compute("gather/trace_anchor_cones.comp", {"SKY": 1} if sky else None,
+                                                     reads=trace_reads + (("SSBO_VOXEL_SKY_IRRADIANCE",) if sky else ()),
+                                                     writes=("SSBO_GATHERED_OUT",))
+                               for sky in (False, True)}
         self.mark_stale_program = programs.compute("gather/mark_stale_anchors.comp", reads=("SSBO_TOUCHED", *VoxelGrid.SURFACE_READS),
                                                    writes=("SSBO_GATHER_ANCHORS", "SSBO_STALE_VOXELS"))
         self.find_anchors_program = programs.compute(
@@ -193,15 +196,19 @@ class GatherPass:
         grid.dispatch(self.find_anchors_program, voxels, SSBO_COVERED=grid.covered.buffer, **marked)
         self.anchors_epoch = grid.epoch
 
-    def run(self, grid, cones, cone_uniforms, out, anchors, filled, finer):
+    def run(self, grid, cones, cone_uniforms, out, anchors, filled, finer, sky_irradiance=None):
         """Gather the anchors among the voxels of segment `anchors` (an interleave class's
         anchors, of the class index, or the touched voxels) through `cones` (what cones read:
         FaceViewsPass.cones) into `out` (one of self.gathered), then the others
-        from them (`fill`). Every level's anchors in one dispatch: on a GPU a dispatch a level
-        waits for each level's longest cones in turn. Returns `out`."""
-        self.trace_program.set(**grid.uniforms(), **cone_uniforms)
-        grid.dispatch(self.trace_program, anchors, SSBO_CLASS_LIST=anchors.buffer, SSBO_GATHER_ANCHORS=self.anchors, **cones,
-                      SSBO_GATHERED_OUT=out)
+        from them (`fill`); under a sky, `sky_irradiance` (SkyLightPass.irradiance) says how
+        much of each side's hemisphere is open (glsl/gather/trace_anchor_cones.comp). Every
+        level's anchors in one dispatch: on a GPU a dispatch a level waits for each level's
+        longest cones in turn. Returns `out`."""
+        program = self.trace_programs[sky_irradiance is not None]
+        program.set(**grid.uniforms(), **cone_uniforms)
+        sky = {} if sky_irradiance is None else {"SSBO_VOXEL_SKY_IRRADIANCE": sky_irradiance}
+        grid.dispatch(program, anchors, SSBO_CLASS_LIST=anchors.buffer, SSBO_GATHER_ANCHORS=self.anchors, **cones,
+                      SSBO_GATHERED_OUT=out, **sky)
         return self.fill(grid, out, filled, finer)
 
     def fill(self, grid, out, filled, finer):
@@ -222,7 +229,7 @@ class GatherPass:
 
     def release(self):
         self.values.release()
-        for handle in (self.trace_program, self.mark_stale_program, self.find_anchors_program, self.sort_classes_program,
+        for handle in (*self.trace_programs.values(), self.mark_stale_program, self.find_anchors_program, self.sort_classes_program,
                        self.sort_cells_program, self.filling, self.extrapolate_program, self.scan_program):
             handle.release()
         self._storage.release()

@@ -3,8 +3,9 @@
 // gather/find_anchors.comp found around them (those beneath a finer level take the finer
 // voxels' after: gather/take_finer_gather.comp):
 //   G(v) = sum_u W(v, u) G(u) / sum_u W(v, u),
-// each side of the voxel from the sides of its anchors that face its way; 0 where a side reflects
-// no light. Reads and writes one record array:
+// each side of the voxel from the sides of its anchors that face its way (the whole value: the
+// gather's a = 1, the sky's open share: lib/voxel_records.glsl sky_value); 0 where a side
+// reflects no light. Reads and writes one record array:
 // the anchors it reads are not among the voxels it writes.
 #include "lib/gather_anchors.glsl"
 
@@ -28,7 +29,7 @@ void main() {
     bvec2 wanted = bvec2(anchors != 0u && dot(n[0], n[0]) > 0.0, anchors != 0u && dot(n[1], n[1]) > 0.0);
     for (int side = 0; side < 2; ++side) n[side] = wanted[side] ? normalize(n[side]) : vec3(0.0);
     // Each side from the anchors' sides facing its way, every anchor's sides read once.
-    vec3 sum[2] = vec3[2](vec3(0.0), vec3(0.0));
+    vec4 sum[2] = vec4[2](vec4(0.0), vec4(0.0));
     vec2 total = vec2(0.0);
     for (uint bits = anchors; bits != 0u; bits &= bits - 1u) {
         ivec3 u = neighbour(v, findLSB(bits));
@@ -39,11 +40,11 @@ void main() {
             if (!wanted[side]) continue;
             for (int t = 0; t < 2; ++t) {
                 float weight = side_anchor_weight(v, n[side], u, u_sides[t]);
-                if (weight > 0.0) sum[side] += weight * unpack_value(gathered[side_value(anchor, t)]).rgb;
+                if (weight > 0.0) sum[side] += weight * unpack_value(gathered[side_value(anchor, t)]);
                 total[side] += weight;
             }
         }
     }
     for (int side = 0; side < sides; ++side)  // total >= MIN_ANCHOR_WEIGHT where wanted
-        gathered[side_value(record, side)] = pack_value(wanted[side] ? vec4(sum[side] / total[side], 1.0) : vec4(0.0));
+        gathered[side_value(record, side)] = pack_value(wanted[side] ? sum[side] / total[side] : vec4(0.0));
 }

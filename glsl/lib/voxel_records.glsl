@@ -36,6 +36,18 @@ vec4 unpack_value(uvec2 halves) {
     return vec4(unpackHalf2x16(halves.x), unpackHalf2x16(halves.y));
 }
 
+// A side's value of the sky's light (sky_light/): the sky's irradiance E (rgb) and, in a, 1 plus
+// the cosine-weighted share of its hemisphere that the sky's cones found open; 0 where the side
+// was not traced (it reflects nothing, or its record is new).
+vec4 sky_value(vec3 irradiance, float open_share) {
+    return vec4(irradiance, 1.0 + open_share);
+}
+
+// The open share of a sky value (sky_value); 0 where it was not traced.
+float sky_open_share(vec4 value) {
+    return max(value.a - 1.0, 0.0);
+}
+
 uvec2 pack_value(vec4 value) {
     return uvec2(packHalf2x16(value.xy), packHalf2x16(value.zw));
 }

@@ -1,7 +1,7 @@
 #version 450 core
 // The sky's light the image and the light injection read: at each voxel of a list the mean of
 // what the cones brought (sky_light/trace_sky_cones.comp at the anchors, gather/interpolate_from_anchors.comp between them)
-// over the voxels within SKY_FILTER_RADIUS whose surfaces face alike,
+// over the voxels within SKY_FILTER_RADIUS whose surfaces face alike, and the open share V likewise,
 //   E(v) = sum_u W(v, u) E_traced(u) / sum_u W(v, u),
 //   W = prod_k (1 - |u_k - v_k| / (R + 1)) facing_weight(n_v, n_u),
 // which puts the cone sets of the anchors around v, each offset by its own jitter, together
@@ -9,7 +9,7 @@
 #include "lib/voxel_surface.glsl"
 
 layout(local_size_x = LIST_GROUP) in;
-layout(std430, binding = SSBO_VOXEL_TRACED_SKY_IRRADIANCE) readonly buffer TracedSky { uvec2 sky_traced[]; };  // a = 1 where traced or interpolated
+layout(std430, binding = SSBO_VOXEL_TRACED_SKY_IRRADIANCE) readonly buffer TracedSky { uvec2 sky_traced[]; };  // sky_value where traced or interpolated
 layout(std430, binding = SSBO_VOXEL_SKY_IRRADIANCE) writeonly buffer VoxelSkyIrradiance { uvec2 sky_irradiance_out[]; };
 // The voxels to filter: every covered one (the covered list, NO_VOXEL at free records), or those
 // a voxelization touched.
@@ -30,7 +30,7 @@ void main() {
     for (int side = 0; side < VOXEL_SIDES; ++side) {  // each side from its neighbours' sides that face alike
         vec3 n_v = unpack_value(voxel_normal[side_value(record, side)]).xyz;
         vec3 sum = vec3(0.0);
-        float total = 0.0;
+        float total = 0.0, open_share = 0.0;
         if (dot(n_v, n_v) > 0.0) {
             vec3 n = normalize(n_v);
             const float reach = float(SKY_FILTER_RADIUS + 1);
@@ -49,10 +49,11 @@ void main() {
                     if (dot(n_u, n_u) <= 0.0) continue;
                     float weight = tent.x * tent.y * tent.z * facing_weight(n, n_u);
                     sum += weight * traced.rgb;
+                    open_share += weight * sky_open_share(traced);
                     total += weight;
                 }
             }
         }
-        sky_irradiance_out[side_value(record, side)] = pack_value(vec4(total > 0.0 ? sum / total : vec3(0.0), total > 0.0 ? 1.0 : 0.0));
+        sky_irradiance_out[side_value(record, side)] = pack_value(total > 0.0 ? sky_value(sum / total, open_share / total) : vec4(0.0));
     }
 }

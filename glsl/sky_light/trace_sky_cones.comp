@@ -8,7 +8,9 @@
 //   E = pi sum_j z_j (1 - a_j) L_sky(w_j, a) / sum_j z_j   (z_j = n . w_j; a_j: the cone's
 //                                                            opacity on its way out)
 // so a cone that leaves the grid unoccluded brings the sky's radiance around its direction,
-// prefiltered to its aperture. Runs when the voxels or the environment change, over every
+// prefiltered to its aperture, and the share of the hemisphere the cones found open,
+//   V = sum_j z_j (1 - a_j) / sum_j z_j,
+// which the diffuse gather leaves to the sky (gather/trace_anchor_cones.comp). Runs when the voxels or the environment change, over every
 // class at once or one interleave class a frame in the viewer, or over the touched voxels (those
 // a scrolled clipmap level took in).
 #include "lib/voxel_surface.glsl"
@@ -53,6 +55,7 @@ void main() {
     for (int side = 0; side < sides; ++side) {  // each side from its own surface
         if (side > 0) s = voxel_surface(v, record, side);
         vec3 irradiance = vec3(0.0);
+        float open_share = 0.0;  // V = sum_j z_j (1 - a_j) / sum_j z_j
         if (dot(s.mean_normal, s.mean_normal) > 0.0) {
             vec3 n = normalize(s.mean_normal);
             vec3 start = side_cone_start(s, n, v, sides);
@@ -65,10 +68,12 @@ void main() {
                 vec3 w = frame * local;
                 float opacity = trace_cone(start, n, voxel_level(v), w, tan_half, 1e9, SKY_READING).a;
                 irradiance += local.z * (1.0 - min(opacity, 1.0)) * environment_radiance(w, SKY_CONE_HALF_ANGLE);
+                open_share += local.z * (1.0 - min(opacity, 1.0));
                 cosine_sum += local.z;
             }
             irradiance *= PI / cosine_sum;  // E = pi x the cosine-weighted mean radiance
+            open_share /= cosine_sum;
         }
-        sky_traced_out[side_value(record, side)] = pack_value(vec4(irradiance, dot(s.mean_normal, s.mean_normal) > 0.0 ? 1.0 : 0.0));
+        sky_traced_out[side_value(record, side)] = pack_value(dot(s.mean_normal, s.mean_normal) > 0.0 ? sky_value(irradiance, open_share) : vec4(0.0));
     }
 }
