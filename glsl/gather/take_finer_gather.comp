@@ -2,8 +2,9 @@
 // The gather of level `level`'s voxels beneath the finer level (lib/gather_anchors.glsl:
 // beneath_finer_level), from the 8 finer voxels c that tile each voxel V:
 //   G(V) = sum_c W_c G(c) / sum_c W_c,   W_c = facing_weight(n_V, n_c) over the c that reflect light
-// (their gather's a = 1), their plain mean where none faces V's way; where none of the 8
-// reflects light, from the finer voxels around them; 0 where none does. The finer level's
+// (their value's a > 0), their plain mean where none faces V's way; where none of the 8
+// reflects light, from the finer voxels around them; 0 where none does. The whole value (the
+// gather's a = 1, the sky's open share: lib/voxel_records.glsl sky_value). The finer level's
 // gather is complete before (GatherPass.fill runs the levels in order).
 #include "lib/gather_anchors.glsl"
 
@@ -14,9 +15,15 @@ layout(std430, binding = SSBO_CLASS_LIST) readonly buffer ClassList { uint class
 #include "lib/list_segment.glsl"
 uniform int level;
 
-// Adds finer voxel `finer`'s gather to the sums, weighted by how alike it faces unit normal n
-// (`faced`) and plainly (`plain`), where it reflects light.
-void add_finer(ivec3 finer, vec3 n, inout vec4 faced, inout vec4 plain) {
+// The sums of the finer values: weighted by how alike they face, and plainly; and their weights.
+struct FinerSums {
+    vec4 faced, plain;
+    float faced_weight, plain_weight;
+};
+
+// Adds finer voxel `finer`'s value to the sums, weighted by how alike it faces unit normal n and
+// plainly, where it reflects light.
+void add_finer(ivec3 finer, vec3 n, inout FinerSums sums) {
     uint record = level_record(finer, level - 1);
     if (record == NO_RECORD) return;
     for (int side = 0; side < VOXEL_SIDES; ++side) {
@@ -24,8 +31,11 @@ void add_finer(ivec3 finer, vec3 n, inout vec4 faced, inout vec4 plain) {
         vec4 g = unpack_value(gathered[at]);
         vec3 n_u = unpack_value(voxel_normal[at]).xyz;
         if (g.a <= 0.0 || dot(n_u, n_u) <= 0.0) continue;  // reflects no light, or no surface of this side
-        faced += facing_weight(n, n_u) * vec4(g.rgb, 1.0);
-        plain += vec4(g.rgb, 1.0);
+        float weight = facing_weight(n, n_u);
+        sums.faced += weight * g;
+        sums.faced_weight += weight;
+        sums.plain += g;
+        sums.plain_weight += 1.0;
     }
 }
 
@@ -40,19 +50,19 @@ void main() {
         vec3 n_side = unpack_value(voxel_normal[side_value(record, side)]).xyz;
         if (dot(n_side, n_side) <= 0.0) continue;  // no surface of this side
         vec3 n = normalize(n_side);
-        vec4 faced = vec4(0.0);  // weighted sum of the finer gathers (rgb) and of the weights (a)
-        vec4 plain = vec4(0.0);
-        for (int k = 0; k < 8; ++k) add_finer(first + corner_offset(k), n, faced, plain);
-        if (plain.a == 0.0) {
+        FinerSums sums = FinerSums(vec4(0.0), vec4(0.0), 0.0, 0.0);
+        for (int k = 0; k < 8; ++k) add_finer(first + corner_offset(k), n, sums);
+        if (sums.plain_weight == 0.0) {
             // None of the 8 reflects light (a surface on V's side that the finer voxelization put
             // in the voxels beyond): the 56 finer voxels around them.
             for (int k = 0; k < 64; ++k) {
                 ivec3 offset = ivec3(k & 3, (k >> 2) & 3, k >> 4) - 1;  // -1..2 per axis
                 bool around = any(lessThan(offset, ivec3(0))) || any(greaterThan(offset, ivec3(1)));
-                if (around) add_finer(first + offset, n, faced, plain);
+                if (around) add_finer(first + offset, n, sums);
             }
         }
-        vec4 sum = faced.a > 0.0 ? faced : plain;
-        gathered[side_value(record, side)] = pack_value(sum.a > 0.0 ? vec4(sum.rgb / sum.a, 1.0) : vec4(0.0));
+        vec4 value = sums.faced_weight > 0.0 ? sums.faced / sums.faced_weight
+                   : sums.plain_weight > 0.0 ? sums.plain / sums.plain_weight : vec4(0.0);
+        gathered[side_value(record, side)] = pack_value(value);
     }
 }
