@@ -69,9 +69,10 @@ class ConeTracePass:
         for handle in (program, *self.traced_programs, self.shared_program):
             handle.set(**environment.uniforms())
         grid_uniforms = dict(grid.uniforms(), voxel_emitters=emitters.count > 0)
-        program.set(**grid_uniforms, **cone_uniforms, **emitters.uniforms(),
+        listed_terms = dict(include_diffuse=terms.diffuse, include_specular=terms.specular)  # lib/cone_pixels.glsl
+        program.set(**grid_uniforms, **cone_uniforms, **emitters.uniforms(), **listed_terms,
                     output_kind=SHADER_ENUMS["OUTPUT"]["ao" if terms.ao else "radiance"], include_direct=terms.direct,
-                    include_diffuse=terms.diffuse, include_specular=terms.specular, pixel_angle=float(camera.pixel_angle))
+                    pixel_angle=float(camera.pixel_angle))
         for pixel_list in (self.cone_pixels, self.shared_pixels, self.unshared_pixels):
             write_buffer(pixel_list, np.array([0, 1, 1, 0], dtype="u4").tobytes())  # no group, no pixel yet
         rgba32f = GL_IMAGE_FORMAT["rgba32f"]
@@ -99,8 +100,7 @@ class ConeTracePass:
             # The anchors first, then the pixels between them, then those no anchor stood for.
             for handle, pixel_list, resources in ((cone_program, self.cone_pixels, traced), (self.shared_program, self.shared_pixels, shared),
                                                   (unshared_program, self.unshared_pixels, traced)):
-                handle.set(**grid_uniforms, **cone_uniforms, ao_distance=float(ao_distance), include_diffuse=terms.diffuse,
-                           include_specular=terms.specular)
+                handle.set(**grid_uniforms, **cone_uniforms, **listed_terms, ao_distance=float(ao_distance))
                 handle.run_indirect(pixel_list, **resources)
                 self.ctx.memory_barrier(barrier)
         return self.target

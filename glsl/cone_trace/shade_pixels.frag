@@ -44,8 +44,6 @@
 layout(binding = TEX_DIRECT_LIGHT) uniform sampler2D direct_light;
 uniform int output_kind;
 uniform bool include_direct;
-uniform bool include_diffuse;
-uniform bool include_specular;
 uniform float pixel_angle;  // radians between neighbouring pixels' rays
 layout(location = 0) out vec4 out_radiance;
 

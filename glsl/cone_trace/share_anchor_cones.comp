@@ -17,8 +17,6 @@
 
 layout(local_size_x = LIST_GROUP) in;
 layout(binding = IMG_IMAGE_OUT, rgba32f) uniform image2D image_out;
-uniform bool include_diffuse;   // the image's terms, as cone_trace/shade_pixels.frag takes them
-uniform bool include_specular;
 
 #define NORMAL_EXPONENT 32.0   // an anchor whose normal is 10 degrees off counts 0.6
 #define PLANE_TOLERANCE 0.01   // of the distance to the camera

@@ -19,8 +19,6 @@
 layout(local_size_x = LIST_GROUP) in;
 layout(binding = IMG_IMAGE_OUT, rgba32f) uniform image2D image_out;
 uniform float ao_distance;
-uniform bool include_diffuse;   // the image's terms, as cone_trace/shade_pixels.frag takes them
-uniform bool include_specular;
 
 #ifdef TRACE_UNSHARED
 #define traced_count unshared_count

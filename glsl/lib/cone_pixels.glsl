@@ -10,6 +10,12 @@
 layout(std430, binding = SSBO_CONE_PIXELS) buffer ConePixels { uvec3 pixel_groups; uint pixel_count; uvec2 pixels[]; };
 layout(std430, binding = SSBO_SHARED_PIXELS) buffer SharedPixels { uvec3 shared_groups; uint shared_count; uvec2 shared_pixels[]; };
 layout(std430, binding = SSBO_UNSHARED_PIXELS) buffer UnsharedPixels { uvec3 unshared_groups; uint unshared_count; uvec2 unshared_pixels[]; };
+// The image's terms (engine/frame/settings.py ImageTerms) the listed pixels' light belongs to: the
+// diffuse cones' gather is weighed by the diffuse layer where include_diffuse and by a specular
+// lobe as wide as the hemisphere where include_specular (lib/specular_cone.glsl
+// hemisphere_reflectance); the specular cones count where include_specular.
+uniform bool include_diffuse;
+uniform bool include_specular;
 // Per anchor: sum_j w_j Lv(p, w_j) of the diffuse cones it traced, a = 1 (a = 0: it traced none).
 layout(binding = IMG_DIFFUSE_IN, rgba32f) uniform image2D diffuse_in;
 
