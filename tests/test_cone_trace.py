@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 import engine
-from engine.core.constants import diffuse_cones
+from engine.core.constants import diffuse_cones, tiled_diffuse_cones
 from conftest import SCENES, TEST_SCENES, luminance_ratio, rel_mae
 
 
@@ -40,6 +40,42 @@ def test_diffuse_cones_follow_the_lecture_table():
     # marched along their cosine-weighted centroid, between the region's centre and its edge.
     polar = np.degrees(np.arccos(directions[1:, 2]))
     assert np.all((polar > 45.0) & (polar < 60.0))
+
+
+def test_tiled_cones_split_each_lecture_cone_into_seven_of_its_solid_angle():
+    """The tiled set: each lecture cone's region as seven cones of a seventh of its solid angle
+    each, one along the region's axis and six on a ring inside the region, 60 degrees apart;
+    their weights add up to the region's weight in proportion to their cosines (the ones
+    nearer the horizon weigh less)."""
+    directions, weights, half_angle = tiled_diffuse_cones()
+    _, region_weights, region_half_angle = diffuse_cones()
+    assert directions.shape == (42, 3) and weights.sum() == pytest.approx(1.0)
+    assert 7 * (1 - math.cos(half_angle)) == pytest.approx(1 - math.cos(region_half_angle))
+    region_tilts = [0.0] + [math.radians(60.0)] * 5
+    for k, (tilt, region_weight) in enumerate(zip(region_tilts, region_weights)):
+        group, group_weights = directions[7 * k:7 * k + 7], weights[7 * k:7 * k + 7]
+        axis = group[0]
+        assert math.acos(axis[2]) == pytest.approx(tilt)
+        ring = np.arccos(np.clip(group[1:] @ axis, -1, 1))
+        assert np.all(ring == pytest.approx(ring[0])) and half_angle < ring[0] < region_half_angle
+        across = group[1:] - np.outer(group[1:] @ axis, axis)  # the ring's directions across the axis
+        across /= np.linalg.norm(across, axis=1, keepdims=True)
+        apart = np.degrees(np.arccos(np.clip(np.sum(across * np.roll(across, 1, axis=0), axis=1), -1, 1)))
+        assert apart == pytest.approx([60.0] * 6)
+        assert group_weights.sum() == pytest.approx(region_weight)
+        assert group_weights / group[:, 2] == pytest.approx([group_weights[0] / group[0, 2]] * 7)
+
+
+def test_tiled_cones_bring_the_cornell_box_nearer_the_path_tracer(renderer, cornell, reference):
+    """Each of the six wide cones reads coarse cells that hold what its rays meet at different
+    depths together; traced as seven narrower ones the converged Cornell box at 128^3 comes
+    within 3 % (relative MAE, measured 0.022 at the pixel centres) where the six read 0.053,
+    and the luminance stays within 2 % (1.003)."""
+    gi = reference("gi")
+    six = renderer.render(cornell, grid=128)
+    tiled = renderer.render(cornell, grid=128, diffuse_cones="tiled")
+    assert rel_mae(tiled, gi) <= 0.03 < rel_mae(six, gi)
+    assert luminance_ratio(tiled, gi) == pytest.approx(1.0, abs=0.02)
 
 
 # ---- invariances -----------------------------------------------------------------------------

@@ -457,6 +457,7 @@ def test_voxels_at_the_top_level_are_one_voxel(voxelized):
 @pytest.mark.parametrize("setting, value, kind", [
     ("grid", 64.0, "a whole number"), ("bounces", True, "a whole number"), ("exposure", "1", "a number"),
     ("direct", 1, "True or False"), ("mode", None, "a string"), ("shadow_map_size", 4096, "in 16..1024"),
+    ("diffuse_cones", "wide", "one of six, tiled, got 'wide'"),
 ])
 def test_settings_of_the_wrong_type_or_range_raise_vct_error_naming_the_setting(setting, value, kind):
     with pytest.raises(VctError, match=f"^{setting}: must be {kind}"):

@@ -4,6 +4,7 @@ path-traced references (relative MAE, relative MSE, mean-luminance ratio).
     .venv/bin/python tools/accuracy.py [--grids 32,64,128,256] [--bounces 1,0] [--json out.json]
     .venv/bin/python tools/accuracy.py --scenes all --bounces 0
     .venv/bin/python tools/accuracy.py --samples 1     # the pixel centres, no anti-aliasing
+    .venv/bin/python tools/accuracy.py --diffuse-cones tiled   # each diffuse cone as seven narrower ones
 
 The Cornell box is compared with ../shared/reference (`bounces 1` with cornell_box_1bounce.npy,
 every other count with cornell_box_gi.npy, and direct light alone with cornell_box_direct.npy);
@@ -21,7 +22,7 @@ import numpy as np
 
 import engine
 from engine.app.bench import relative_errors
-from engine.frame.settings import HEADLESS_SAMPLES
+from engine.frame.settings import DIFFUSE_CONE_SETS, HEADLESS_SAMPLES
 from engine.scene.emitters import scene_emits
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -51,6 +52,8 @@ def main():
     parser.add_argument("--grids", default="32,64,128,256")
     parser.add_argument("--bounces", default="1,0")
     parser.add_argument("--samples", type=int, default=HEADLESS_SAMPLES, help="jittered samples a pixel (1: its centre)")
+    parser.add_argument("--diffuse-cones", choices=DIFFUSE_CONE_SETS, default="six",
+                        help="the diffuse cones: the lecture's six, or each traced as seven narrower ones")
     parser.add_argument("--json", help="also write the rows as JSON")
     args = parser.parse_args()
     rows = []
@@ -77,7 +80,8 @@ def main():
                     if kind not in references or (bounces == 1 and kind == "gi"):
                         continue
                     start = time.perf_counter()
-                    radiance = renderer.render(scene, mode="gi", grid=grid, bounces=bounces, samples=args.samples)
+                    radiance = renderer.render(scene, mode="gi", grid=grid, bounces=bounces, samples=args.samples,
+                                               diffuse_cones=args.diffuse_cones)
                     seconds = time.perf_counter() - start
                     row = {"scene": name, "grid": grid, "bounces": bounces or "converged", "reference": kind,
                            "seconds": seconds, "bounce_iterations": renderer.bounce_iterations,

@@ -18,7 +18,7 @@ from pathlib import Path
 
 from ..core.constants import MAX_VOXEL_LEVELS
 from ..core.errors import VctError, VctWarning, one_line
-from ..frame.settings import HEADLESS_SAMPLES, MAX_BOUNCES, MAX_EXPOSURE, MAX_SAMPLES, MODES, TONEMAPS, RenderSettings
+from ..frame.settings import DIFFUSE_CONE_SETS, HEADLESS_SAMPLES, MAX_BOUNCES, MAX_EXPOSURE, MAX_SAMPLES, MODES, TONEMAPS, RenderSettings
 
 
 class OneLineErrorParser(argparse.ArgumentParser):
@@ -108,6 +108,10 @@ def _add_settings_arguments(parser, default_mode="gi"):
                         help=f"cone march step as a fraction of the cone diameter (default {d.cone_step})")
     parser.add_argument("--cone-offset", type=_finite_float, default=d.cone_offset,
                         help=f"cone start offset along the normal, in voxels (default {d.cone_offset})")
+    parser.add_argument("--diffuse-cones", choices=DIFFUSE_CONE_SETS, default=d.diffuse_cones,
+                        help="the diffuse and AO cones: six = the lecture's six; tiled = each of them traced as seven "
+                             "narrower ones, nearer a path tracer where wide cones mix near and far surfaces, at about "
+                             f"14x the gather's cost, for offline renders (default {d.diffuse_cones})")
     parser.add_argument("--ao-distance", type=_finite_float, default=d.ao_distance,
                         help=f"AO cones stop after this distance in scene units (default {d.ao_distance})")
     parser.add_argument("--no-direct", action="store_true", help="gi: leave out direct light and emission")
@@ -131,7 +135,8 @@ def _add_temporal_argument(parser, help):
 def settings_from_args(args):
     return RenderSettings(mode=args.mode, grid=args.grid, clipmap_levels=args.clipmap, bounces=args.bounces,
                           bounce_interleave=args.bounce_interleave, voxel_mip=args.mip, voxel_level=args.level,
-                          cone_step=args.cone_step, cone_offset=args.cone_offset, ao_distance=args.ao_distance,
+                          cone_step=args.cone_step, cone_offset=args.cone_offset, diffuse_cones=args.diffuse_cones,
+                          ao_distance=args.ao_distance,
                           direct=not args.no_direct, indirect_diffuse=not args.no_diffuse,
                           indirect_specular=not args.no_specular, exposure=args.exposure,
                           tonemap=args.tonemap, samples=getattr(args, "samples", 1),

@@ -354,6 +354,38 @@ def diffuse_cones():
     return np.array(directions), np.array(weights), half_angle
 
 
+def tiled_diffuse_cones():
+    """The lecture's 6 cones, each traced as 7 narrower ones (the `tiled` diffuse cones).
+
+    Returns (directions (42,3), weights (42,), half_angle) in the local frame (z = normal).
+    Each lecture cone's region (half-angle pi/6, around the normal or tilted 60 degrees) is
+    split into 7 cones of equal solid angle: one around the region's axis, six around it 60
+    degrees apart at the angular centroid of the ring they share (22.0 degrees out), each of
+    half-angle acos(1 - (1 - cos(pi/6)) / 7) = 11.2 degrees. A cone's weight is its region's
+    times its share of the region's cosine, cos(theta) over the seven's sum. A wide cone reads
+    coarse cells that hold what its rays meet at different depths together (the lit face of an
+    arcade and the dark vaults behind it); seven narrower ones each stop where their own rays do.
+    """
+    _, region_weights, region_half_angle = diffuse_cones()
+    half_angle = math.acos(1.0 - (1.0 - math.cos(region_half_angle)) / 7.0)
+    theta = np.linspace(half_angle, region_half_angle, 1001)
+    ring_angle = float((theta * np.sin(theta)).sum() / np.sin(theta).sum())  # centroid of the ring by solid angle
+    region_axes = [(0.0, 0.0)] + [(math.radians(60.0), math.radians(72.0 * k)) for k in range(5)]
+    directions, weights = [], []
+    for (tilt, phi), region_weight in zip(region_axes, region_weights):
+        axis = np.array([math.sin(tilt) * math.cos(phi), math.sin(tilt) * math.sin(phi), math.cos(tilt)])
+        side = np.cross([0.0, 1.0, 0.0] if tilt == 0.0 else [0.0, 0.0, 1.0], axis)
+        side /= np.linalg.norm(side)
+        up = np.cross(axis, side)
+        cones = [axis] + [math.cos(ring_angle) * axis + math.sin(ring_angle) * (math.cos(a) * side + math.sin(a) * up)
+                          for a in np.radians(60.0 * np.arange(6))]
+        cosines = np.array([max(cone[2], 0.0) for cone in cones])
+        directions += cones
+        weights += list(region_weight * cosines / cosines.sum())
+    assert abs(sum(weights) - 1.0) < 1e-12, "tiled cone weights must sum to 1"
+    return np.array(directions), np.array(weights), half_angle
+
+
 # The specular cones' lookups are at least 4 voxels wide (level 1): a narrow cone reading single
 # voxels crosses an oblique plane's voxel staircase in 1, 2 or 3 voxels depending on where it
 # meets a step, and draws the steps as stripes in glossy reflections.
@@ -468,13 +500,13 @@ def glsl_header():
     for name, members in GLSL_STRUCTS.items():
         lines.append(f"struct {name} {{ " + " ".join(f"{kind} {field}" + "".join(f"[{n}]" for n in count) + ";"
                                                     for kind, field, *count in members) + " };")
-    directions, weights, half_angle = diffuse_cones()
-    lines.append(f"#define DIFFUSE_CONE_COUNT {len(weights)}")
-    lines.append(f"#define DIFFUSE_CONE_HALF_ANGLE {half_angle:.9f}")
-    dirs = ", ".join(f"vec3({d[0]:.9f}, {d[1]:.9f}, {d[2]:.9f})" for d in directions)
-    lines.append(f"const vec3 DIFFUSE_CONE_DIRECTIONS[{len(weights)}] = vec3[]({dirs});")
-    ws = ", ".join(f"{w:.9f}" for w in weights)
-    lines.append(f"const float DIFFUSE_CONE_WEIGHTS[{len(weights)}] = float[]({ws});")
+    for prefix, (directions, weights, half_angle) in (("DIFFUSE", diffuse_cones()), ("TILED", tiled_diffuse_cones())):
+        lines.append(f"#define {prefix}_CONE_COUNT {len(weights)}")
+        lines.append(f"#define {prefix}_CONE_HALF_ANGLE {half_angle:.9f}")
+        dirs = ", ".join(f"vec3({d[0]:.9f}, {d[1]:.9f}, {d[2]:.9f})" for d in directions)
+        lines.append(f"const vec3 {prefix}_CONE_DIRECTIONS[{len(weights)}] = vec3[]({dirs});")
+        ws = ", ".join(f"{w:.9f}" for w in weights)
+        lines.append(f"const float {prefix}_CONE_WEIGHTS[{len(weights)}] = float[]({ws});")
     from .specular_lobe import glsl_tables  # it reads MIN_ROUGHNESS from here
     lines += glsl_tables()
     return "\n".join(lines) + "\n"

@@ -527,7 +527,7 @@ class Renderer(WorkItems, Readback):
         frames add one bounce until the radiance settles."""
         stage = self.stages["bounces"]
         inputs = dict(radiance=self.stages["radiance"].version, bounces=s.bounces, interleave=s.bounce_interleave,
-                      cone_step=s.cone_step, cone_offset=s.cone_offset, progressive=self.progressive)
+                      **s.cone_uniforms(), progressive=self.progressive)
         restart = bool(stage.changed(inputs, self.track_changes))
         if restart:
             stage.ran(inputs)

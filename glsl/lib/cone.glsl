@@ -15,6 +15,7 @@ layout(binding = TEX_VOXEL_CONE_EMISSION) uniform sampler3D voxel_cone_emission;
 uniform float cone_step;      // step length as a fraction of the cone diameter
 uniform float cone_offset;    // start offset along the surface normal, in voxels
 uniform float voxel_max_mip;  // log2(N): a level's 1^3 mip
+uniform bool tiled_cones;     // the diffuse cones: the lecture's 6, or each as 7 narrower ones (trace_diffuse)
 
 // Orthonormal basis whose third column is n.
 mat3 tangent_frame(vec3 n) {
@@ -349,16 +350,27 @@ vec4 trace_cone(vec3 p, vec3 n, int start_level, vec3 direction, float tan_half_
     return gathered;
 }
 
-// Diffuse gather with the lecture's 6 cones from p in start_level, read as `reading` describes
-// (SCREEN_DIFFUSE_READING or VOXEL_DIFFUSE_READING: 0.4 levels finer than their footprints):
-// returns sum_j w_j Lv(p, w_j) (rgb) and the cosine-weighted occlusion sum_j w_j a_j (a).
+// Diffuse gather with the lecture's 6 cones from p in start_level, or each of them traced as 7
+// narrower ones where `tiled_cones` (engine/core/constants.py: tiled_diffuse_cones), read as
+// `reading` describes (SCREEN_DIFFUSE_READING or VOXEL_DIFFUSE_READING: 0.4 levels finer than
+// their footprints): returns sum_j w_j Lv(p, w_j) (rgb) and the cosine-weighted occlusion
+// sum_j w_j a_j (a).
 vec4 trace_diffuse(vec3 p, vec3 n, int start_level, float max_distance, ConeReading reading) {
     mat3 frame = tangent_frame(n);
-    float tan_half = tan(DIFFUSE_CONE_HALF_ANGLE);
+    int count = tiled_cones ? TILED_CONE_COUNT : DIFFUSE_CONE_COUNT;
+    float tan_half = tan(tiled_cones ? TILED_CONE_HALF_ANGLE : DIFFUSE_CONE_HALF_ANGLE);
     vec4 sum = vec4(0.0);
-    for (int j = 0; j < DIFFUSE_CONE_COUNT; ++j) {
-        vec4 cone = trace_cone(p, n, start_level, frame * DIFFUSE_CONE_DIRECTIONS[j], tan_half, max_distance, reading);
-        sum += DIFFUSE_CONE_WEIGHTS[j] * cone;
+    for (int j = 0; j < count; ++j) {
+        vec3 direction;
+        float weight;
+        if (tiled_cones) {
+            direction = TILED_CONE_DIRECTIONS[j];
+            weight = TILED_CONE_WEIGHTS[j];
+        } else {
+            direction = DIFFUSE_CONE_DIRECTIONS[j];
+            weight = DIFFUSE_CONE_WEIGHTS[j];
+        }
+        sum += weight * trace_cone(p, n, start_level, frame * direction, tan_half, max_distance, reading);
     }
     return sum;
 }

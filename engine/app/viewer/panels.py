@@ -7,7 +7,7 @@ rectangle of the layout (engine.app.viewer.layout), fixed there; what does not f
 from imgui_bundle import imgui
 
 from ...core.constants import GRID_SIZES, MAX_INTERLEAVE, MAX_VOXEL_LEVELS
-from ...frame.settings import MODES, TONEMAPS
+from ...frame.settings import DIFFUSE_CONE_SETS, MODES, TONEMAPS
 from . import inspector
 from .layout import MARGIN
 from .playback import SPEED_RANGE
@@ -241,6 +241,7 @@ def draw_renderer_panel(settings, rect, levels, message=None):
                 changes["bounce_interleave"] = interleave
         _slider("Cone step", settings.cone_step, 0.05, 2.0, changes, "cone_step")
         _slider("Cone offset", settings.cone_offset, 0.0, 4.0, changes, "cone_offset")
+        _combo("Diffuse cones", settings.diffuse_cones, DIFFUSE_CONE_SETS, changes, "diffuse_cones")
         if settings.mode == "ao":
             _slider("AO distance", settings.ao_distance, 0.05, 4.0, changes, "ao_distance")
         _slider("Exposure", settings.exposure, 0.05, 16.0, changes, "exposure", imgui.SliderFlags_.logarithmic)
