@@ -332,57 +332,60 @@ def cone_cosine_centroid_tilt(tilt, half_angle, samples=400):
     return math.acos(mean[2] / np.linalg.norm(mean))
 
 
-def diffuse_cones():
-    """The lecture's 6 diffuse/AO cones in the local frame (z = normal).
-
-    Returns (directions (6,3), weights (6,), half_angle). One central cone along the normal
-    with weight 1/4, five around it, 72 degrees apart, covering 30..90 degrees from the
-    normal (centred at 60 degrees), 3/20 each; every cone has half-angle pi/6, so the set
-    tiles the hemisphere and the weights are the cosine-weighted shares of their regions
-    (sin^2 30 = 1/4 for the central cap). The five are marched along their regions' cosine
-    centroid (52.8 degrees), see cone_cosine_centroid_tilt.
-    """
-    half_angle = math.pi / 6.0
-    region_tilt = math.radians(60.0)
-    march_tilt = cone_cosine_centroid_tilt(region_tilt, half_angle)
-    directions = [(0.0, 0.0, 1.0)]
-    for k in range(5):
-        phi = math.radians(72.0 * k)
-        directions.append((math.sin(march_tilt) * math.cos(phi), math.sin(march_tilt) * math.sin(phi), math.cos(march_tilt)))
+def lecture_cone_regions():
+    """The regions of the lecture's 6 diffuse/AO cones: ([(tilt from the normal, azimuth)] of
+    their axes, weights (6,), half_angle). One around the normal with weight 1/4, five around
+    it, 72 degrees apart, covering 30..90 degrees from the normal (centred at 60 degrees), 3/20
+    each; every region has half-angle pi/6, so they tile the hemisphere and the weights are
+    their cosine-weighted shares (sin^2 30 = 1/4 for the central cap)."""
+    axes = [(0.0, 0.0)] + [(math.radians(60.0), math.radians(72.0 * k)) for k in range(5)]
     weights = [0.25] + [3.0 / 20.0] * 5
     assert abs(sum(weights) - 1.0) < 1e-12, "diffuse cone weights must sum to 1"
-    return np.array(directions), np.array(weights), half_angle
+    return axes, np.array(weights), math.pi / 6.0
+
+
+def polar_direction(tilt, azimuth):
+    """The unit vector `tilt` from z, turned by `azimuth` about it from x."""
+    return np.array([math.sin(tilt) * math.cos(azimuth), math.sin(tilt) * math.sin(azimuth), math.cos(tilt)])
+
+
+def diffuse_cones():
+    """The lecture's 6 diffuse/AO cones in the local frame (z = normal): (directions (6,3),
+    weights (6,), half_angle), one a region of lecture_cone_regions. The five tilted ones are
+    marched along their regions' cosine centroid (52.8 degrees), see cone_cosine_centroid_tilt.
+    """
+    axes, weights, half_angle = lecture_cone_regions()
+    directions = [polar_direction(cone_cosine_centroid_tilt(tilt, half_angle) if tilt else 0.0, azimuth) for tilt, azimuth in axes]
+    return np.array(directions), weights, half_angle
 
 
 def tiled_diffuse_cones():
     """The lecture's 6 cones, each traced as 7 narrower ones (the `tiled` diffuse cones).
 
     Returns (directions (42,3), weights (42,), half_angle) in the local frame (z = normal).
-    Each lecture cone's region (half-angle pi/6, around the normal or tilted 60 degrees) is
-    split into 7 cones of equal solid angle: one around the region's axis, six around it 60
-    degrees apart at the angular centroid of the ring they share (22.0 degrees out), each of
-    half-angle acos(1 - (1 - cos(pi/6)) / 7) = 11.2 degrees. A cone's weight is its region's
-    times its share of the region's cosine, cos(theta) over the seven's sum. A wide cone reads
-    coarse cells that hold what its rays meet at different depths together (the lit face of an
-    arcade and the dark vaults behind it); seven narrower ones each stop where their own rays do.
+    Each of lecture_cone_regions is split into 7 cones of equal solid angle: one around the
+    region's axis, six around it 60 degrees apart at the angular centroid of the ring they
+    share (22.0 degrees out), each of half-angle acos(1 - (1 - cos(pi/6)) / 7) = 11.2 degrees. A
+    cone's weight is its region's times its share of the region's cosine, cos(theta) over the
+    seven's sum. A wide cone reads coarse cells that hold what its rays meet at different depths
+    together (the lit face of an arcade and the dark vaults behind it); seven narrower ones each
+    stop where their own rays do.
     """
-    _, region_weights, region_half_angle = diffuse_cones()
+    axes, region_weights, region_half_angle = lecture_cone_regions()
     half_angle = math.acos(1.0 - (1.0 - math.cos(region_half_angle)) / 7.0)
     theta = np.linspace(half_angle, region_half_angle, 1001)
     ring_angle = float((theta * np.sin(theta)).sum() / np.sin(theta).sum())  # centroid of the ring by solid angle
-    region_axes = [(0.0, 0.0)] + [(math.radians(60.0), math.radians(72.0 * k)) for k in range(5)]
     directions, weights = [], []
-    for (tilt, phi), region_weight in zip(region_axes, region_weights):
-        axis = np.array([math.sin(tilt) * math.cos(phi), math.sin(tilt) * math.sin(phi), math.cos(tilt)])
+    for (tilt, azimuth), region_weight in zip(axes, region_weights):
+        axis = polar_direction(tilt, azimuth)
         side = np.cross([0.0, 1.0, 0.0] if tilt == 0.0 else [0.0, 0.0, 1.0], axis)
         side /= np.linalg.norm(side)
         up = np.cross(axis, side)
         cones = [axis] + [math.cos(ring_angle) * axis + math.sin(ring_angle) * (math.cos(a) * side + math.sin(a) * up)
                           for a in np.radians(60.0 * np.arange(6))]
-        cosines = np.array([max(cone[2], 0.0) for cone in cones])
+        cosines = np.array([cone[2] for cone in cones])
         directions += cones
         weights += list(region_weight * cosines / cosines.sum())
-    assert abs(sum(weights) - 1.0) < 1e-12, "tiled cone weights must sum to 1"
     return np.array(directions), np.array(weights), half_angle
 
 
