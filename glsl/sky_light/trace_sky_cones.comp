@@ -56,7 +56,8 @@ void main() {
         if (side > 0) s = voxel_surface(v, record, side);
         vec3 irradiance = vec3(0.0);
         float open_share = 0.0;  // V = sum_j z_j (1 - a_j) / sum_j z_j
-        if (dot(s.mean_normal, s.mean_normal) > 0.0) {
+        bool traced = dot(s.mean_normal, s.mean_normal) > 0.0;  // a surface of this side
+        if (traced) {
             vec3 n = normalize(s.mean_normal);
             vec3 start = side_cone_start(s, n, v, sides);
             mat3 frame = tangent_frame(n);
@@ -67,13 +68,14 @@ void main() {
                 vec3 local = sky_cone(j, jitter);
                 vec3 w = frame * local;
                 float opacity = trace_cone(start, n, voxel_level(v), w, tan_half, 1e9, SKY_READING).a;
-                irradiance += local.z * (1.0 - min(opacity, 1.0)) * environment_radiance(w, SKY_CONE_HALF_ANGLE);
-                open_share += local.z * (1.0 - min(opacity, 1.0));
+                float open = local.z * (1.0 - min(opacity, 1.0));  // z_j (1 - a_j)
+                irradiance += open * environment_radiance(w, SKY_CONE_HALF_ANGLE);
+                open_share += open;
                 cosine_sum += local.z;
             }
             irradiance *= PI / cosine_sum;  // E = pi x the cosine-weighted mean radiance
             open_share /= cosine_sum;
         }
-        sky_traced_out[side_value(record, side)] = pack_value(dot(s.mean_normal, s.mean_normal) > 0.0 ? sky_value(irradiance, open_share) : vec4(0.0));
+        sky_traced_out[side_value(record, side)] = pack_value(traced ? sky_value(irradiance, open_share) : vec4(0.0));
     }
 }
