@@ -308,6 +308,29 @@ def test_feedback_frames_converge_to_the_converged_image(cornell):
     assert rel_mae(converged, many_bounces) < 0.02
 
 
+def test_viewer_frames_refine_with_the_tiled_cones_once_the_scene_rests(cornell):
+    """With the tiled cones named, the viewer's frames first converge with the lecture's six
+    (a frame's gather costs what it does with them), then refine the gathers with the tiled
+    set while the scene rests: settled, the image is the headless tiled render's within 2 %,
+    and differs from the six's converged image by more than that."""
+    with engine.Renderer(64, 64) as r:
+        six = r.render(cornell, grid=32, diffuse_cones="six")
+        tiled = r.render(cornell, grid=32, diffuse_cones="tiled")
+    with engine.Renderer(64, 64) as r:
+        r.progressive = True
+        states = []
+        for _ in range(1000):
+            frame = r.render(cornell, grid=32, diffuse_cones="tiled")
+            states.append("settled" if r.settled else "refining" if r.refining else "converging")
+            if r.settled:
+                break
+    assert states[0] == "converging" and states[-1] == "settled" and "refining" in states
+    first_refining = states.index("refining")
+    assert set(states[first_refining:-1]) == {"refining"}
+    assert rel_mae(tiled, six) > 0.04
+    assert rel_mae(frame, tiled) < 0.02
+
+
 @pytest.mark.parametrize("name", sorted(p.name for p in SCENES.glob("*.json") if not p.name.endswith(".schema.json")))
 def test_every_example_scene_renders_finite_lit_images(name):
     """Each scene in scenes/ loads and renders finite radiance, lit in GI (an emitter out of

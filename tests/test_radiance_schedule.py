@@ -2,7 +2,7 @@
 or the lights changed, and how the bounces converge, headless and over progressive frames."""
 import numpy as np
 
-from engine.frame.schedule import (EVERY_VOXEL, TOUCHED_VOXELS, ClassRounds, ComposeFaces, ExtrapolateGather, FindAnchors, Gather, Inject,
+from engine.frame.schedule import (REFINE_PARTS, EVERY_VOXEL, TOUCHED_VOXELS, ClassRounds, ComposeFaces, ExtrapolateGather, FindAnchors, Gather, Inject,
                                    LightVoxels, MeasureTotals, Mipmap, RadianceSchedule, ReadTotals, RequestTotals, SortClasses,
                                    TakeCoarserSkyLight, Voxels,
                                    class_voxels, run_plan)
@@ -25,8 +25,8 @@ def of_type(items, kind):
     return [item for item in items if isinstance(item, kind)]
 
 
-def progressive_frame(schedule, epoch, interleave=4, restart=False, totals=()):
-    return run(schedule.bounce(restart=restart, bounces=0, interleave=interleave, progressive=True, epoch=epoch), totals)
+def progressive_frame(schedule, epoch, interleave=4, restart=False, totals=(), cones="six"):
+    return run(schedule.bounce(restart=restart, bounces=0, interleave=interleave, progressive=True, epoch=epoch, cones=cones), totals)
 
 
 def test_fixed_bounces_gather_k_times_and_compose_between():
@@ -34,7 +34,7 @@ def test_fixed_bounces_gather_k_times_and_compose_between():
     voxel with the face views composed again between them (the K-th gather is the image's),
     and no totals read back."""
     schedule, epoch = RadianceSchedule(), Epoch()
-    items = run(schedule.bounce(restart=True, bounces=3, interleave=4, progressive=False, epoch=epoch))
+    items = run(schedule.bounce(restart=True, bounces=3, interleave=4, progressive=False, epoch=epoch, cones="six"))
     assert items[:3] == [ComposeFaces((EVERY_VOXEL,), None), Mipmap((EVERY_VOXEL,)), SortClasses(1)]
     assert len(of_type(items, Gather)) == 3 and all(g.voxels.class_index == 0 for g in of_type(items, Gather))
     composes = of_type(items, ComposeFaces)
@@ -47,7 +47,7 @@ def test_converging_bounces_close_a_geometric_series_by_extrapolation():
     remaining bounces are added as r / (1 - r) = 1 times the last increment, and the face views
     follow; the gathers alternate between the two volumes."""
     schedule, epoch = RadianceSchedule(), Epoch()
-    items = run(schedule.bounce(restart=True, bounces=0, interleave=4, progressive=False, epoch=epoch), geometric_totals())
+    items = run(schedule.bounce(restart=True, bounces=0, interleave=4, progressive=False, epoch=epoch, cones="six"), geometric_totals())
     gathers = of_type(items, Gather)
     assert [g.into for g in gathers] == [1 - k % 2 for k in range(len(gathers))]
     extrapolations = of_type(items, ExtrapolateGather)
@@ -59,7 +59,7 @@ def test_converging_bounces_close_a_geometric_series_by_extrapolation():
 def test_converging_bounces_stop_when_an_increment_is_negligible():
     """A series whose second bounce adds nothing stops after it, without extrapolating."""
     schedule = RadianceSchedule()
-    items = run(schedule.bounce(restart=True, bounces=0, interleave=4, progressive=False, epoch=Epoch()), [np.ones(3), 2 * np.ones(3), 2 * np.ones(3)])
+    items = run(schedule.bounce(restart=True, bounces=0, interleave=4, progressive=False, epoch=Epoch(), cones="six"), [np.ones(3), 2 * np.ones(3), 2 * np.ones(3)])
     assert len(of_type(items, Gather)) == 2 and not of_type(items, ExtrapolateGather) and schedule.settled
 
 
@@ -86,6 +86,33 @@ def test_progressive_frames_gather_one_class_each_until_the_cycles_converge():
             assert items[0] == ReadTotals()
     assert of_type(frames[-1], ExtrapolateGather) and not of_type(frames[-1], Gather)
     assert progressive_frame(schedule, epoch, totals=totals) == []
+
+
+def test_progressive_frames_refine_with_the_tiled_cones_once_the_six_converged():
+    """The tiled set named: progressive frames converge with the lecture's six cones, then
+    refine with the tiled ones, each frame one part in REFINE_PARTS of a class's anchors (the
+    class's face views composed with its last part), until a series of these longer cycles
+    closes; a restart goes back to the six."""
+    schedule, epoch = RadianceSchedule(), Epoch()
+    run(schedule.inject(voxels_changed=True, lights_changed=True, interleave=4, spread=False, epoch=epoch))
+    totals = iter(geometric_totals())
+    frames = [progressive_frame(schedule, epoch, restart=True, totals=totals, cones="tiled")]
+    while not schedule.settled:
+        frames.append(progressive_frame(schedule, epoch, totals=totals, cones="tiled"))
+        assert len(frames) < 2000
+    gathers = [g for items in frames for g in of_type(items, Gather)]
+    six = [g for g in gathers if g.cones == "six"]
+    tiled = [g for g in gathers if g.cones == "tiled"]
+    assert gathers == six + tiled and six and len(tiled) % (4 * REFINE_PARTS) == 0
+    assert all(g.parts == 1 for g in six)
+    assert [(g.voxels.class_index, g.part, g.parts) for g in tiled[:2 * REFINE_PARTS]] == \
+        [(k // REFINE_PARTS, k % REFINE_PARTS, REFINE_PARTS) for k in range(2 * REFINE_PARTS)]
+    refining = [items for items in frames if of_type(items, Gather) and of_type(items, Gather)[0].cones == "tiled"]
+    composed = [any(c.voxels == (class_voxels(0),) for c in of_type(items, ComposeFaces)) for items in refining[:REFINE_PARTS]]
+    assert composed == [False] * (REFINE_PARTS - 1) + [True]
+    assert progressive_frame(schedule, epoch, totals=totals, cones="tiled") == []
+    restarted = progressive_frame(schedule, epoch, restart=True, totals=totals, cones="tiled")
+    assert [g.cones for g in of_type(restarted, Gather)] == ["six"]
 
 
 def test_progressive_light_changes_inject_each_class_before_its_gather():
@@ -223,7 +250,7 @@ def test_a_scroll_lights_the_voxels_it_took_in_and_restarts_no_bounce():
     alone, without sorting the classes; the settled bounces stay settled, and the next frame
     plans no bounce work."""
     schedule, epoch = RadianceSchedule(), Epoch()
-    run(schedule.bounce(restart=True, bounces=0, interleave=4, progressive=True, epoch=epoch), geometric_totals(ratio=0.01))
+    run(schedule.bounce(restart=True, bounces=0, interleave=4, progressive=True, epoch=epoch, cones="six"), geometric_totals(ratio=0.01))
     for _ in range(12):
         progressive_frame(schedule, epoch, totals=geometric_totals(ratio=0.01))
     assert schedule.settled

@@ -41,7 +41,7 @@ WALKING_SPEED = 1.4   # m/s, the camera kind's
 PASS_ORDER = ("pose", "shadow", "gbuffer", "lighting", "emitters", "environment", "voxelize", "emission_mipmap",
               "emitter_light", "sky_light", "inject", "classes", "gather", "faces", "mipmap", "totals", "cone_trace", "transparent",
               "temporal", "voxel_view", "gbuffer_view")
-SETTLE_FRAMES = 400  # progressive frames allowed for the radiance to settle before timing
+SETTLE_FRAMES = 2000  # progressive frames allowed for the radiance to settle (and refine) before timing
 # The GL calls that do a frame's work where the GPU is the CPU (llvmpipe runs draws and
 # dispatches as they are issued, and a memory barrier waits for them): left out of the host time.
 GL_WORK = ((moderngl.VertexArray, ("render", "render_indirect")), (ProgramHandle, ("run", "run_indirect")),

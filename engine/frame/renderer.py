@@ -182,6 +182,11 @@ class Renderer(WorkItems, Readback):
         return self.schedule.settled
 
     @property
+    def refining(self):
+        """Whether progressive frames refine the settled gathers with the tiled cones."""
+        return self.schedule.refining
+
+    @property
     def idle(self):
         """Whether no radiance work is due: the bounces settled, and no round of the emitters'
         or the sky's light at the voxels runs or waits for the camera to rest. A frame then
@@ -298,14 +303,17 @@ class Renderer(WorkItems, Readback):
                 volume = self.inspection.dense(self.grid, shown_values(self.grid, self.inject.base, s.mode))
                 return self.voxel_view.render(self.grid, volume, s.mode, s.voxel_mip, self._shown_level(s), camera)
         cones, gathered = self._cones(), self._gathered()
+        # The pixels' own cones: the six in progressive frames, which trace them every frame (the
+        # tiled set, where named, refines the voxels' gathers once the scene rests).
+        pixel_cones = s.cone_uniforms(diffuse_cones="six" if self.progressive else s.diffuse_cones)
         with self.timed("cone_trace"):
             image = self.cone_trace.render(gbuffer, direct, self.grid, cones=cones, gathered=gathered,
                                            emitter_irradiance=self.emitter_light.irradiance,
                                            sky_irradiance=self.sky_light.irradiance, emitters=emitters,
-                                           environment=environment, cone_uniforms=s.cone_uniforms(), camera=camera,
+                                           environment=environment, cone_uniforms=pixel_cones, camera=camera,
                                            terms=s.image_terms(), ao_distance=s.ao_distance)
         voxels = dict(grid=self.grid, cones=cones, gathered=gathered, sky_irradiance=self.sky_light.irradiance,
-                      emitter_irradiance=self.emitter_light.irradiance, environment=environment, cone_uniforms=s.cone_uniforms())
+                      emitter_irradiance=self.emitter_light.irradiance, environment=environment, cone_uniforms=pixel_cones)
         return self._blended(image, gbuffer, camera, shadow_maps, s, voxels)
 
     def _blended(self, image, gbuffer, camera, shadow_maps, s, voxels=None):
@@ -532,7 +540,7 @@ class Renderer(WorkItems, Readback):
         if restart:
             stage.ran(inputs)
         self._run(self.schedule.bounce(restart=restart, bounces=s.bounces, interleave=s.bounce_interleave,
-                                       progressive=self.progressive, epoch=self.grid.epoch), work)
+                                       progressive=self.progressive, epoch=self.grid.epoch, cones=s.diffuse_cones), work)
 
     # -- the passes' arrays of values, around a voxelization ---------------------------------
 

@@ -17,6 +17,12 @@ the image and the face views use, the other keeps an earlier gather for closing 
   work until the next change. Where only the lights changed, the base radiance is injected
   again with the class: no frame pays for more than 1 voxel in K, and while a light keeps
   moving every voxel is still relit once every K frames.
+- The gathers' cones: the set the settings name (settings.DIFFUSE_CONE_SETS), except that
+  progressive frames converge with the lecture's six and, with the tiled set named, refine
+  the gathers with it once that series closed (the scene rests): each frame traces one part
+  in REFINE_PARTS of a class's anchors, the class's other voxels and face views following with
+  its last part, and the series closes again over these longer cycles. A refining frame
+  costs about what a converging one does (the tiled set is about 14 times the six's work).
 
 The face views hold L = L_base - L_e + rho G: the light surfaces reflect (emitters light the
 surfaces directly, passes/emitter_light.py). The emitters' and the sky's light at the voxels
@@ -34,6 +40,7 @@ import numpy as np
 from ..core.progress import progress
 from .settings import MAX_BOUNCES
 
+REFINE_PARTS = 24             # a class's anchors are refined with the tiled cones over this many frames
 CONVERGENCE_TOLERANCE = 2e-3  # an increment of the totals under this fraction of them: converged
 RATIO_SETTLED = 0.01          # successive increment ratios this close: close the series
 NO_GAIN = (0.0, 0.0, 0.0)
@@ -140,9 +147,13 @@ class Mipmap:
 @dataclass(frozen=True)
 class Gather:
     """The gather of `voxels` (a Voxels selection: a class, or the touched voxels) into gather
-    array `into`."""
+    array `into` through the diffuse cone set `cones` (settings.DIFFUSE_CONE_SETS): of their
+    anchors part `part` of `parts` equal runs, the other voxels following with the last."""
     voxels: Voxels
     into: int
+    cones: str
+    part: int = 0
+    parts: int = 1
     timer = "gather"
 
 
@@ -258,18 +269,23 @@ class RadianceSchedule:
     """The state of the voxels' radiance between frames, and the plans that move it on.
 
     `settled`: no bounce work is due (always, outside progressive frames, once a plan ran).
-    Progressive frames are in one of two states: converging (`settled` False: each frame one
-    class, `phase` the next) or settled. Also carried: the classes whose base radiance is
-    still to inject (`pending_base`, for interleave `pending_for`), the voxel sets injected
-    since the face views were last composed (`stale_faces`), the epoch of the covered list the
-    base radiance was last injected for and the class index was sorted for, the series of
-    cycle totals, and whether the running cycle ran on the current base radiance throughout."""
+    Progressive frames are in one of three states: converging with the six cones (`settled`
+    False: each frame one class, `phase` the next), refining with the tiled ones (`refining`:
+    each frame one part of a class, `part` the next) or settled. Also carried: the classes
+    whose base radiance is still to inject (`pending_base`, for interleave `pending_for`), the
+    voxel sets injected since the face views were last composed (`stale_faces`), the epoch of
+    the covered list the base radiance was last injected for and the class index was sorted
+    for, the series of cycle totals, and whether the running cycle ran on the current base
+    radiance throughout."""
 
     def __init__(self):
         self.latest = 0
         self.settled = True
         self.series = None    # progressive: the totals at the end of each cycle
         self.phase = 0        # progressive: the interleave class updated next
+        self.cones = "six"    # the diffuse cone set the converged gathers use (settings.DIFFUSE_CONE_SETS)
+        self.refining = False  # progressive: the gathers are refined with the tiled cones
+        self.part = 0          # progressive, refining: the part of the class's anchors traced next
         self.iterations = 0   # bounces the last restart ran (or the progressive bounces so far)
         self.pending_base = set()
         self.pending_for = 1
@@ -358,7 +374,7 @@ class RadianceSchedule:
         touched = Voxels("touched", levels=epoch.scrolled_levels)
         yield FindAnchors()
         yield from self._inject_now(touched, epoch)
-        yield Gather(touched, self.latest)
+        yield Gather(touched, self.latest, "six")
         yield from self._compose(self.stale_faces, self.latest)
 
     def faces_moved(self, levels):
@@ -366,12 +382,14 @@ class RadianceSchedule:
         those levels are composed again before cones next read them."""
         self.stale_faces.append(Voxels("every", levels=frozenset(levels)))
 
-    def bounce(self, *, restart, bounces, interleave, progressive, epoch):
-        """The bounces: all of them when `restart` (the base radiance or the bounce settings
-        changed), outside progressive frames; in progressive frames this frame's share."""
+    def bounce(self, *, restart, bounces, interleave, progressive, epoch, cones):
+        """The bounces through the diffuse cone set `cones`: all of them when `restart` (the
+        base radiance or the bounce settings changed), outside progressive frames; in
+        progressive frames this frame's share."""
         if restart:
             self.iterations = 0
             self.totals_requested = False
+            self.cones, self.refining, self.part = cones, False, 0
             if bounces == 0 and progressive:  # resume from the previous gathers; a new series from the next cycle
                 self.settled, self.series = False, None
             else:
@@ -415,7 +433,7 @@ class RadianceSchedule:
 
     def _gather_every(self, epoch):
         yield from self._sort(epoch, 1)
-        yield Gather(class_voxels(0), self.latest)
+        yield Gather(class_voxels(0), self.latest, self.cones)
 
     def _fixed(self, bounces, epoch):
         for k in range(1, bounces + 1):
@@ -451,10 +469,11 @@ class RadianceSchedule:
     def _advance(self, interleave, epoch):
         """Progressive: the next interleave class gathers again (its anchors' cones read the
         face views of the frames before), with its base radiance injected first if the lights
-        changed since, and its face views are composed again. Where the voxels changed, the
-        face views of the voxels injected since (and of the class) are composed before the
-        gather instead, with every mip level, as its cones must see the voxels as they are
-        now. At the end of a cycle that ran on the current base radiance throughout, the
+        changed since, and its face views are composed again; while refining, the next part of
+        its anchors, its other voxels and face views following with the last. Where the voxels
+        changed, the face views of the voxels injected since (and of the class) are composed
+        before the gather instead, with every mip level, as its cones must see the voxels as
+        they are now. At the end of a cycle that ran on the current base radiance throughout, the
         series is checked and the gathers kept: the series starts from gathers that all read
         it, as a bounce's do, since the totals it watches miss light that only moved."""
         if self.totals_requested:
@@ -473,7 +492,13 @@ class RadianceSchedule:
         stale = self.stale_faces
         if stale:
             yield from self._compose(stale + [class_voxels(chosen)], self.latest)
-        yield Gather(class_voxels(chosen), self.latest)
+        if self.refining:
+            yield Gather(class_voxels(chosen), self.latest, "tiled", self.part, REFINE_PARTS)
+            self.part = (self.part + 1) % REFINE_PARTS
+            if self.part:
+                return  # the class's other parts in the next frames
+        else:
+            yield Gather(class_voxels(chosen), self.latest, "six")
         if not stale:
             yield from self._compose([class_voxels(chosen)], self.latest)
         self.phase = (chosen + 1) % interleave
@@ -486,13 +511,17 @@ class RadianceSchedule:
 
     def _end_cycle(self, total):
         """Check the series with a cycle's totals; unless it closes, keep the gathers of that
-        cycle's end (still the latest) for closing it."""
+        cycle's end (still the latest) for closing it. Once the six cones' series closes with
+        the tiled set named, the refinement starts a series of its own."""
         outcome = None if self.series is None else self.series.add(total)
         if self.series is None:
             self.series = Series(total)
         if outcome is not None:
             if outcome is not Series.CONVERGED:
                 yield from self._close_series(outcome)
-            self.settled = True
+            if self.cones == "tiled" and not self.refining:
+                self.refining, self.part, self.series = True, 0, None
+                return
+            self.settled, self.refining = True, False
             return
         yield ExtrapolateGather(self.latest, 1 - self.latest, NO_GAIN)

@@ -89,7 +89,7 @@ class RenderSettings:
     voxel_level: int = 0            # the clipmap level the voxel views show
     cone_step: float = 0.5          # march step as a fraction of the cone diameter
     cone_offset: float = 1.0        # cone start offset along the normal, in voxels
-    diffuse_cones: str = "six"      # the diffuse and AO cones: the lecture's "six", or "tiled" (each as seven narrower ones; 14x the gather)
+    diffuse_cones: str = "six"      # the diffuse and AO cones: the lecture's "six", or "tiled" (each as seven narrower ones; 14x the gather, refined at rest in progressive frames)
     ao_distance: float = 1.0        # AO cones stop after this distance (world units)
     direct: bool = True             # gi: include direct light and emission
     indirect_diffuse: bool = True   # gi: include diffuse indirect light
@@ -161,8 +161,10 @@ class RenderSettings:
         return ImageTerms(direct="direct" in terms and self.direct, diffuse="diffuse" in terms and self.indirect_diffuse,
                           specular="specular" in terms and self.indirect_specular, ao="ao" in terms)
 
-    def cone_uniforms(self):
-        return dict(cone_step=float(self.cone_step), cone_offset=float(self.cone_offset), tiled_cones=self.diffuse_cones == "tiled")
+    def cone_uniforms(self, diffuse_cones=None):
+        """The uniforms of lib/cone.glsl, with diffuse cone set `diffuse_cones` (None: the settings')."""
+        cone_set = diffuse_cones or self.diffuse_cones
+        return dict(cone_step=float(self.cone_step), cone_offset=float(self.cone_offset), tiled_cones=cone_set == "tiled")
 
     def replace(self, **changes):
         known = {f.name for f in fields(self)}

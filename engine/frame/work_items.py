@@ -79,8 +79,9 @@ class WorkItems:
 
     def _gather(self, item, work):
         segments = gather_segments(self.grid, self.class_index, item.voxels)
-        self.gather.run(self.grid, self._cones(), work.cone_uniforms, self._gathered(item.into), segments.traced, segments.filled,
-                        segments.finer, self.sky_light.irradiance)
+        cone_uniforms = dict(work.cone_uniforms, tiled_cones=item.cones == "tiled")
+        self.gather.run(self.grid, self._cones(), cone_uniforms, self._gathered(item.into), segments.traced, segments.filled,
+                        segments.finer, self.sky_light.irradiance, item.part, item.parts)
 
     def _extrapolate_gather(self, item, work):
         self.gather.extrapolate(self.grid, self._gathered(item.latest), self._gathered(item.older), item.gain)

@@ -196,19 +196,22 @@ class GatherPass:
         grid.dispatch(self.find_anchors_program, voxels, SSBO_COVERED=grid.covered.buffer, **marked)
         self.anchors_epoch = grid.epoch
 
-    def run(self, grid, cones, cone_uniforms, out, anchors, filled, finer, sky_irradiance=None):
+    def run(self, grid, cones, cone_uniforms, out, anchors, filled, finer, sky_irradiance=None, part=0, parts=1):
         """Gather the anchors among the voxels of segment `anchors` (an interleave class's
         anchors, of the class index, or the touched voxels) through `cones` (what cones read:
         FaceViewsPass.cones) into `out` (one of self.gathered), then the others
         from them (`fill`); under a sky, `sky_irradiance` (SkyLightPass.irradiance) says how
-        much of each side's hemisphere is open (glsl/gather/trace_anchor_cones.comp). Every
-        level's anchors in one dispatch: on a GPU a dispatch a level waits for each level's
-        longest cones in turn. Returns `out`."""
+        much of each side's hemisphere is open (glsl/gather/trace_anchor_cones.comp). Of the
+        anchors, part `part` of `parts` equal runs of the segment's entries, the others
+        filled with the last part. Every level's anchors in one dispatch: on a GPU a dispatch
+        a level waits for each level's longest cones in turn. Returns `out`."""
         program = self.trace_programs[sky_irradiance is not None]
-        program.set(**grid.uniforms(), **cone_uniforms)
+        program.set(**grid.uniforms(), **cone_uniforms, anchor_part=part, anchor_parts=parts)
         sky = {} if sky_irradiance is None else {"SSBO_VOXEL_SKY_IRRADIANCE": sky_irradiance}
         grid.dispatch(program, anchors, SSBO_CLASS_LIST=anchors.buffer, SSBO_GATHER_ANCHORS=self.anchors, **cones,
                       SSBO_GATHERED_OUT=out, **sky)
+        if part < parts - 1:
+            return out
         return self.fill(grid, out, filled, finer)
 
     def fill(self, grid, out, filled, finer):

@@ -48,7 +48,7 @@ def overlay_lines(frames, process, renderer, vsync):
         lines.append((f"{'all passes':<16}{sum(renderer.timings.values()):8.1f} ms", True))
     lines.append((work_line(renderer.passes_ran, renderer.draw_calls), True))
     if s.shown.uses_radiance and s.bounces == 0:
-        state = "settled" if renderer.idle else "converging"
+        state = "settled" if renderer.idle else "refining" if renderer.refining else "converging"
         lines.append((f"bounces {state} ({renderer.bounce_iterations} so far)", True))
     return lines
 
