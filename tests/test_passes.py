@@ -97,8 +97,8 @@ def test_a_mip_cell_is_the_mean_of_its_eight_children(gl):
 
 def test_a_voxel_facing_a_wide_lit_wall_gathers_the_walls_radiance(gl):
     """A voxel 0.3 m in front of a white wall that fills its view, lit by 3 W/m^2 along its
-    normal: all 6 cones stop on the wall, so the gather G = sum_j w_j L is the wall's radiance
-    L = rho E / pi (the weights sum to one) within the cones' blur."""
+    normal: all of the lecture's 6 cones stop on the wall, so the gather G = sum_j w_j L is the
+    wall's radiance L = rho E / pi (the weights sum to one) within the cones' blur."""
     grid = gl["grid"]
     albedo, normal = empty(), empty()
     albedo[2, :, :], normal[2, :, :] = 1.0, (0.0, 0.0, 1.0)     # the wall at z = 2, facing +z
@@ -110,7 +110,7 @@ def test_a_voxel_facing_a_wide_lit_wall_gathers_the_walls_radiance(gl):
     gl["faces"].mipmap(grid)
     classes = gl["gather"].sort_classes(grid, 1)
     gl["gather"].hold(grid.records)
-    gathered = gl["inspection"].read_level(grid, gl["gather"].run(grid, gl["faces"].cones(grid), RenderSettings().cone_uniforms(),
+    gathered = gl["inspection"].read_level(grid, gl["gather"].run(grid, gl["faces"].cones(grid), RenderSettings(diffuse_cones="six").cone_uniforms(),
                                                 gl["gather"].gathered[0], classes.anchor_segment(0), classes.filled_segment(0),
                                                 classes.finer_segments(0)))
     assert gathered[5, 8, 8, :3] == pytest.approx(np.full(3, 3.0 / np.pi), rel=0.01)

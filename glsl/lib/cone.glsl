@@ -211,15 +211,19 @@ struct ConeReading {
     // Add the emission of the surfaces met (the specular cones) from the emission volume: its
     // mean over the covered voxels of the cell, e.rgb / e.a, seen from every side.
     bool emitted;
+    // The first lookup's distance along the cone from its start point, in the start level's
+    // voxels: 1 (past the voxel the start point lies in), 0 for the tiled diffuse cones
+    // (trace_diffuse).
+    float start_distance;
 };
 
 // The kinds of cone. An emitter's cone is as wide as its patch: EMITTER_READING with `wide` set.
-//                                                    wide   level_offset               step_by_lookup min_diameter                opacity_scale          blend_mips dither_levels emitted
-const ConeReading SCREEN_DIFFUSE_READING = ConeReading(false, DIFFUSE_CONE_LEVEL_OFFSET, false,         1.0,                        1.0,                   true,      false,        false);
-const ConeReading VOXEL_DIFFUSE_READING  = ConeReading(false, DIFFUSE_CONE_LEVEL_OFFSET, false,         1.0,                        1.0,                   true,      true,         false);
-const ConeReading SPECULAR_READING       = ConeReading(true,  0.0,                       true,          SPECULAR_CONE_MIN_DIAMETER, SPECULAR_CONE_OPACITY, false,     false,        true);
-const ConeReading SKY_READING            = ConeReading(false, SKY_CONE_LEVEL_OFFSET,     true,          1.0,                        1.0,                   true,      true,         false);
-const ConeReading EMITTER_READING        = ConeReading(false, 0.0,                       true,          1.0,                        1.0,                   false,     true,         false);
+//                                                    wide   level_offset               step_by_lookup min_diameter                opacity_scale          blend_mips dither_levels emitted start_distance
+const ConeReading SCREEN_DIFFUSE_READING = ConeReading(false, DIFFUSE_CONE_LEVEL_OFFSET, false,         1.0,                        1.0,                   true,      false,        false,  1.0);
+const ConeReading VOXEL_DIFFUSE_READING  = ConeReading(false, DIFFUSE_CONE_LEVEL_OFFSET, false,         1.0,                        1.0,                   true,      true,         false,  1.0);
+const ConeReading SPECULAR_READING       = ConeReading(true,  0.0,                       true,          SPECULAR_CONE_MIN_DIAMETER, SPECULAR_CONE_OPACITY, false,     false,        true,   1.0);
+const ConeReading SKY_READING            = ConeReading(false, SKY_CONE_LEVEL_OFFSET,     true,          1.0,                        1.0,                   true,      true,         false,  1.0);
+const ConeReading EMITTER_READING        = ConeReading(false, 0.0,                       true,          1.0,                        1.0,                   false,     true,         false,  1.0);
 
 // A cone's lookup at p in level `level` for lookups at mip `mip` (in the finest level's voxels;
 // level k reads its own mip - k, which is 1..2 where the level matches the footprint), a step of
@@ -247,8 +251,8 @@ vec4 level_lookup(vec3 p, int level, float mip, FaceWeights weights, ConeReading
 }
 
 // Radiance (rgb) and opacity (a) gathered along a cone from surface point p with normal n
-// whose voxels are `start_level`'s, starting one of its voxels out along the normal and along
-// the cone, one sample per step, read as `reading` describes. Each lookup reads the level whose
+// whose voxels are `start_level`'s, starting cone_offset of its voxels out along the normal and
+// the reading's start_distance along the cone, one sample per step, read as `reading` describes. Each lookup reads the level whose
 // voxels are half its cells (the levels take the place of the single grid's mips past the
 // finest; at least start_level, the finest holding the lookup: holding_level), blended into the
 // next coarser one near the level's border (level_share).
@@ -278,7 +282,7 @@ vec4 trace_cone(vec3 p, vec3 n, int start_level, vec3 direction, float tan_half_
     vec4 gathered = vec4(0.0);
     float spread = tan_half_angle / sqrt(1.0 + tan_half_angle * tan_half_angle);  // sin(half-angle)
     FaceWeights weights = face_weights(direction, spread);
-    float t = unit;  // start one voxel out along the cone
+    float t = reading.start_distance * unit;
     float narrowing = exp2(-reading.level_offset);
     float top_mip = voxel_max_mip + float(voxel_levels - 1);  // the coarsest level's 1^3
     // Near a level's border a step that does not dither reads the level (its share) and then, in
@@ -357,6 +361,11 @@ vec4 trace_cone(vec3 p, vec3 n, int start_level, vec3 direction, float tan_half_
 // sum_j w_j a_j (a).
 vec4 trace_diffuse(vec3 p, vec3 n, int start_level, float max_distance, ConeReading reading) {
     mat3 frame = tangent_frame(n);
+    // The tiled cones read from their start point on: a lookup a voxel wide one voxel along a
+    // steep one leaves the voxel before it unread, where it crosses the floor at a wall's foot
+    // (the six's lookups, wider, reach back over it).
+    ConeReading cone_reading = reading;
+    if (tiled_cones) cone_reading.start_distance = 0.0;
     int count = tiled_cones ? TILED_CONE_COUNT : DIFFUSE_CONE_COUNT;
     float tan_half = tan(tiled_cones ? TILED_CONE_HALF_ANGLE : DIFFUSE_CONE_HALF_ANGLE);
     vec4 sum = vec4(0.0);
@@ -370,7 +379,7 @@ vec4 trace_diffuse(vec3 p, vec3 n, int start_level, float max_distance, ConeRead
             direction = DIFFUSE_CONE_DIRECTIONS[j];
             weight = DIFFUSE_CONE_WEIGHTS[j];
         }
-        sum += weight * trace_cone(p, n, start_level, frame * direction, tan_half, max_distance, reading);
+        sum += weight * trace_cone(p, n, start_level, frame * direction, tan_half, max_distance, cone_reading);
     }
     return sum;
 }
