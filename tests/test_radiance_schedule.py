@@ -90,9 +90,9 @@ def test_progressive_frames_gather_one_class_each_until_the_cycles_converge():
 
 def test_progressive_frames_refine_with_the_tiled_cones_once_the_six_converged():
     """The tiled set named: progressive frames converge with the lecture's six cones, then
-    refine with the tiled ones, each frame one part in REFINE_PARTS of a class's anchors (the
-    class's face views composed with its last part), until a series of these longer cycles
-    closes; a restart goes back to the six."""
+    refine with the tiled ones over the voxels sorted as one class (a run of its list is a
+    region of the grid), each frame one run in REFINE_PARTS, every voxel's face views composed
+    with the last run, until a series of these cycles closes; a restart goes back to the six."""
     schedule, epoch = RadianceSchedule(), Epoch()
     run(schedule.inject(voxels_changed=True, lights_changed=True, interleave=4, spread=False, epoch=epoch))
     totals = iter(geometric_totals())
@@ -103,16 +103,17 @@ def test_progressive_frames_refine_with_the_tiled_cones_once_the_six_converged()
     gathers = [g for items in frames for g in of_type(items, Gather)]
     six = [g for g in gathers if g.cones == "six"]
     tiled = [g for g in gathers if g.cones == "tiled"]
-    assert gathers == six + tiled and six and len(tiled) % (4 * REFINE_PARTS) == 0
+    assert gathers == six + tiled and six and len(tiled) % REFINE_PARTS == 0
     assert all(g.parts == 1 for g in six)
-    assert [(g.voxels.class_index, g.part, g.parts) for g in tiled[:2 * REFINE_PARTS]] == \
-        [(k // REFINE_PARTS, k % REFINE_PARTS, REFINE_PARTS) for k in range(2 * REFINE_PARTS)]
+    assert [(g.voxels.class_index, g.part, g.parts) for g in tiled] == \
+        [(0, k % REFINE_PARTS, REFINE_PARTS) for k in range(len(tiled))]
     refining = [items for items in frames if of_type(items, Gather) and of_type(items, Gather)[0].cones == "tiled"]
-    composed = [any(c.voxels == (class_voxels(0),) for c in of_type(items, ComposeFaces)) for items in refining[:REFINE_PARTS]]
-    assert composed == [False] * (REFINE_PARTS - 1) + [True]
+    assert SortClasses(1) in refining[0]
+    composed = [any(c.voxels == (EVERY_VOXEL,) for c in of_type(items, ComposeFaces)) for items in refining[1:REFINE_PARTS]]
+    assert composed == [False] * (REFINE_PARTS - 2) + [True]
     assert progressive_frame(schedule, epoch, totals=totals, cones="tiled") == []
     restarted = progressive_frame(schedule, epoch, restart=True, totals=totals, cones="tiled")
-    assert [g.cones for g in of_type(restarted, Gather)] == ["six"]
+    assert [g.cones for g in of_type(restarted, Gather)] == ["six"] and SortClasses(4) in restarted
 
 
 def test_progressive_light_changes_inject_each_class_before_its_gather():

@@ -19,10 +19,13 @@ the image and the face views use, the other keeps an earlier gather for closing 
   moving every voxel is still relit once every K frames.
 - The gathers' cones: the set the settings name (settings.DIFFUSE_CONE_SETS), except that
   progressive frames converge with the lecture's six and, with the tiled set named, refine
-  the gathers with it once that series closed (the scene rests): each frame traces one part
-  in REFINE_PARTS of a class's anchors, the class's other voxels and face views following with
-  its last part, and the series closes again over these longer cycles. A refining frame
-  costs about what a converging one does (the tiled set is about 14 times the six's work).
+  the gathers with it once that series closed (the scene rests). The voxels are sorted as one
+  class for it, so that a run of the list is a region of the grid: each frame traces one run
+  in REFINE_PARTS of the anchors and interpolates the same run of the other voxels, every
+  voxel's face views are composed with the last run, and the series closes again over these
+  cycles of REFINE_PARTS frames. A refining frame costs about what a converging one does (the
+  tiled set is about 14 times the six's work), and the image changes region by region, not
+  by interleave class (one class refined beside the others' old gathers draws their pattern).
 
 The face views hold L = L_base - L_e + rho G: the light surfaces reflect (emitters light the
 surfaces directly, passes/emitter_light.py). The emitters' and the sky's light at the voxels
@@ -40,7 +43,7 @@ import numpy as np
 from ..core.progress import progress
 from .settings import MAX_BOUNCES
 
-REFINE_PARTS = 24             # a class's anchors are refined with the tiled cones over this many frames
+REFINE_PARTS = 96             # the anchors are refined with the tiled cones over this many frames
 CONVERGENCE_TOLERANCE = 2e-3  # an increment of the totals under this fraction of them: converged
 RATIO_SETTLED = 0.01          # successive increment ratios this close: close the series
 NO_GAIN = (0.0, 0.0, 0.0)
@@ -271,7 +274,7 @@ class RadianceSchedule:
     `settled`: no bounce work is due (always, outside progressive frames, once a plan ran).
     Progressive frames are in one of three states: converging with the six cones (`settled`
     False: each frame one class, `phase` the next), refining with the tiled ones (`refining`:
-    each frame one part of a class, `part` the next) or settled. Also carried: the classes
+    each frame one run of the voxels, `part` the next) or settled. Also carried: the classes
     whose base radiance is still to inject (`pending_base`, for interleave `pending_for`), the
     voxel sets injected since the face views were last composed (`stale_faces`), the epoch of
     the covered list the base radiance was last injected for and the class index was sorted
@@ -285,7 +288,7 @@ class RadianceSchedule:
         self.phase = 0        # progressive: the interleave class updated next
         self.cones = "six"    # the diffuse cone set the converged gathers use (settings.DIFFUSE_CONE_SETS)
         self.refining = False  # progressive: the gathers are refined with the tiled cones
-        self.part = 0          # progressive, refining: the part of the class's anchors traced next
+        self.part = 0          # progressive, refining: the run of the voxels refined next
         self.iterations = 0   # bounces the last restart ran (or the progressive bounces so far)
         self.pending_base = set()
         self.pending_for = 1
@@ -469,18 +472,21 @@ class RadianceSchedule:
     def _advance(self, interleave, epoch):
         """Progressive: the next interleave class gathers again (its anchors' cones read the
         face views of the frames before), with its base radiance injected first if the lights
-        changed since, and its face views are composed again; while refining, the next part of
-        its anchors, its other voxels and face views following with the last. Where the voxels
-        changed, the face views of the voxels injected since (and of the class) are composed
-        before the gather instead, with every mip level, as its cones must see the voxels as
-        they are now. At the end of a cycle that ran on the current base radiance throughout, the
-        series is checked and the gathers kept: the series starts from gathers that all read
-        it, as a bounce's do, since the totals it watches miss light that only moved."""
+        changed since, and its face views are composed again (while refining: _refine). Where
+        the voxels changed, the face views of the voxels injected since (and of the class) are
+        composed before the gather instead, with every mip level, as its cones must see the
+        voxels as they are now. At the end of a cycle that ran on the current base radiance
+        throughout, the series is checked and the gathers kept: the series starts from gathers
+        that all read it, as a bounce's do, since the totals it watches miss light that only
+        moved."""
         if self.totals_requested:
             self.totals_requested = False
             yield from self._end_cycle((yield ReadTotals()))
             if self.settled:
                 return
+        if self.refining:
+            yield from self._refine(epoch)
+            return
         if self.pending_base and self.pending_for != interleave:  # classes of another interleave: all again
             self.pending_base, self.pending_for = set(range(interleave)), interleave
         yield from self._sort(epoch, interleave)
@@ -492,13 +498,7 @@ class RadianceSchedule:
         stale = self.stale_faces
         if stale:
             yield from self._compose(stale + [class_voxels(chosen)], self.latest)
-        if self.refining:
-            yield Gather(class_voxels(chosen), self.latest, "tiled", self.part, REFINE_PARTS)
-            self.part = (self.part + 1) % REFINE_PARTS
-            if self.part:
-                return  # the class's other parts in the next frames
-        else:
-            yield Gather(class_voxels(chosen), self.latest, "six")
+        yield Gather(class_voxels(chosen), self.latest, "six")
         if not stale:
             yield from self._compose([class_voxels(chosen)], self.latest)
         self.phase = (chosen + 1) % interleave
@@ -508,6 +508,26 @@ class RadianceSchedule:
                 yield RequestTotals()
                 self.totals_requested = True
             self.cycle_clean = not self.pending_base
+
+    def _refine(self, epoch):
+        """Refining: the next run of the voxels (sorted as one class) gathers with the tiled
+        cones, after composing the face views of the voxels injected since; every voxel's face
+        views are composed with the last run, which ends a cycle. It waits while a round of the
+        emitters' or the sky's light runs over the interleave classes, sorted otherwise."""
+        if any(rounds.pending for rounds in self.voxel_light_rounds.values()):
+            return
+        yield from self._sort(epoch, 1)
+        if self.stale_faces:
+            yield from self._compose(self.stale_faces, self.latest)
+        yield Gather(class_voxels(0), self.latest, "tiled", self.part, REFINE_PARTS)
+        self.part = (self.part + 1) % REFINE_PARTS
+        self.iterations += 1
+        if self.part == 0:
+            yield from self._compose([EVERY_VOXEL], self.latest)
+            if self.cycle_clean:
+                yield RequestTotals()
+                self.totals_requested = True
+            self.cycle_clean = True
 
     def _end_cycle(self, total):
         """Check the series with a cycle's totals; unless it closes, keep the gathers of that

@@ -37,16 +37,19 @@ class AnchorFill:
                                                    reads=("SSBO_CLASS_LIST", "SSBO_SEGMENTS", "SSBO_GATHER_ANCHORS",
                                                           *VoxelGrid.SURFACE_READS))
 
-    def run(self, grid, values, anchors, filled, finer):
+    def run(self, grid, values, anchors, filled, finer, part=0, parts=1):
         """Interpolate `values` (an array per record, the anchors' values written) at the
         voxels of segment `filled` that are not anchors (a class's that interpolate, or the
-        touched voxels) from the anchors around them (`anchors`: GatherPass.anchors), then at
-        those beneath a finer level take the finer voxels' mean, level after level: `finer`
-        maps each level above the finest to the segments holding them (a class's, every
-        class's, or the touched voxels again). Returns `values`."""
+        touched voxels; run `part` of `parts` of them) from the anchors around them (`anchors`:
+        GatherPass.anchors), then, with the last run, at those beneath a finer level take the
+        finer voxels' mean, level after level: `finer` maps each level above the finest to the
+        segments holding them (a class's, every class's, or the touched voxels again). Returns
+        `values`."""
         filling = dict(SSBO_GATHER_ANCHORS=anchors, **grid.surface(), SSBO_GATHERED_OUT=values)
-        self.fill_program.set(**grid.uniforms())
+        self.fill_program.set(**grid.uniforms(), segment_part=part, segment_parts=parts)
         grid.dispatch(self.fill_program, filled, SSBO_CLASS_LIST=filled.buffer, **filling)
+        if part < parts - 1:
+            return values
         for level in range(1, grid.levels):
             self.take_finer_program.set(**grid.uniforms(), level=level)
             for segment in finer[level]:
@@ -201,27 +204,27 @@ class GatherPass:
         anchors, of the class index, or the touched voxels) through `cones` (what cones read:
         FaceViewsPass.cones) into `out` (one of self.gathered), then the others
         from them (`fill`); under a sky, `sky_irradiance` (SkyLightPass.irradiance) says how
-        much of each side's hemisphere is open (glsl/gather/trace_anchor_cones.comp). Of the
-        anchors, part `part` of `parts` equal runs of the segment's entries, the others
-        filled with the last part. Every level's anchors in one dispatch: on a GPU a dispatch
-        a level waits for each level's longest cones in turn. Returns `out`."""
+        much of each side's hemisphere is open (glsl/gather/trace_anchor_cones.comp). Of each
+        segment, run `part` of `parts` equal runs of its entries (the same share of the anchors
+        and of the others: the same region of the grid). Every level's anchors in one
+        dispatch: on a GPU a dispatch a level waits for each level's longest cones in turn.
+        Returns `out`."""
         program = self.trace_programs[sky_irradiance is not None]
-        program.set(**grid.uniforms(), **cone_uniforms, anchor_part=part, anchor_parts=parts)
+        program.set(**grid.uniforms(), **cone_uniforms, segment_part=part, segment_parts=parts)
         sky = {} if sky_irradiance is None else {"SSBO_VOXEL_SKY_IRRADIANCE": sky_irradiance}
         grid.dispatch(program, anchors, SSBO_CLASS_LIST=anchors.buffer, SSBO_GATHER_ANCHORS=self.anchors, **cones,
                       SSBO_GATHERED_OUT=out, **sky)
-        if part < parts - 1:
-            return out
-        return self.fill(grid, out, filled, finer)
+        return self.fill(grid, out, filled, finer, part, parts)
 
-    def fill(self, grid, out, filled, finer):
+    def fill(self, grid, out, filled, finer, part=0, parts=1):
         """Interpolate `out` (one of self.gathered, the anchors' gathers written) at the
         voxels of segment `filled` that are not anchors (a class's that interpolate, or the
         touched voxels) from the anchors around them, then at those beneath a finer level take
         the finer voxels' mean, level after level: `finer` maps each level above the finest to
-        the segments holding them (a class's, every class's, or the touched voxels again).
-        Returns `out` (AnchorFill)."""
-        return self.filling.run(grid, out, self.anchors, filled, finer)
+        the segments holding them (a class's, every class's, or the touched voxels again). Run
+        `part` of `parts` of `filled`, the levels' means with the last (AnchorFill). Returns
+        `out`."""
+        return self.filling.run(grid, out, self.anchors, filled, finer, part, parts)
 
     def extrapolate(self, grid, latest, older, gain):
         """older <- latest + (latest - older) * gain, per covered voxel; returns `older`."""

@@ -13,12 +13,16 @@ layout(local_size_x = LIST_GROUP) in;
 layout(std430, binding = SSBO_GATHERED_OUT) buffer GatheredOut { uvec2 gathered[]; };
 layout(std430, binding = SSBO_CLASS_LIST) readonly buffer ClassList { uint class_list[]; };
 // The voxels of a list (a class's that are not anchors, or the voxels a voxelization touched)
-// whose gather to interpolate: the anchors among them keep theirs.
+// whose gather to interpolate: the anchors among them keep theirs. Run `segment_part` of
+// `segment_parts` of them (0 of 1: all; the region of the anchors the refinement traced).
 #include "lib/list_segment.glsl"
+uniform uint segment_part;
+uniform uint segment_parts;
 
 void main() {
-    if (gl_GlobalInvocationID.x >= segment_count()) return;
-    ivec3 v = unpack_voxel(class_list[segment_first() + gl_GlobalInvocationID.x]);
+    uint entry;
+    if (!segment_run_entry(gl_GlobalInvocationID.x, segment_part, segment_parts, entry)) return;
+    ivec3 v = unpack_voxel(class_list[segment_first() + entry]);
     uint record = voxel_record(v);
     if (record == NO_RECORD || (gather_anchors[record] & (ANCHOR_SELF | ANCHOR_FINER)) != 0u) return;  // empty, traced, or from finer
     uint anchors = gather_anchors[record] & ANCHOR_NEIGHBOURS;

@@ -24,17 +24,15 @@ layout(std430, binding = SSBO_VOXEL_SKY_IRRADIANCE) readonly buffer VoxelSkyIrra
 #endif
 // The segment of the class list to gather.
 #include "lib/list_segment.glsl"
-// Its entries to trace: part `anchor_part` of `anchor_parts` equal runs of them (0 of 1: all;
-// the viewer's refinement with the tiled cones spreads a class's anchors over several frames,
-// engine/frame/schedule.py). Runs keep the list's order by block and facing: neighbouring
-// invocations trace cones of neighbouring voxels, alike in length.
-uniform uint anchor_part;
-uniform uint anchor_parts;
+// Its entries to trace: run `segment_part` of `segment_parts` (0 of 1: all; the viewer's
+// refinement with the tiled cones spreads the anchors over several frames,
+// engine/frame/schedule.py).
+uniform uint segment_part;
+uniform uint segment_parts;
 
 void main() {
-    uint part_size = (segment_count() + anchor_parts - 1u) / anchor_parts;
-    uint entry = anchor_part * part_size + gl_GlobalInvocationID.x;
-    if (gl_GlobalInvocationID.x >= part_size || entry >= segment_count()) return;
+    uint entry;
+    if (!segment_run_entry(gl_GlobalInvocationID.x, segment_part, segment_parts, entry)) return;
     ivec3 v = unpack_voxel(class_list[segment_first() + entry]);
     uint record = voxel_record(v);
     if (record == NO_RECORD || (gather_anchors[record] & ANCHOR_SELF) == 0u) return;  // empty, or interpolated (GatherPass.fill)
