@@ -9,6 +9,8 @@ from conftest import SCENES, rel_mae
 from engine.app.bench import FramePath, settle
 from engine.scene.emitters import is_emissive
 
+SIX = engine.RenderSettings(diffuse_cones="six")  # the cones the viewer converges with before refining
+
 SCREEN_PASSES = ["gbuffer", "lighting", "cone_trace"]
 BOUNCE_PASSES = {"gather", "faces", "mipmap"}
 
@@ -165,9 +167,10 @@ def test_tracked_frames_lit_by_an_emitter_equal_recomputed_frames_bit_for_bit():
 def test_a_moved_emitter_in_the_viewer_relights_the_voxels_over_the_next_frames():
     """Progressive frames (the viewer): after the panel of cornell_spheres moves, the emitters'
     light at the voxels is recomputed one interleave class a frame (no frame pays for the whole
-    grid), and the room converges to the headless image of the edited scene within 1 %."""
+    grid), and the room converges to the headless image of the edited scene within 1 % (the
+    lecture's six cones, with which the viewer converges before refining)."""
     scene = engine.load_scene(SCENES / "cornell_spheres.json")
-    with engine.Renderer(64, 64) as r:
+    with engine.Renderer(64, 64, settings=SIX) as r:
         settle_viewer(r, scene)
         panel = scene.root.find("Ceiling Panel")
         panel.translation = panel.translation + [0.3, -0.2, 0.1]
@@ -177,7 +180,7 @@ def test_a_moved_emitter_in_the_viewer_relights_the_voxels_over_the_next_frames(
             lit.append("emitter_light" in r.passes_ran)
         interleave = r.settings.bounce_interleave
     assert interleave > 1 and lit[:interleave] == [True] * interleave and not any(lit[interleave:])
-    with engine.Renderer(64, 64) as fresh:
+    with engine.Renderer(64, 64, settings=SIX) as fresh:
         assert rel_mae(image, fresh.render(scene, grid=32)) < 0.01
 
 
@@ -185,9 +188,10 @@ def test_a_moved_light_in_the_viewer_relights_one_class_of_voxels_a_frame():
     """Progressive frames (the viewer): after the light moves, each frame injects the new
     direct light into one interleave class of the voxels, the class it bounces (a quarter of
     the lit voxels change in the first frame), every voxel carries it after K frames, and the
-    room settles within 0.5 % of the image a new viewer of the edited scene settles on."""
+    room settles within 0.5 % of the image a new viewer of the edited scene settles on (the
+    lecture's six cones)."""
     scene = engine.load_scene(SCENES / "cornell_box.json")
-    with engine.Renderer(64, 64) as r:
+    with engine.Renderer(64, 64, settings=SIX) as r:
         settle_viewer(r, scene)
         before = r.voxels("radiance")[..., :3]
         lit = np.any(before > 0, axis=-1)
@@ -200,7 +204,7 @@ def test_a_moved_light_in_the_viewer_relights_one_class_of_voxels_a_frame():
         interleave = r.settings.bounce_interleave
     assert interleave == 4 and injected[:interleave] == [True] * interleave and not any(injected[interleave:])
     assert 0.15 < changed[0] < 0.35 and changed[interleave - 1] > 0.95
-    with engine.Renderer(64, 64) as fresh:
+    with engine.Renderer(64, 64, settings=SIX) as fresh:
         assert rel_mae(image, settle_viewer(fresh, scene)) < 0.005
 
 
@@ -319,15 +323,15 @@ def test_a_mesh_given_new_vertices_is_drawn_and_voxelized_anew():
 def test_an_emission_edit_in_the_viewer_lights_the_room_over_the_next_frames():
     """The inspector turns the short box into a lamp while the viewer's bounces are settled:
     the next frame shows it glowing, and the room converges to the edited scene's image (24
-    bounces) within 1 % as the progressive bounces carry its light."""
+    bounces) within 1 % as the progressive bounces carry its light (the lecture's six cones)."""
     from engine.app.viewer import inspector
     scene = engine.load_scene(SCENES / "cornell_box.json")
-    with engine.Renderer(64, 64) as r:
+    with engine.Renderer(64, 64, settings=SIX) as r:
         before = settle_viewer(r, scene)
         inspector.make_material_unique(scene, "Short Box")
         inspector.set_emission(scene, "Short Box", [4.0, 4.0, 4.0])
         frames = [r.render(scene, grid=32) for _ in range(60)]
-    with engine.Renderer(64, 64) as r:
+    with engine.Renderer(64, 64, settings=SIX) as r:
         expected = r.render(scene, grid=32, bounces=24)
     glowing = frames[0].mean(axis=2) > 4.0          # the box's own pixels, from the next frame on
     assert glowing.sum() > 100 and not (before.mean(axis=2) > 4.0).any()

@@ -22,7 +22,7 @@ import numpy as np
 
 import engine
 from engine.app.bench import relative_errors
-from engine.frame.settings import DIFFUSE_CONE_SETS, HEADLESS_SAMPLES
+from engine.frame.settings import DIFFUSE_CONE_SETS, HEADLESS_SAMPLES, RenderSettings
 from engine.scene.emitters import scene_emits
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -52,7 +52,7 @@ def main():
     parser.add_argument("--grids", default="32,64,128,256")
     parser.add_argument("--bounces", default="1,0")
     parser.add_argument("--samples", type=int, default=HEADLESS_SAMPLES, help="jittered samples a pixel (1: its centre)")
-    parser.add_argument("--diffuse-cones", choices=DIFFUSE_CONE_SETS, default="six",
+    parser.add_argument("--diffuse-cones", choices=DIFFUSE_CONE_SETS, default=RenderSettings().diffuse_cones,
                         help="the diffuse cones: the lecture's six, or each traced as seven narrower ones")
     parser.add_argument("--json", help="also write the rows as JSON")
     args = parser.parse_args()

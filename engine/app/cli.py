@@ -111,8 +111,8 @@ def _add_settings_arguments(parser, default_mode="gi"):
     parser.add_argument("--diffuse-cones", choices=DIFFUSE_CONE_SETS, default=d.diffuse_cones,
                         help="the diffuse and AO cones: six = the lecture's six; tiled = each of them traced as seven "
                              "narrower ones, nearer a path tracer where wide cones mix near and far surfaces, at about "
-                             "14x the gather's cost (the viewer refines with them once the scene rests) "
-                             f"(default {d.diffuse_cones})")
+                             "14x the gather's cost (the viewer converges with the six and refines with them once the "
+                             f"scene rests) (default {d.diffuse_cones})")
     parser.add_argument("--ao-distance", type=_finite_float, default=d.ao_distance,
                         help=f"AO cones stop after this distance in scene units (default {d.ao_distance})")
     parser.add_argument("--no-direct", action="store_true", help="gi: leave out direct light and emission")

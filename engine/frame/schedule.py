@@ -150,8 +150,8 @@ class Mipmap:
 @dataclass(frozen=True)
 class Gather:
     """The gather of `voxels` (a Voxels selection: a class, or the touched voxels) into gather
-    array `into` through the diffuse cone set `cones` (settings.DIFFUSE_CONE_SETS): of their
-    anchors part `part` of `parts` equal runs, the other voxels following with the last."""
+    array `into` through the diffuse cone set `cones` (settings.DIFFUSE_CONE_SETS): run `part`
+    of `parts` equal runs of their anchors and of their other voxels (a region of the grid)."""
     voxels: Voxels
     into: int
     cones: str
