@@ -252,10 +252,11 @@ vec4 level_lookup(vec3 p, int level, float mip, FaceWeights weights, ConeReading
 
 // Radiance (rgb) and opacity (a) gathered along a cone from surface point p with normal n
 // whose voxels are `start_level`'s, starting cone_offset of its voxels out along the normal and
-// the reading's start_distance along the cone, one sample per step, read as `reading` describes. Each lookup reads the level whose
-// voxels are half its cells (the levels take the place of the single grid's mips past the
-// finest; at least start_level, the finest holding the lookup: holding_level), blended into the
-// next coarser one near the level's border (level_share).
+// the reading's start_distance along the cone, one sample per step, read as `reading`
+// describes. Each lookup reads the level whose voxels are half its cells (the levels take the
+// place of the single grid's mips past the finest; at least start_level, the finest holding
+// the lookup: holding_level), blended into the next coarser one near the level's border
+// (level_share).
 // With voxel the side of the voxels of the finest level from the start level up that holds the
 // step's point, v0 the finest level's, and the reading's level_offset, min_diameter and
 // opacity_scale k:
