@@ -66,18 +66,6 @@ def test_tiled_cones_split_each_lecture_cone_into_seven_of_its_solid_angle():
         assert group_weights / group[:, 2] == pytest.approx([group_weights[0] / group[0, 2]] * 7)
 
 
-def test_tiled_cones_bring_the_cornell_box_nearer_the_path_tracer(renderer, cornell, reference):
-    """Each of the six wide cones reads coarse cells that hold what its rays meet at different
-    depths together; traced as seven narrower ones the converged Cornell box at 128^3 comes
-    within 3 % (relative MAE, measured 0.022 at the pixel centres) where the six read 0.053,
-    and the luminance stays within 2 % (1.003)."""
-    gi = reference("gi")
-    six = renderer.render(cornell, grid=128, diffuse_cones="six")
-    tiled = renderer.render(cornell, grid=128, diffuse_cones="tiled")
-    assert rel_mae(tiled, gi) <= 0.03 < rel_mae(six, gi)
-    assert luminance_ratio(tiled, gi) == pytest.approx(1.0, abs=0.02)
-
-
 # ---- invariances -----------------------------------------------------------------------------
 
 def test_white_furnace_returns_albedo_times_emitted_radiance():
@@ -279,18 +267,24 @@ def test_gi_terms_can_be_switched_off(renderer, cornell):
 # ---- accuracy against the path tracer ---------------------------------------------------------
 
 def test_one_bounce_matches_the_path_traced_reference(renderer, cornell, reference):
+    """One bounce at grid 128: within 5 % (relative MAE; measured 0.025, the lecture's six wide
+    cones 0.071)."""
     radiance = renderer.render(cornell, mode="gi", grid=128, bounces=1)
     error = rel_mae(radiance, reference("1bounce"))
-    assert error <= 0.15, f"relMAE {error:.3f}"
+    assert error <= 0.05, f"relMAE {error:.3f}"
 
 
 def test_converged_gi_matches_the_path_traced_reference(renderer, cornell, reference):
-    """All bounces at grid 128: within 8 % (relative MAE), luminance within 5 % (measured 0.054,
-    0.999); a cone that lets half of each wall through at coarse levels reads 0.101, 0.902."""
-    radiance = renderer.render(cornell, grid=128)  # default: gi, bounces to convergence
+    """All bounces at grid 128: within 3 % (relative MAE), luminance within 2 % (measured 0.022,
+    1.004). The lecture's six wide cones alone read 0.053: each reads coarse cells that hold
+    what its rays meet at different depths together, where the default traces each as seven
+    narrower ones. A cone that lets half of each wall through at coarse levels read 0.101, 0.902."""
+    radiance = renderer.render(cornell, grid=128)  # default: gi, bounces to convergence, tiled cones
+    six = renderer.render(cornell, grid=128, diffuse_cones="six")
     gi = reference("gi")
     error, ratio = rel_mae(radiance, gi), luminance_ratio(radiance, gi)
-    assert error <= 0.08 and 0.95 <= ratio <= 1.05, f"relMAE {error:.3f}, luminance ratio {ratio:.3f}"
+    assert error <= 0.03 and 0.98 <= ratio <= 1.02, f"relMAE {error:.3f}, luminance ratio {ratio:.3f}"
+    assert rel_mae(six, gi) > 0.04
 
 
 def test_feedback_frames_converge_to_the_converged_image(cornell):

@@ -2,7 +2,7 @@
 or the lights changed, and how the bounces converge, headless and over progressive frames."""
 import numpy as np
 
-from engine.frame.schedule import (REFINE_PARTS, EVERY_VOXEL, TOUCHED_VOXELS, ClassRounds, ComposeFaces, ExtrapolateGather, FindAnchors, Gather, Inject,
+from engine.frame.schedule import (REFINE_PARTS, refine_parts, EVERY_VOXEL, TOUCHED_VOXELS, ClassRounds, ComposeFaces, ExtrapolateGather, FindAnchors, Gather, Inject,
                                    LightVoxels, MeasureTotals, Mipmap, RadianceSchedule, ReadTotals, RequestTotals, SortClasses,
                                    TakeCoarserSkyLight, Voxels,
                                    class_voxels, run_plan)
@@ -114,6 +114,16 @@ def test_progressive_frames_refine_with_the_tiled_cones_once_the_six_converged()
     assert progressive_frame(schedule, epoch, totals=totals, cones="tiled") == []
     restarted = progressive_frame(schedule, epoch, restart=True, totals=totals, cones="tiled")
     assert [g.cones for g in of_type(restarted, Gather)] == ["six"] and SortClasses(4) in restarted
+
+
+def test_coarser_grids_refine_in_fewer_runs_of_about_as_many_anchors():
+    """The refinement's runs: 96 at 128^3 and finer (a refining frame there costs about what a
+    converging one does), fewer at coarser grids in proportion to the voxels their surfaces
+    cover (n^2 a level), so that a refining frame traces about as many anchors as at 128^3 and
+    a coarse grid settles after as many cycles, of fewer frames."""
+    assert refine_parts(128, 1) == refine_parts(256, 1) == refine_parts(64, 6) == REFINE_PARTS == 96
+    assert refine_parts(64, 1) == 24 and refine_parts(32, 1) == 6 and refine_parts(32, 5) == 30
+    assert refine_parts(16, 1) == 2 and refine_parts(8, 1) == 1
 
 
 def test_progressive_light_changes_inject_each_class_before_its_gather():

@@ -4,7 +4,7 @@ path-traced references (relative MAE, relative MSE, mean-luminance ratio).
     .venv/bin/python tools/accuracy.py [--grids 32,64,128,256] [--bounces 1,0] [--json out.json]
     .venv/bin/python tools/accuracy.py --scenes all --bounces 0
     .venv/bin/python tools/accuracy.py --samples 1     # the pixel centres, no anti-aliasing
-    .venv/bin/python tools/accuracy.py --diffuse-cones tiled   # each diffuse cone as seven narrower ones
+    .venv/bin/python tools/accuracy.py --diffuse-cones six     # the lecture's six diffuse cones, not tiled
 
 The Cornell box is compared with ../shared/reference (`bounces 1` with cornell_box_1bounce.npy,
 every other count with cornell_box_gi.npy, and direct light alone with cornell_box_direct.npy);

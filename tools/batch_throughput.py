@@ -2,7 +2,7 @@
 --workers K`), in frames a second, each run a fresh command (Python start, Ray start, each
 worker's EGL context and shaders included, as a user's run has them).
 
-    .venv/bin/python tools/batch_throughput.py [--frames 48] [--size 128x128] [--workers 1,2]
+    .venv/bin/python tools/batch_throughput.py [--frames 48] [--size 128x128] [--workers 1,2] [--diffuse-cones six]
 """
 import argparse
 import subprocess
@@ -10,6 +10,8 @@ import sys
 import tempfile
 import time
 from pathlib import Path
+
+from engine.frame.settings import DIFFUSE_CONE_SETS, RenderSettings
 
 ROOT = Path(__file__).resolve().parent.parent
 
@@ -28,10 +30,14 @@ def main():
     parser.add_argument("--size", default="128x128")
     parser.add_argument("--grid", type=int, default=64)
     parser.add_argument("--workers", default="1,2")
+    parser.add_argument("--diffuse-cones", choices=DIFFUSE_CONE_SETS, default=RenderSettings().diffuse_cones,
+                        help="the diffuse cones, as vct render's option")
     args = parser.parse_args()
     width, height = args.size.split("x")
-    common = [args.scene, "--frames", str(args.frames), "--width", width, "--height", height, "--grid", str(args.grid)]
-    print(f"| {args.frames} frames of {Path(args.scene).name}, {args.size}, grid {args.grid} | seconds | frames/s | against one process |")
+    common = [args.scene, "--frames", str(args.frames), "--width", width, "--height", height, "--grid", str(args.grid),
+              "--diffuse-cones", args.diffuse_cones]
+    print(f"| {args.frames} frames of {Path(args.scene).name}, {args.size}, grid {args.grid}, {args.diffuse_cones} cones "
+          "| seconds | frames/s | against one process |")
     print("|---|---|---|---|")
     with tempfile.TemporaryDirectory() as folder:
         one = seconds(common + ["--out", f"{folder}/one_%04d.png"])

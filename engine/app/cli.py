@@ -109,10 +109,10 @@ def _add_settings_arguments(parser, default_mode="gi"):
     parser.add_argument("--cone-offset", type=_finite_float, default=d.cone_offset,
                         help=f"cone start offset along the normal, in voxels (default {d.cone_offset})")
     parser.add_argument("--diffuse-cones", choices=DIFFUSE_CONE_SETS, default=d.diffuse_cones,
-                        help="the diffuse and AO cones: six = the lecture's six; tiled = each of them traced as seven "
-                             "narrower ones, nearer a path tracer where wide cones mix near and far surfaces, at about "
-                             "14x the gather's cost (the viewer converges with the six and refines with them once the "
-                             f"scene rests) (default {d.diffuse_cones})")
+                        help="the diffuse and AO cones: tiled = the lecture's six, each traced as seven narrower "
+                             "ones, nearer a path tracer where wide cones mix near and far surfaces, at about 14x the "
+                             "gather's cost (the viewer converges with the six and refines with the tiled set once the "
+                             f"scene rests); six = the lecture's six (default {d.diffuse_cones})")
     parser.add_argument("--ao-distance", type=_finite_float, default=d.ao_distance,
                         help=f"AO cones stop after this distance in scene units (default {d.ao_distance})")
     parser.add_argument("--no-direct", action="store_true", help="gi: leave out direct light and emission")

@@ -540,7 +540,8 @@ class Renderer(WorkItems, Readback):
         if restart:
             stage.ran(inputs)
         self._run(self.schedule.bounce(restart=restart, bounces=s.bounces, interleave=s.bounce_interleave,
-                                       progressive=self.progressive, epoch=self.grid.epoch, cones=s.diffuse_cones), work)
+                                       progressive=self.progressive, epoch=self.grid.epoch, cones=s.diffuse_cones,
+                                       refine_parts=schedule.refine_parts(self.grid.n, self.grid.levels)), work)
 
     # -- the passes' arrays of values, around a voxelization ---------------------------------
 

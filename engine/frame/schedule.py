@@ -21,11 +21,12 @@ the image and the face views use, the other keeps an earlier gather for closing 
   progressive frames converge with the lecture's six and, with the tiled set named, refine
   the gathers with it once that series closed (the scene rests). The voxels are sorted as one
   class for it, so that a run of the list is a region of the grid: each frame traces one run
-  in REFINE_PARTS of the anchors and interpolates the same run of the other voxels, every
-  voxel's face views are composed with the last run, and the series closes again over these
-  cycles of REFINE_PARTS frames. A refining frame costs about what a converging one does (the
-  tiled set is about 14 times the six's work), and the image changes region by region, not
-  by interleave class (one class refined beside the others' old gathers draws their pattern).
+  of the anchors (REFINE_PARTS runs at 128^3, fewer at coarser grids: refine_parts) and
+  interpolates the same run of the other voxels, every voxel's face views are composed with
+  the last run, and the series closes again over these cycles. At 128^3 a refining frame costs
+  about what a converging one does (the tiled set is about 14 times the six's work), and the
+  image changes region by region, not by interleave class (one class refined beside the
+  others' old gathers draws their pattern).
 
 The face views hold L = L_base - L_e + rho G: the light surfaces reflect (emitters light the
 surfaces directly, passes/emitter_light.py). The emitters' and the sky's light at the voxels
@@ -43,7 +44,7 @@ import numpy as np
 from ..core.progress import progress
 from .settings import MAX_BOUNCES
 
-REFINE_PARTS = 96             # the anchors are refined with the tiled cones over this many frames
+REFINE_PARTS = 96             # a 128^3 grid's anchors are refined with the tiled cones over this many frames
 CONVERGENCE_TOLERANCE = 2e-3  # an increment of the totals under this fraction of them: converged
 RATIO_SETTLED = 0.01          # successive increment ratios this close: close the series
 NO_GAIN = (0.0, 0.0, 0.0)
@@ -201,6 +202,14 @@ def run_plan(plan, execute):
         ran.append(item)
 
 
+def refine_parts(n, levels):
+    """The runs the refinement traces one a frame, for `levels` levels of n^3 voxels:
+    REFINE_PARTS at 128^3 and finer, fewer at coarser grids in proportion to the voxels their
+    surfaces cover (levels * n^2), so that a refining frame traces about as many anchors as one
+    at 128^3 does and a coarse grid settles in as many cycles, of fewer frames."""
+    return max(1, min(REFINE_PARTS, round(REFINE_PARTS * levels * n * n / 128 ** 2)))
+
+
 class Series:
     """The grid's total radiance T_k after each bounce (or cycle of bounces). The bounces are a
     geometric series: once an increment D_k = T_k - T_(k-1) is negligible it has converged;
@@ -289,6 +298,7 @@ class RadianceSchedule:
         self.cones = "six"    # the diffuse cone set the converged gathers use (settings.DIFFUSE_CONE_SETS)
         self.refining = False  # progressive: the gathers are refined with the tiled cones
         self.part = 0          # progressive, refining: the run of the voxels refined next
+        self.parts = REFINE_PARTS  # progressive, refining: the runs of a cycle (refine_parts)
         self.iterations = 0   # bounces the last restart ran (or the progressive bounces so far)
         self.pending_base = set()
         self.pending_for = 1
@@ -385,14 +395,15 @@ class RadianceSchedule:
         those levels are composed again before cones next read them."""
         self.stale_faces.append(Voxels("every", levels=frozenset(levels)))
 
-    def bounce(self, *, restart, bounces, interleave, progressive, epoch, cones):
+    def bounce(self, *, restart, bounces, interleave, progressive, epoch, cones, refine_parts=REFINE_PARTS):
         """The bounces through the diffuse cone set `cones`: all of them when `restart` (the
         base radiance or the bounce settings changed), outside progressive frames; in
-        progressive frames this frame's share."""
+        progressive frames this frame's share, the tiled set's refinement in `refine_parts`
+        runs."""
         if restart:
             self.iterations = 0
             self.totals_requested = False
-            self.cones, self.refining, self.part = cones, False, 0
+            self.cones, self.refining, self.part, self.parts = cones, False, 0, refine_parts
             if bounces == 0 and progressive:  # resume from the previous gathers; a new series from the next cycle
                 self.settled, self.series = False, None
             else:
@@ -519,8 +530,8 @@ class RadianceSchedule:
         yield from self._sort(epoch, 1)
         if self.stale_faces:
             yield from self._compose(self.stale_faces, self.latest)
-        yield Gather(class_voxels(0), self.latest, "tiled", self.part, REFINE_PARTS)
-        self.part = (self.part + 1) % REFINE_PARTS
+        yield Gather(class_voxels(0), self.latest, "tiled", self.part, self.parts)
+        self.part = (self.part + 1) % self.parts
         self.iterations += 1
         if self.part == 0:
             yield from self._compose([EVERY_VOXEL], self.latest)

@@ -89,7 +89,7 @@ class RenderSettings:
     voxel_level: int = 0            # the clipmap level the voxel views show
     cone_step: float = 0.5          # march step as a fraction of the cone diameter
     cone_offset: float = 1.0        # cone start offset along the normal, in voxels
-    diffuse_cones: str = "six"      # the diffuse and AO cones: the lecture's "six", or "tiled" (each as seven narrower ones; 14x the gather, refined at rest in progressive frames)
+    diffuse_cones: str = "tiled"    # the diffuse and AO cones: "tiled" (the lecture's six, each as seven narrower ones; 14x the gather, refined at rest in progressive frames) or the lecture's "six"
     ao_distance: float = 1.0        # AO cones stop after this distance (world units)
     direct: bool = True             # gi: include direct light and emission
     indirect_diffuse: bool = True   # gi: include diffuse indirect light
