@@ -31,6 +31,7 @@ from contextlib import contextmanager
 import moderngl
 import numpy as np
 
+from ..core.errors import warn
 from ..frame.settings import MODE_TABLE
 from ..gpu.shaders import ProgramHandle
 from ..scene.emitters import scene_emits
@@ -129,11 +130,14 @@ class FramePath:
 
 def settle(scene, renderer, settings):
     """Render progressive frames until no work is due (the bounces settled, the voxels' light
-    done: RadianceSchedule.idle)."""
+    done: RadianceSchedule.idle); a warning where SETTLE_FRAMES are not enough, as the frames
+    timed next then carry the work still due."""
     for _ in range(SETTLE_FRAMES):
         renderer.render_frame(scene, settings)
         if renderer.idle:
             return
+    warn(f"the radiance did not settle within {SETTLE_FRAMES} frames; the timed frames include its bounce work",
+         source=scene.name)
 
 
 @contextmanager
