@@ -290,7 +290,7 @@ class Renderer(WorkItems, Readback):
             return self._blended(direct, gbuffer, camera, shadow_maps, s)
         update = self._voxels(frame, s, scene.source, emitters, environment, camera)
         self._hold_values(emitters, environment)
-        work = WorkResources(shadow_maps, emitters, environment, s.cone_uniforms())
+        work = WorkResources(shadow_maps, emitters, environment, s.cone_uniforms)
         if emitters.count:
             self._voxel_light("emitter_light", work, s, update, resting, emitters=self.stages["emitters"].version)
         if environment.environment is not None:

@@ -14,7 +14,7 @@ class WorkResources:
     shadow_maps: object
     emitters: object
     environment: object
-    cone_uniforms: dict
+    cone_uniforms: object  # RenderSettings.cone_uniforms: the uniforms of lib/cone.glsl for a diffuse cone set
 
 
 class WorkItems:
@@ -55,11 +55,11 @@ class WorkItems:
         grid = self.grid
         if item.source == "emitter_light":
             segment = voxel_segment(grid, self.class_index, item.voxels)
-            self.emitter_light.run(grid, self._cones(), work.emitters, work.cone_uniforms, segment, item.levels)
+            self.emitter_light.run(grid, self._cones(), work.emitters, work.cone_uniforms(), segment, item.levels)
             return
         segments = sky_segments(grid, self.class_index, item.voxels)
         levels = range(grid.levels) if item.levels is None else item.levels
-        self.sky_light.run(grid, self._cones(), work.environment, work.cone_uniforms, segments.traced, self.gather.anchors,
+        self.sky_light.run(grid, self._cones(), work.environment, work.cone_uniforms(), segments.traced, self.gather.anchors,
                            levels, item.box)
         self.sky_light.fill(grid, self.gather.anchors, segments.filled, segments.finer)
         self.sky_light.filter(grid, segments.filtered, levels, item.box)
@@ -79,9 +79,8 @@ class WorkItems:
 
     def _gather(self, item, work):
         segments = gather_segments(self.grid, self.class_index, item.voxels)
-        cone_uniforms = dict(work.cone_uniforms, tiled_cones=item.cones == "tiled")
-        self.gather.run(self.grid, self._cones(), cone_uniforms, self._gathered(item.into), segments.traced, segments.filled,
-                        segments.finer, self.sky_light.irradiance, item.part, item.parts)
+        self.gather.run(self.grid, self._cones(), work.cone_uniforms(item.cones), self._gathered(item.into), segments.traced,
+                        segments.filled, segments.finer, self.sky_light.irradiance, item.part, item.parts)
 
     def _extrapolate_gather(self, item, work):
         self.gather.extrapolate(self.grid, self._gathered(item.latest), self._gathered(item.older), item.gain)
