@@ -413,12 +413,14 @@ def test_bench_reference_that_is_not_a_matching_radiance_array_exits_2_naming_it
 
 def test_bench_warns_where_the_radiance_does_not_settle_before_the_timed_frames(capsys, monkeypatch):
     """`vct bench` lets the bounces settle before it times a kind of frame; where they have not
-    within its frame allowance, the frames it times carry their work, and it says so."""
+    within its frame allowance, the frames it times carry their work, and it says so in one
+    line naming the kinds."""
     import engine.app.bench
     monkeypatch.setattr(engine.app.bench, "SETTLE_FRAMES", 2)
     code, out, err = run_main(capsys, "bench", CORNELL, "--frames", 1, "--warmup", 0, "--grids", 16, "--width", 32, "--height", 32)
     assert code == 0
-    assert err and all(line.startswith("vct: warning: ") and "did not settle within 2 frames" in line for line in err), err
+    assert len(err) == 1 and err[0].startswith("vct: warning: cornell_box: ") and "did not settle within 2 frames" in err[0], err
+    assert all(kind in err[0] for kind in ("static", "camera", "light", "object")), err
 
 
 def test_bench_reference_npz_exits_2_without_traceback_end_to_end(tmp_path):

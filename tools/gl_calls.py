@@ -47,7 +47,7 @@ def inner(args):
     import ctypes
 
     import engine
-    from engine.app.bench import FramePath, settle
+    from engine.app.bench import FramePath, settle, warn_unsettled
 
     gl = ctypes.CDLL("libGL.so.1")
 
@@ -63,7 +63,8 @@ def inner(args):
     renderer.progressive = True
     with renderer.ctx:
         for kind in args.kinds.split(","):
-            settle(scene, renderer, settings)
+            if not settle(scene, renderer, settings):
+                warn_unsettled(scene, [kind])
             path = FramePath(scene, kind)
             for frame in range(args.frames):
                 path.apply(frame)

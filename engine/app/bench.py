@@ -130,14 +130,19 @@ class FramePath:
 
 def settle(scene, renderer, settings):
     """Render progressive frames until no work is due (the bounces settled, the voxels' light
-    done: RadianceSchedule.idle); a warning where SETTLE_FRAMES are not enough, as the frames
-    timed next then carry the work still due."""
+    done: RadianceSchedule.idle), at most SETTLE_FRAMES; returns whether it is."""
     for _ in range(SETTLE_FRAMES):
         renderer.render_frame(scene, settings)
         if renderer.idle:
-            return
-    warn(f"the radiance did not settle within {SETTLE_FRAMES} frames; the timed frames include its bounce work",
-         source=scene.name)
+            return True
+    return False
+
+
+def warn_unsettled(scene, kinds):
+    """One warning line: the radiance had not settled before these kinds' timed frames, which
+    then carry the work still due."""
+    warn(f"the radiance did not settle within {SETTLE_FRAMES} frames before the {', '.join(kinds)} frames; "
+         "their timings include its bounce work", source=scene.name)
 
 
 @contextmanager
@@ -220,15 +225,19 @@ def benchmark(scene, renderer, settings, grids, frames, warmup, kinds=FRAME_KIND
         if held in timed:
             continue
         timed.add(held)
+        unsettled = []
         for kind in kinds:
+            if not settle(scene, renderer, s):  # the settled scene again, after the kind before
+                unsettled.append(kind)
             record = {"scene": scene.name, "grid": renderer.voxel_layout.n if uses_voxels else None, "width": renderer.size[0],
                       "height": renderer.size[1], **time_frames(scene, renderer, s, kind, frames, warmup)}
-            settle(scene, renderer, s)  # back to the settled scene for the next kind
             voxel_bytes = renderer.voxel_memory_bytes() if uses_voxels else 0
             record.update(levels=renderer.voxel_layout.levels if uses_voxels else None, voxel_count=renderer.voxel_layout.voxel_count if uses_voxels else 0,
                           voxel_bytes=voxel_bytes, voxel_bytes_per_voxel=voxel_bytes / renderer.voxel_layout.voxel_count if uses_voxels else 0.0,
                           texture_bytes=renderer.texture_memory_bytes(), peak_rss_mb=peak_rss_mb())
             rows.append(record)
+        if unsettled:
+            warn_unsettled(scene, unsettled)
         if reference is not None and uses_voxels:  # the accuracy of this grid, converged within one frame
             renderer.progressive = False
             renderer.render_frame(scene, s.replace(temporal_aa=False))
